@@ -1,0 +1,1 @@
+//! Link-only crate: its build script adds native libraries (see build.rs).

@@ -1,0 +1,113 @@
+// The paper's BRDF terms: reflected sun (Gaussian slopes, Smith shadowing, Schlick Fresnel),
+// reflected sky (filtered environment lookup and mean Fresnel), refracted sea light.
+// Requires frame.glsl, common.glsl, sky.glsl, a `sky_map` sampler and the TERM_* specialization
+// constants in scope.
+#ifndef BRDF_GLSL
+#define BRDF_GLSL
+
+const float FRESNEL_R0 = 0.02;   // water at normal incidence (paper, section 5)
+
+// Local frame at a pixel: n the resolved normal, t_x/t_y the wind axes in its tangent plane.
+struct Frame3 { vec3 t_x; vec3 t_y; vec3 n; };
+
+Frame3 wind_frame(vec3 n) {
+    vec3 wind = vec3(frame.wind.xy, 0.0);
+    vec3 t = wind - n * dot(n, wind);
+    float len = length(t);
+    // |t| = sin(angle(n, wind)); n has positive z for a non-looping surface, so |t| >= n.z > 0.
+    // Should a normal ever lie along the wind, fall back to the horizontal axis across it.
+    vec3 t_x = len > 0.0 ? t / len : normalize(cross(vec3(-frame.wind.y, frame.wind.x, 0.0), n));
+    return Frame3(t_x, cross(n, t_x), n);
+}
+
+// c * Lambda(a) with a = c / s, for c = cos(theta) >= 0 and s = sin(theta) sqrt(2 sigma_phi^2) >= 0
+// (Smith's Lambda for Gaussian slopes; erfc from the paper's demo rational approximation).
+// Never divides by c: c Lambda = exp(-a^2) (s / (2 sqrt(pi)) - c / (2.319 a + sqrt(4 + 1.52 a^2))).
+// For a > 9 the value is below FLT_MIN relative to c, so it is returned as its limit 0.
+float cos_times_lambda(float c, float s) {
+    if (c >= 9.0 * s) return 0.0;
+    float a = c / s;   // s > c / 9 >= 0 here
+    return exp(-a * a) * (s / (2.0 * SQRT_PI) - c / (2.319 * a + sqrt(4.0 + 1.52 * a * a)));
+}
+
+// sin(theta) sqrt(2 sigma_phi^2) for unit direction d: sigma_phi^2 sin^2(theta) = sigma_x^2 d_x^2 + sigma_y^2 d_y^2
+// in the local frame, so the azimuth never needs an atan or a division.
+float slope_spread(vec3 d_local, vec2 sigma2) {
+    return sqrt(2.0 * (sigma2.x * d_local.x * d_local.x + sigma2.y * d_local.y * d_local.y));
+}
+
+vec3 to_local(Frame3 f, vec3 d) { return vec3(dot(d, f.t_x), dot(d, f.t_y), dot(d, f.n)); }
+
+// Radiance of the sun reflected towards v. sigma2: slope variance for shadowing; sigma2_sun adds the
+// sun disc's own slope spread (the Gaussian convolved with the disc) to the slope density.
+vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2) {
+    vec3 vl = to_local(f, v), ll = to_local(f, l);
+    float cv = max(vl.z, 0.0), cl = ll.z;
+    if (cl <= 0.0) return vec3(0.0);              // sun below the tangent plane
+    vec3 h = vl + ll;                             // h.z = cv + cl > 0, so |h| > 0
+    h = normalize(h);
+    float hz2 = h.z * h.z;
+    vec2 s2 = sigma2 + vec2(frame.sun_radiance.w);
+    float q = h.x * h.x / s2.x + h.y * h.y / s2.y;
+    if (q >= 2.0 * EXP_UNDERFLOW * hz2) return vec3(0.0);   // p(zeta_h) / h_z^4 below FLT_MIN
+    float p_over_hz4 = exp(-0.5 * q / hz2) / (2.0 * PI * sqrt(s2.x * s2.y) * hz2 * hz2);
+    float fresnel = FRESNEL_R0 + (1.0 - FRESNEL_R0) * pow(clamp(1.0 - dot(vl, h), 0.0, 1.0), 5.0);
+    // 1 / (cos_v (1 + Lambda_v + Lambda_l)), multiplied through by cos_l so cos_v = 0 stays finite.
+    float denom = cv * cl + cl * cos_times_lambda(cv, slope_spread(vl, sigma2))
+                + cv * cos_times_lambda(cl, slope_spread(ll, sigma2));
+    if (denom <= 0.0) return vec3(0.0);
+    return frame.sun_irradiance.rgb * (fresnel * p_over_hz4 * cl / (4.0 * denom));
+}
+
+// Directional slope variance along the azimuth of v; for v along n the azimuth is undefined and
+// the mean of the two axes is its limit under any direction average.
+float directional_variance(vec3 vl, vec2 sigma2) {
+    float s2 = vl.x * vl.x + vl.y * vl.y;
+    return s2 > 0.0 ? (sigma2.x * vl.x * vl.x + sigma2.y * vl.y * vl.y) / s2 : 0.5 * (sigma2.x + sigma2.y);
+}
+
+// Mean Fresnel over the visible slopes (paper, eq. for F-bar, fitted to numerical integration).
+float mean_fresnel(float cos_v, float sigma_v) {
+    return FRESNEL_R0 + (1.0 - FRESNEL_R0) * pow(1.0 - cos_v, 5.0 * exp(-2.69 * sigma_v))
+         / (1.0 + 22.7 * pow(sigma_v, 1.5));
+}
+
+// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u.
+vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
+    vec3 facet = normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n);
+    return stereographic(reflect(-v, facet));
+}
+
+// Average sky radiance over the slope distribution: one textureGrad lookup whose footprint is the
+// image of the 2-sigma slope ellipse (paper, algorithm 5.1; eps by finite differences).
+vec3 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
+    const float eps = 1e-3;
+    vec2 u0 = reflected_u(f, v, vec2(0.0));
+    vec2 dx = (reflected_u(f, v, vec2(eps, 0.0)) - u0) * (2.0 * sqrt(sigma2.x) / eps);
+    vec2 dy = (reflected_u(f, v, vec2(0.0, eps)) - u0) * (2.0 * sqrt(sigma2.y) / eps);
+    float to_uv = 0.5 / frame.tone.y;
+    return textureGrad(sky_map, sky_map_uv(u0), dx * to_uv, dy * to_uv).rgb;
+}
+
+// Everything the sea sends towards v at one pixel.
+vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2) {
+    // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
+    // where cos_v = 0 is the formulas' own finite limit.
+    float vn = dot(v, n);
+    if (vn < 0.0) {
+        vec3 bent = n - vn * v;
+        float len = length(bent);
+        n = len > 0.0 ? bent / len : vec3(0.0, 0.0, 1.0);
+    }
+    Frame3 f = wind_frame(n);
+    vec3 vl = to_local(f, v);
+    float cos_v = clamp(vl.z, 0.0, 1.0);
+    vec3 color = vec3(0.0);
+    if (TERM_SUN && frame.sun_irradiance.w > 0.0) color += reflected_sun(f, v, frame.sun_dir.xyz, sigma2);
+    float fresnel = mean_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
+    if (TERM_SKY) color += fresnel * mean_sky_radiance(f, v, sigma2);
+    if (TERM_SEA) color += (1.0 - fresnel) * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
+    return color;
+}
+
+#endif

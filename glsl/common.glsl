@@ -1,0 +1,34 @@
+// Constants and numerically guarded helpers shared by the shaders.
+#ifndef COMMON_GLSL
+#define COMMON_GLSL
+
+const float PI = 3.14159265358979;
+const float SQRT_PI = 1.77245385090552;
+// Largest finite binary16: the HDR target's range. Radiance above it is clamped, never Inf.
+const float HDR_MAX = 65504.0;
+// exp(-x) underflows single precision (below FLT_MIN) once x exceeds ln(FLT_MAX) ~ 88.7;
+// 87 keeps the result a normal float. Past it the exact value is 0 to f32 precision.
+const float EXP_UNDERFLOW = 87.0;
+
+vec3 store_radiance(vec3 L) {
+    return min(max(L, vec3(0.0)), vec3(HDR_MAX));
+}
+
+// Camera ray (unnormalized, linear in NDC) through an NDC position.
+vec3 camera_ray(vec2 ndc) {
+    return frame.cam_forward.xyz + ndc.x * frame.cam_right.xyz + ndc.y * frame.cam_down.xyz;
+}
+
+vec2 pixel_to_ndc(vec2 frag) {
+    return frag * frame.viewport.zw * 2.0 - 1.0;
+}
+
+// smoothstep(lo, hi, num / den) for num >= 0, den >= 0, without dividing by a zero den:
+// the ratio is only formed when it lies strictly inside (lo, hi), where den > num / hi > 0.
+float ratio_smoothstep(float lo, float hi, float num, float den) {
+    if (num <= lo * den) return 0.0;   // also 0/0: no resolution at infinite distance
+    if (num >= hi * den) return 1.0;
+    return smoothstep(lo, hi, num / den);
+}
+
+#endif

@@ -1,0 +1,35 @@
+// Per-frame uniforms and the wave trains, shared by every pass.
+// Mirrors `FrameUniforms` and `GpuWave` in src/frame.rs (std140 / std430, vec4-packed).
+#ifndef FRAME_GLSL
+#define FRAME_GLSL
+
+layout(set = 0, binding = 0, std140) uniform Frame {
+    mat4 view_proj;        // camera-relative world (z up, metres) -> clip, reversed-Z infinite far
+    vec4 cam_right;        // xyz: right * tan(fov_x/2), so ray = fwd + ndc.x*right + ndc.y*down
+    vec4 cam_down;         // xyz: -up * tan(fov_y/2) (Vulkan NDC y points down)
+    vec4 cam_forward;      // xyz: forward; w: camera height above the mean sea plane (m)
+    vec4 viewport;         // width, height, 1/width, 1/height (pixels)
+    vec4 grid;             // x: cell size (px), y: horizon ndc y, z: margin ndc x, w: margin ndc y
+    uvec4 grid_dims;       // x: columns, y: rows, z: wave count, w: unused
+    vec4 filter_bounds;    // x,y: geometry smoothstep (samples per wavelength), z,w: normals
+    vec4 sun_dir;          // xyz: unit vector towards the sun; w: cos(angular radius)
+    vec4 sun_radiance;     // rgb: disc radiance (kcd/m^2); w: sun slope variance per axis
+    vec4 sun_irradiance;   // rgb: irradiance normal to the sun (klux); w: 1 if above horizon
+    vec4 sky_irradiance;   // rgb: horizontal-plane irradiance from the sky (klux)
+    vec4 sea_albedo;       // rgb: deep-water colour factor for the refracted term
+    vec4 wind;             // xy: unit wind direction; zw: total slope variance (wind frame)
+    vec4 perez_a;          // Preetham Perez coefficients for (Y, x, y)
+    vec4 perez_b;
+    vec4 perez_c;
+    vec4 perez_d;
+    vec4 perez_e;
+    vec4 sky_zenith;       // (Y, x, y) zenith values, Y already divided by F(0, theta_s); w: sky scale
+    vec4 tone;             // x: exposure; y: sky map extent R (map spans [-R, R]^2 in stereographic u)
+} frame;
+
+struct Wave {
+    vec4 dir_amp_phase;    // xy: unit propagation direction (world), z: amplitude h (m), w: phase at t (rad, in [0, 2pi))
+    vec4 len_k_prefix;     // x: wavelength (m), y: |k| (rad/m), zw: slope variance of this and all shorter trains (wind frame)
+};
+
+#endif

@@ -1,0 +1,59 @@
+// Analytic clear sky: Preetham, Shirley & Smits, "A Practical Analytic Model for Daylight"
+// (SIGGRAPH 1999). Perez coefficients and zenith values come from the CPU (src/sky.rs).
+#ifndef SKY_GLSL
+#define SKY_GLSL
+
+// Perez et al. distribution F(theta, gamma) for one channel, with cos(theta) = max(dir.z, 0).
+// exp(B / cos theta) with B < 0 tends to 0 at the horizon; below cos theta = -B / EXP_UNDERFLOW
+// it is already under FLT_MIN, so the divisor is held there instead of reaching 0.
+vec3 perez(float cos_theta, float gamma, float cos_gamma) {
+    vec3 B = frame.perez_b.xyz;
+    vec3 horizon_term = exp(B / max(vec3(cos_theta), -B / EXP_UNDERFLOW));
+    return (1.0 + frame.perez_a.xyz * horizon_term)
+         * (1.0 + frame.perez_c.xyz * exp(frame.perez_d.xyz * gamma) + frame.perez_e.xyz * cos_gamma * cos_gamma);
+}
+
+vec3 xyY_to_linear_srgb(vec3 xyY) {
+    // xyY -> XYZ; Preetham's chromaticities keep y in [0.2, 0.45], never 0.
+    float Y = xyY.z;
+    vec3 XYZ = vec3(xyY.x * Y / xyY.y, Y, (1.0 - xyY.x - xyY.y) * Y / xyY.y);
+    // XYZ -> linear sRGB (D65), IEC 61966-2-1.
+    return vec3( 3.2406 * XYZ.x - 1.5372 * XYZ.y - 0.4986 * XYZ.z,
+                -0.9689 * XYZ.x + 1.8758 * XYZ.y + 0.0415 * XYZ.z,
+                 0.0557 * XYZ.x - 0.2040 * XYZ.y + 1.0570 * XYZ.z);
+}
+
+// Sky radiance (kcd/m^2, linear sRGB) towards unit direction `dir`; directions below the
+// horizon see the horizon's radiance. The sun disc is not included (see sun_disc).
+vec3 sky_radiance(vec3 dir) {
+    float cos_theta = max(dir.z, 0.0);
+    float cos_gamma = clamp(dot(dir, frame.sun_dir.xyz), -1.0, 1.0);
+    float gamma = acos(cos_gamma);
+    vec3 f = perez(cos_theta, gamma, cos_gamma);
+    vec3 Yxy = frame.sky_zenith.xyz * f;   // (Y, x, y) with Y normalised by F(0, theta_s)
+    vec3 rgb = xyY_to_linear_srgb(vec3(Yxy.y, Yxy.z, Yxy.x)) * frame.sky_zenith.w;
+    return max(rgb, vec3(0.0));
+}
+
+// The sun disc as seen directly (uniform radiance over its angular radius).
+vec3 sun_disc(vec3 dir) {
+    return dot(dir, frame.sun_dir.xyz) >= frame.sun_dir.w ? frame.sun_radiance.rgb * frame.sun_irradiance.w : vec3(0.0);
+}
+
+// Stereographic map of the upper hemisphere: u = r.xy / (1 + |r.z|). Directions below the
+// horizon fold onto their mirror image above it (a ray reflected downwards meets the sea
+// again and sees the sky mirrored), so |u| <= 1 and 1 + |r.z| >= 1 never divides by zero.
+vec2 stereographic(vec3 r) {
+    return r.xy / (1.0 + abs(r.z));
+}
+
+vec3 inverse_stereographic(vec2 u) {
+    float u2 = dot(u, u);
+    return vec3(2.0 * u, 1.0 - u2) / (1.0 + u2);
+}
+
+vec2 sky_map_uv(vec2 u) {
+    return u * (0.5 / frame.tone.y) + 0.5;
+}
+
+#endif

@@ -1,0 +1,1 @@
+pub mod shaders { include!(concat!(env!("OUT_DIR"), "/shaders.rs")); }
