@@ -1,4 +1,4 @@
-//! Compiles every shader in `glsl/` to SPIR-V (Vulkan 1.3) with shaderc; `#include` resolves
+//! Compiles every shader in `glsl/` to SPIR-V 1.5 (Vulkan 1.2 environment: SPIR-V 1.6 would use LocalSizeId, which needs maintenance4) with shaderc; `#include` resolves
 //! inside `glsl/`. A GLSL error fails the build with the file and line. The SPIR-V lands in
 //! OUT_DIR and `src/shaders.rs` embeds it with `include_bytes!` through the generated table.
 
@@ -22,14 +22,20 @@ fn main() {
 
     let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");
     let mut options = shaderc::CompileOptions::new().expect("shaderc: cannot create options");
-    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_2 as u32,
+    );
     options.set_optimization_level(shaderc::OptimizationLevel::Performance);
     options.set_warnings_as_errors();
     let include_dir = glsl_dir.clone();
     options.set_include_callback(move |name, _kind, includer, _depth| {
         let path = include_dir.join(name);
         fs::read_to_string(&path)
-            .map(|content| shaderc::ResolvedInclude { resolved_name: path.display().to_string(), content })
+            .map(|content| shaderc::ResolvedInclude {
+                resolved_name: path.display().to_string(),
+                content,
+            })
             .map_err(|e| format!("{includer}: cannot include {name}: {e}"))
     });
 
@@ -43,15 +49,28 @@ fn main() {
     for path in entries {
         println!("cargo:rerun-if-changed={}", path.display());
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        let Some(&(_, kind)) = STAGES.iter().find(|(e, _)| *e == ext) else { continue };
+        let Some(&(_, kind)) = STAGES.iter().find(|(e, _)| *e == ext) else {
+            continue;
+        };
         let file_name = path.file_name().unwrap().to_str().unwrap().to_owned();
         let source = fs::read_to_string(&path).unwrap();
-        match compiler.compile_into_spirv(&source, kind, &path.display().to_string(), "main", Some(&options)) {
+        match compiler.compile_into_spirv(
+            &source,
+            kind,
+            &path.display().to_string(),
+            "main",
+            Some(&options),
+        ) {
             Ok(artifact) => {
                 let spv = out_dir.join(format!("{file_name}.spv"));
                 fs::write(&spv, artifact.as_binary_u8()).unwrap();
                 let ident = file_name.replace('.', "_").to_uppercase();
-                writeln!(table, "pub const {ident}: &[u8] = include_bytes!({:?});", spv.display().to_string()).unwrap();
+                writeln!(
+                    table,
+                    "pub const {ident}: &[u8] = include_bytes!({:?});",
+                    spv.display().to_string()
+                )
+                .unwrap();
             }
             Err(e) => failures.push(e.to_string()),
         }

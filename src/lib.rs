@@ -1,1 +1,24 @@
-pub mod shaders { include!(concat!(env!("OUT_DIR"), "/shaders.rs")); }
+//! Ocean: a Vulkan renderer of Bruneton, Neyret & Holzschuch, "Real-time Realistic Ocean
+//! Lighting using Seamless Transitions from Geometry to BRDF" (Eurographics 2010).
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(clippy::undocumented_unsafe_blocks)]
+
+pub mod app;
+pub mod error;
+pub mod frame;
+pub mod output;
+pub mod passes;
+pub mod renderer;
+pub mod report;
+pub mod resources;
+pub mod scene;
+pub mod sky;
+pub mod vk;
+pub mod waves;
+
+/// SPIR-V of every shader in glsl/, compiled by build.rs.
+pub mod shaders {
+    include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+}
+
+pub use error::{Error, Result};

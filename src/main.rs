@@ -1,1 +1,102 @@
-fn main(){}
+//! `ocean`: the command-line program.
+
+use clap::{Parser, Subcommand};
+use ocean::app::{self, RenderRequest};
+use ocean::scene::Scene;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "ocean",
+    version,
+    about = "Vulkan ocean renderer (Bruneton, Neyret & Holzschuch 2010)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a PNG (and optionally a linear EXR and a JSON report).
+    Render {
+        /// Scene file (TOML); without it, the built-in defaults (scenes/default.toml).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        #[arg(long, default_value_t = 1024)]
+        width: u32,
+        #[arg(long, default_value_t = 768)]
+        height: u32,
+        /// Output PNG (tone-mapped sRGB).
+        #[arg(long, default_value = "out.png")]
+        out: PathBuf,
+        /// Also write the linear HDR radiance as OpenEXR.
+        #[arg(long)]
+        exr: Option<PathBuf>,
+        /// Write a JSON report (timings, validation counts, image statistics, memory).
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// Enable the Khronos validation layer with synchronization validation.
+        #[arg(long)]
+        validation: bool,
+        /// Use the first device whose name contains this text.
+        #[arg(long)]
+        device: Option<String>,
+    },
+}
+
+fn run(cli: Cli) -> ocean::Result<()> {
+    match cli.command {
+        Command::Render {
+            scene,
+            width,
+            height,
+            out,
+            exr,
+            report,
+            validation,
+            device,
+        } => {
+            let scene = match scene {
+                Some(path) => Scene::load(&path)?,
+                None => Scene::default(),
+            };
+            let request = RenderRequest {
+                scene,
+                width,
+                height,
+                png: Some(out.clone()),
+                exr,
+                report,
+                validation,
+                device,
+            };
+            let (report, _) = app::render(&request)?;
+            let total = report
+                .gpu_ms
+                .get("total")
+                .map_or("n/a".to_owned(), |ms| format!("{ms:.1} ms"));
+            println!(
+                "{}: {}x{} on {}, GPU {total}, {} validation errors, {} non-finite pixels",
+                out.display(),
+                report.width,
+                report.height,
+                report.device,
+                report.validation_errors,
+                report.nonfinite_pixels
+            );
+            Ok(())
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,80 @@
+//! One render from a scene to files and a report: what the `ocean render` command does.
+
+use crate::error::Result;
+use crate::output;
+use crate::passes::ocean::Terms;
+use crate::renderer::{RenderedFrame, Renderer};
+use crate::report::{GridReport, Report, WaveReport};
+use crate::scene::Scene;
+use crate::vk::gpu::Gpu;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone)]
+pub struct RenderRequest {
+    pub scene: Scene,
+    pub width: u32,
+    pub height: u32,
+    pub png: Option<PathBuf>,
+    pub exr: Option<PathBuf>,
+    pub report: Option<PathBuf>,
+    pub validation: bool,
+    pub device: Option<String>,
+}
+
+/// Renders on a new GPU context and writes the requested files.
+pub fn render(request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
+    let gpu = Gpu::new(request.validation, request.device.as_deref())?;
+    let (report, frame) = render_on(&gpu, request)?;
+    Ok((report, frame))
+}
+
+/// Renders on an existing context (tests share one).
+pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
+    let scene = &request.scene;
+    let before = gpu.validation_counts();
+    let (frame, memory) = {
+        let mut renderer = Renderer::new(gpu, scene, request.width, request.height, Terms::ALL)?;
+        let frame = renderer.render(scene)?;
+        (frame, renderer.memory())
+    };
+    let after = gpu.validation_counts();
+    let stats = output::stats(&frame.hdr);
+    let wave_set = crate::waves::generate(scene);
+    let mut messages = after.errors.clone();
+    messages.extend(after.warnings.clone());
+    let report = Report {
+        device: gpu.device.name.clone(),
+        width: request.width,
+        height: request.height,
+        gpu_ms: Report::gpu_total_ms(&frame.pass_ms),
+        validation: request.validation,
+        validation_errors: after.error_total() - before.error_total(),
+        validation_warnings: after.warning_total() - before.warning_total(),
+        validation_messages: messages,
+        nonfinite_pixels: stats.nonfinite_pixels,
+        mean_radiance: stats.mean_radiance,
+        memory,
+        grid: GridReport {
+            columns: frame.frame.grid.columns,
+            rows: frame.frame.grid.rows,
+            cell_px: scene.render.grid_cell_px,
+        },
+        waves: WaveReport {
+            count: wave_set.trains.len(),
+            sigma2_along_wind: wave_set.sigma2[0],
+            sigma2_across_wind: wave_set.sigma2[1],
+            mean_height_offset_m: wave_set.mean_height_offset,
+        },
+    };
+    if let Some(path) = &request.png {
+        output::write_png(path, frame.width, frame.height, &frame.ldr)?;
+    }
+    if let Some(path) = &request.exr {
+        output::write_exr(path, frame.width, frame.height, &frame.hdr)?;
+    }
+    if let Some(path) = &request.report {
+        let json = serde_json::to_string_pretty(&report).expect("report serializes");
+        output::write_text(path, &json)?;
+    }
+    Ok((report, frame))
+}

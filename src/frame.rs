@@ -1,0 +1,298 @@
+//! What the CPU hands the shaders each frame: the camera, the sun and sky, the projected grid's
+//! extent and the wave trains. Layouts mirror glsl/frame.glsl (std140 / std430, vec4-packed).
+
+use crate::scene::Scene;
+use crate::sky::SkyModel;
+use crate::waves::WaveSet;
+use glam::{DMat4, DVec3, Mat4};
+
+/// Smoothstep bounds in samples per wavelength for a train to be resolved by the grid
+/// (geometry) and by the per-pixel normal. Nyquist needs 2 samples per wavelength; the ramp to 4
+/// keeps partially resolved trains away from aliasing. (The authors' demo ramps 1 to 1.5 cells.)
+pub const GEOMETRY_FILTER: [f32; 2] = [2.0, 4.0];
+pub const NORMAL_FILTER: [f32; 2] = [2.0, 4.0];
+/// Stereographic sky-map extent: u in [-R, R]^2 covers a little beyond the horizon circle |u| = 1.
+pub const SKY_MAP_EXTENT: f32 = 1.125;
+/// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
+pub const SEA_ALBEDO: [f64; 3] = [10.0 / 255.0 * 0.1, 40.0 / 255.0 * 0.1, 120.0 / 255.0 * 0.1];
+/// Near plane of the reversed-Z infinite projection (m).
+const Z_NEAR: f64 = 0.01;
+/// Largest grid margin past each screen edge, in NDC units (a full screen half-width).
+pub const MAX_MARGIN_NDC: f64 = 1.0;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameUniforms {
+    pub view_proj: [[f32; 4]; 4],
+    pub cam_right: [f32; 4],
+    pub cam_down: [f32; 4],
+    pub cam_forward: [f32; 4],
+    pub viewport: [f32; 4],
+    pub grid: [f32; 4],
+    pub grid_dims: [u32; 4],
+    pub filter_bounds: [f32; 4],
+    pub sun_dir: [f32; 4],
+    pub sun_radiance: [f32; 4],
+    pub sun_irradiance: [f32; 4],
+    pub sky_irradiance: [f32; 4],
+    pub sea_albedo: [f32; 4],
+    pub wind: [f32; 4],
+    pub perez: [[f32; 4]; 5],
+    pub sky_zenith: [f32; 4],
+    pub tone: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuWave {
+    pub dir_amp_phase: [f32; 4],
+    pub len_k_prefix: [f32; 4],
+}
+
+/// The camera in the camera-relative world frame (origin at the eye, z up).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraFrame {
+    pub forward: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+    pub tan_half_x: f64,
+    pub tan_half_y: f64,
+    /// Height of the eye above the rest plane the grid is projected on.
+    pub plane_height: f64,
+}
+
+impl CameraFrame {
+    pub fn new(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> CameraFrame {
+        let (pitch, yaw) = (
+            scene.camera.pitch_deg.to_radians(),
+            scene.camera.yaw_deg.to_radians(),
+        );
+        let forward = DVec3::new(
+            pitch.cos() * yaw.cos(),
+            pitch.cos() * yaw.sin(),
+            pitch.sin(),
+        );
+        let right = DVec3::new(yaw.sin(), -yaw.cos(), 0.0);
+        let up = right.cross(forward);
+        let tan_half_y = (scene.camera.fov_y_deg.to_radians() / 2.0).tan();
+        let tan_half_x = tan_half_y * width as f64 / height as f64;
+        // The trochoids' mean surface lies sum(k h^2 / 2) below their rest plane, so the rest plane
+        // sits that much above mean sea level. A projected grid needs the eye above the rest plane:
+        // an eye lower than twice the offset keeps half its height (a limit, reported by the caller).
+        let plane_height =
+            (scene.camera.height_m - waves.mean_height_offset).max(0.5 * scene.camera.height_m);
+        CameraFrame {
+            forward,
+            right,
+            up,
+            tan_half_x,
+            tan_half_y,
+            plane_height,
+        }
+    }
+
+    /// Unnormalized ray through an NDC position (y down), as `camera_ray` in the shaders.
+    pub fn ray(&self, ndc: [f64; 2]) -> DVec3 {
+        self.forward + ndc[0] * self.tan_half_x * self.right - ndc[1] * self.tan_half_y * self.up
+    }
+
+    pub fn view_proj(&self, aspect: f64) -> DMat4 {
+        let view = DMat4::look_to_rh(DVec3::ZERO, self.forward, self.up);
+        let proj =
+            DMat4::perspective_infinite_reverse_rh(2.0 * self.tan_half_y.atan(), aspect, Z_NEAR);
+        // Vulkan's NDC y points down.
+        DMat4::from_diagonal(glam::DVec4::new(1.0, -1.0, 1.0, 1.0)) * proj * view
+    }
+
+    /// NDC y of the horizon (where the ray is level), or +-inf when it is off to infinity.
+    pub fn horizon_ndc_y(&self) -> f64 {
+        // forward.z - y tan_half_y up.z = 0
+        let slope = self.tan_half_y * self.up.z;
+        if slope > 0.0 {
+            self.forward.z / slope
+        } else if self.forward.z < 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// Extent of the projected grid on screen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridLayout {
+    pub columns: u32,
+    pub rows: u32,
+    pub top_ndc_y: f64,
+    pub margin_x: f64,
+    pub margin_y: f64,
+}
+
+impl GridLayout {
+    /// The grid runs from the horizon (or the top margin) down past the bottom edge, and past the
+    /// side edges, by the screen-space reach of the largest displacement at the nearest visible sea.
+    pub fn new(
+        cam: &CameraFrame,
+        waves: &WaveSet,
+        cell_px: f64,
+        width: u32,
+        height: u32,
+    ) -> GridLayout {
+        let reach =
+            std::f64::consts::SQRT_2 * waves.trains.iter().map(|t| t.amplitude).sum::<f64>();
+        let bottom = cam.ray([0.0, 1.0]);
+        let (margin_x, margin_y) = if bottom.z < 0.0 {
+            let depth = cam.plane_height / -bottom.z; // view depth: ray . forward = 1
+            let clear = depth - reach;
+            let margin = |tan_half: f64| {
+                if clear > Z_NEAR {
+                    (reach / (clear * tan_half)).min(MAX_MARGIN_NDC)
+                } else {
+                    MAX_MARGIN_NDC
+                }
+            };
+            (
+                margin(cam.tan_half_x) + 2.0 * cell_px / width as f64,
+                margin(cam.tan_half_y) + 2.0 * cell_px / height as f64,
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let cell_ndc_x = 2.0 * cell_px / width as f64;
+        let cell_ndc_y = 2.0 * cell_px / height as f64;
+        let columns = ((2.0 + 2.0 * margin_x) / cell_ndc_x).ceil() as u32 + 1;
+        let top_ndc_y = cam.horizon_ndc_y().max(-1.0 - margin_y);
+        let bottom_ndc_y = 1.0 + margin_y;
+        let rows = if top_ndc_y < bottom_ndc_y {
+            ((bottom_ndc_y - top_ndc_y) / cell_ndc_y).ceil() as u32 + 1
+        } else {
+            0
+        };
+        GridLayout {
+            columns,
+            rows,
+            top_ndc_y,
+            margin_x,
+            margin_y,
+        }
+    }
+
+    /// Most rows any camera can need at this size: both margins at their cap plus the screen.
+    pub fn max_rows(cell_px: f64, height: u32) -> u32 {
+        let cell_ndc_y = 2.0 * cell_px / height as f64;
+        (((2.0 + 4.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / height as f64) / cell_ndc_y).ceil() as u32
+            + 2
+    }
+
+    pub fn max_columns(cell_px: f64, width: u32) -> u32 {
+        let cell_ndc_x = 2.0 * cell_px / width as f64;
+        (((2.0 + 2.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / width as f64) / cell_ndc_x).ceil() as u32
+            + 2
+    }
+}
+
+/// Everything derived from a scene for one frame.
+pub struct FrameData {
+    pub uniforms: FrameUniforms,
+    pub waves: Vec<GpuWave>,
+    pub grid: GridLayout,
+    pub camera: CameraFrame,
+    pub sky: SkyModel,
+}
+
+fn v4(v: [f64; 3], w: f64) -> [f32; 4] {
+    [v[0] as f32, v[1] as f32, v[2] as f32, w as f32]
+}
+
+fn mat(m: Mat4) -> [[f32; 4]; 4] {
+    m.to_cols_array_2d()
+}
+
+pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameData {
+    let camera = CameraFrame::new(scene, waves, width, height);
+    let cell_px = scene.render.grid_cell_px;
+    let grid = GridLayout::new(&camera, waves, cell_px, width, height);
+    let sky = SkyModel::new(
+        scene.sun.elevation_deg,
+        scene.sun.azimuth_deg,
+        scene.sky.turbidity,
+    );
+    let view_proj = camera.view_proj(width as f64 / height as f64).as_mat4();
+
+    let mut prefix = [0.0f64; 2];
+    let gpu_waves = waves
+        .trains
+        .iter()
+        .map(|t| {
+            let v = t.slope_variance();
+            prefix = [prefix[0] + v[0], prefix[1] + v[1]];
+            GpuWave {
+                dir_amp_phase: [
+                    t.direction[0] as f32,
+                    t.direction[1] as f32,
+                    t.amplitude as f32,
+                    t.phase_at(scene.render.time_s) as f32,
+                ],
+                len_k_prefix: [
+                    t.wavelength as f32,
+                    t.k as f32,
+                    prefix[0] as f32,
+                    prefix[1] as f32,
+                ],
+            }
+        })
+        .collect();
+
+    let sun_above = if sky.sun_radiance.iter().any(|&l| l > 0.0) {
+        1.0
+    } else {
+        0.0
+    };
+    let perez = std::array::from_fn(|i| v4(sky.perez[i], 0.0));
+    let uniforms = FrameUniforms {
+        view_proj: mat(view_proj),
+        cam_right: v4((camera.right * camera.tan_half_x).to_array(), 0.0),
+        cam_down: v4((-camera.up * camera.tan_half_y).to_array(), 0.0),
+        cam_forward: v4(camera.forward.to_array(), camera.plane_height),
+        viewport: [
+            width as f32,
+            height as f32,
+            1.0 / width as f32,
+            1.0 / height as f32,
+        ],
+        grid: [
+            cell_px as f32,
+            grid.top_ndc_y as f32,
+            grid.margin_x as f32,
+            grid.margin_y as f32,
+        ],
+        grid_dims: [grid.columns, grid.rows, waves.trains.len() as u32, 0],
+        filter_bounds: [
+            GEOMETRY_FILTER[0],
+            GEOMETRY_FILTER[1],
+            NORMAL_FILTER[0],
+            NORMAL_FILTER[1],
+        ],
+        sun_dir: v4(sky.sun_dir, crate::sky::SUN_ANGULAR_RADIUS.cos()),
+        sun_radiance: v4(sky.sun_radiance, SkyModel::sun_slope_variance()),
+        sun_irradiance: v4(sky.sun_irradiance(), sun_above),
+        sky_irradiance: v4(sky.sky_irradiance(), 0.0),
+        sea_albedo: v4(SEA_ALBEDO, 0.0),
+        wind: [
+            waves.wind_direction[0] as f32,
+            waves.wind_direction[1] as f32,
+            waves.sigma2[0] as f32,
+            waves.sigma2[1] as f32,
+        ],
+        perez,
+        sky_zenith: v4(sky.zenith_over_f0, sky.sky_scale),
+        tone: [scene.render.exposure as f32, SKY_MAP_EXTENT, 0.0, 0.0],
+    };
+    FrameData {
+        uniforms,
+        waves: gpu_waves,
+        grid,
+        camera,
+        sky,
+    }
+}

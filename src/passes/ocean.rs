@@ -1,0 +1,175 @@
+//! Ocean: the projected grid (displaced, shaded per pixel with the paper's BRDF) into HDR with
+//! reversed-Z depth, then the sky where no sea was drawn, from the same analytic model.
+
+use super::{Pass, Recorder};
+use crate::error::Result;
+use crate::resources::Resources;
+use crate::shaders;
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::device::{Device, DEPTH_FORMAT, HDR_FORMAT};
+use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc, Specialization};
+use ash::vk;
+
+/// Which BRDF terms the ocean shader evaluates (specialization constants 0, 1, 2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Terms {
+    pub sun: bool,
+    pub sky: bool,
+    pub sea: bool,
+}
+
+impl Terms {
+    pub const ALL: Terms = Terms {
+        sun: true,
+        sky: true,
+        sea: true,
+    };
+}
+
+pub struct OceanPass {
+    bindings: Bindings,
+    ocean: vk::Pipeline,
+    sky: vk::Pipeline,
+}
+
+impl OceanPass {
+    pub fn new(device: &Device, r: &Resources, terms: Terms) -> Result<OceanPass> {
+        use vk::DescriptorType as D;
+        let both = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let bindings = Bindings::new(
+            device,
+            "ocean",
+            &[
+                (0, D::UNIFORM_BUFFER, both),
+                (1, D::STORAGE_BUFFER, both),
+                (2, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
+            ],
+        )?;
+        bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
+        bindings.write_buffer(device, 1, D::STORAGE_BUFFER, r.waves.raw);
+        bindings.write_image(
+            device,
+            2,
+            D::COMBINED_IMAGE_SAMPLER,
+            r.sky_map.view,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            r.sky_sampler,
+        );
+        let spec = Specialization::bools(&[terms.sun, terms.sky, terms.sea]);
+        let ocean = graphics_pipeline(
+            device,
+            bindings.pipeline_layout,
+            &GraphicsDesc {
+                name: "ocean",
+                vertex: shaders::OCEAN_VERT,
+                fragment: shaders::OCEAN_FRAG,
+                fragment_specialization: Some(&spec),
+                color_format: HDR_FORMAT,
+                depth_format: DEPTH_FORMAT,
+                depth_write: true,
+                depth_compare: vk::CompareOp::GREATER, // reversed Z
+            },
+        )?;
+        let sky = graphics_pipeline(
+            device,
+            bindings.pipeline_layout,
+            &GraphicsDesc {
+                name: "sky",
+                vertex: shaders::FULLSCREEN_VERT,
+                fragment: shaders::SKY_FRAG,
+                fragment_specialization: None,
+                color_format: HDR_FORMAT,
+                depth_format: DEPTH_FORMAT,
+                depth_write: false,
+                depth_compare: vk::CompareOp::GREATER_OR_EQUAL, // only where depth is still the far clear
+            },
+        )?;
+        Ok(OceanPass {
+            bindings,
+            ocean,
+            sky,
+        })
+    }
+}
+
+impl Pass for OceanPass {
+    fn name(&self) -> &'static str {
+        "ocean"
+    }
+
+    fn declare(&self, r: &Resources, t: &mut Tracker) {
+        t.image(
+            &r.sky_map,
+            0,
+            r.sky_map.mip_levels,
+            Access::FragmentSampled,
+            false,
+        );
+        t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
+        t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let extent = r.hdr.extent;
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(r.hdr.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::DONT_CARE) // every pixel is written: sea or sky
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(r.depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: attachments are in the layouts declared above; the pipelines were built for
+        // these formats; the index buffer holds `grid_index_count` valid indices.
+        unsafe {
+            device.cmd_begin_rendering(cmd, &info);
+            device.cmd_set_viewport(cmd, 0, &[viewport]);
+            device.cmd_set_scissor(cmd, 0, &[area]);
+            self.bindings
+                .bind(rec.device, cmd, vk::PipelineBindPoint::GRAPHICS);
+            if r.grid_index_count > 0 {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean);
+                device.cmd_bind_index_buffer(cmd, r.grid_indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_draw_indexed(cmd, r.grid_index_count, 1, 0, 0, 0);
+            }
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.sky);
+            device.cmd_draw(cmd, 3, 1, 0, 0);
+            device.cmd_end_rendering(cmd);
+        }
+    }
+
+    fn destroy(&self, device: &ash::Device) {
+        // SAFETY: the device is idle.
+        unsafe {
+            device.destroy_pipeline(self.ocean, None);
+            device.destroy_pipeline(self.sky, None);
+        }
+        self.bindings.destroy(device);
+    }
+}

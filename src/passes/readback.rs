@@ -1,0 +1,65 @@
+//! Readback: copies the HDR radiance and the tone-mapped image into host-visible buffers.
+
+use super::{Pass, Recorder};
+use crate::resources::Resources;
+use crate::vk::barrier::{Access, Tracker};
+use ash::vk;
+
+pub struct ReadbackPass;
+
+impl Pass for ReadbackPass {
+    fn name(&self) -> &'static str {
+        "readback"
+    }
+
+    fn declare(&self, r: &Resources, t: &mut Tracker) {
+        t.image(&r.hdr, 0, 1, Access::TransferRead, false);
+        t.image(&r.ldr, 0, 1, Access::TransferRead, false);
+        t.buffer(&r.hdr_readback, Access::TransferWrite);
+        t.buffer(&r.ldr_readback, Access::TransferWrite);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: r.hdr.extent.width,
+                height: r.hdr.extent.height,
+                depth: 1,
+            },
+        };
+        // SAFETY: images in TRANSFER_SRC_OPTIMAL (declared); buffers sized for the full images.
+        unsafe {
+            device.cmd_copy_image_to_buffer(
+                cmd,
+                r.hdr.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                r.hdr_readback.raw,
+                &[region],
+            );
+            device.cmd_copy_image_to_buffer(
+                cmd,
+                r.ldr.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                r.ldr_readback.raw,
+                &[region],
+            );
+        }
+        // The CPU reads both buffers after the frame's fence.
+        rec.tracker.buffer(&r.hdr_readback, Access::HostRead);
+        rec.tracker.buffer(&r.ldr_readback, Access::HostRead);
+        rec.tracker.flush(device, cmd);
+    }
+
+    fn destroy(&self, _device: &ash::Device) {}
+}

@@ -1,0 +1,113 @@
+//! Sky map: level 0 of the stereographic sky texture from the analytic model (compute), then the
+//! full mip chain by successive linear blits, each level a barrier from the one above.
+
+use super::{dispatch_size, Pass, Recorder};
+use crate::error::Result;
+use crate::resources::Resources;
+use crate::shaders;
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::device::Device;
+use crate::vk::pipeline::{compute_pipeline, Bindings};
+use ash::vk;
+
+pub struct SkyMapPass {
+    bindings: Bindings,
+    pipeline: vk::Pipeline,
+}
+
+impl SkyMapPass {
+    pub fn new(device: &Device, resources: &Resources) -> Result<SkyMapPass> {
+        use vk::DescriptorType as D;
+        let stages = vk::ShaderStageFlags::COMPUTE;
+        let bindings = Bindings::new(
+            device,
+            "sky map",
+            &[
+                (0, D::UNIFORM_BUFFER, stages),
+                (3, D::STORAGE_IMAGE, stages),
+            ],
+        )?;
+        bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, resources.frame_uniforms.raw);
+        let sky = &resources.sky_map;
+        bindings.write_image(
+            device,
+            3,
+            D::STORAGE_IMAGE,
+            sky.level0_view,
+            vk::ImageLayout::GENERAL,
+            vk::Sampler::null(),
+        );
+        let pipeline = compute_pipeline(
+            device,
+            bindings.pipeline_layout,
+            shaders::SKY_MAP_COMP,
+            "sky map",
+        )?;
+        Ok(SkyMapPass { bindings, pipeline })
+    }
+}
+
+impl Pass for SkyMapPass {
+    fn name(&self) -> &'static str {
+        "sky_map"
+    }
+
+    fn declare(&self, r: &Resources, t: &mut Tracker) {
+        t.image(&r.sky_map, 0, 1, Access::ComputeStorageWrite, true);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let sky = &r.sky_map;
+        let (gx, gy) = dispatch_size(sky.extent, 8);
+        // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
+        self.bindings
+            .bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
+        unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
+
+        for level in 1..sky.mip_levels {
+            rec.tracker
+                .image(sky, level - 1, 1, Access::TransferRead, false);
+            rec.tracker
+                .image(sky, level, 1, Access::TransferWrite, true);
+            rec.tracker.flush(device, cmd);
+            let size = |l: u32| vk::Offset3D {
+                x: (sky.extent.width >> l).max(1) as i32,
+                y: (sky.extent.height >> l).max(1) as i32,
+                z: 1,
+            };
+            let layer = |l: u32| vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: l,
+                base_array_layer: 0,
+                layer_count: 1,
+            };
+            let blit = vk::ImageBlit {
+                src_subresource: layer(level - 1),
+                src_offsets: [vk::Offset3D::default(), size(level - 1)],
+                dst_subresource: layer(level),
+                dst_offsets: [vk::Offset3D::default(), size(level)],
+            };
+            // SAFETY: the two levels were just transitioned to TRANSFER_SRC / TRANSFER_DST; the
+            // format's linear-filtered blit support was checked at device choice.
+            unsafe {
+                device.cmd_blit_image(
+                    cmd,
+                    sky.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    sky.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[blit],
+                    vk::Filter::LINEAR,
+                )
+            };
+        }
+    }
+
+    fn destroy(&self, device: &ash::Device) {
+        // SAFETY: the device is idle.
+        unsafe { device.destroy_pipeline(self.pipeline, None) };
+        self.bindings.destroy(device);
+    }
+}

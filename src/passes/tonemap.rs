@@ -1,0 +1,82 @@
+//! Tone mapping: HDR radiance to 8-bit sRGB with the scene's exposure (compute).
+
+use super::{dispatch_size, Pass, Recorder};
+use crate::error::Result;
+use crate::resources::Resources;
+use crate::shaders;
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::device::Device;
+use crate::vk::pipeline::{compute_pipeline, Bindings};
+use ash::vk;
+
+pub struct TonemapPass {
+    bindings: Bindings,
+    pipeline: vk::Pipeline,
+}
+
+impl TonemapPass {
+    pub fn new(device: &Device, r: &Resources) -> Result<TonemapPass> {
+        use vk::DescriptorType as D;
+        let stages = vk::ShaderStageFlags::COMPUTE;
+        let bindings = Bindings::new(
+            device,
+            "tonemap",
+            &[
+                (0, D::UNIFORM_BUFFER, stages),
+                (4, D::STORAGE_IMAGE, stages),
+                (5, D::STORAGE_IMAGE, stages),
+            ],
+        )?;
+        bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
+        bindings.write_image(
+            device,
+            4,
+            D::STORAGE_IMAGE,
+            r.hdr.view,
+            vk::ImageLayout::GENERAL,
+            vk::Sampler::null(),
+        );
+        bindings.write_image(
+            device,
+            5,
+            D::STORAGE_IMAGE,
+            r.ldr.view,
+            vk::ImageLayout::GENERAL,
+            vk::Sampler::null(),
+        );
+        let pipeline = compute_pipeline(
+            device,
+            bindings.pipeline_layout,
+            shaders::TONEMAP_COMP,
+            "tonemap",
+        )?;
+        Ok(TonemapPass { bindings, pipeline })
+    }
+}
+
+impl Pass for TonemapPass {
+    fn name(&self) -> &'static str {
+        "tonemap"
+    }
+
+    fn declare(&self, r: &Resources, t: &mut Tracker) {
+        t.image(&r.hdr, 0, 1, Access::ComputeStorageRead, false);
+        t.image(&r.ldr, 0, 1, Access::ComputeStorageWrite, true);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let (gx, gy) = dispatch_size(r.hdr.extent, 8);
+        // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
+        self.bindings
+            .bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
+        unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
+    }
+
+    fn destroy(&self, device: &ash::Device) {
+        // SAFETY: the device is idle.
+        unsafe { device.destroy_pipeline(self.pipeline, None) };
+        self.bindings.destroy(device);
+    }
+}

@@ -1,0 +1,220 @@
+//! The headless renderer: builds the frame's resources and passes for one image size, records
+//! the passes with declared-access barriers and timestamps, submits, waits and reads back.
+
+use crate::error::{Error, Result, VkContext};
+use crate::frame::{self, FrameData};
+use crate::passes::ocean::{OceanPass, Terms};
+use crate::passes::readback::ReadbackPass;
+use crate::passes::sky_map::SkyMapPass;
+use crate::passes::tonemap::TonemapPass;
+use crate::passes::{Pass, Recorder};
+use crate::resources::Resources;
+use crate::scene::Scene;
+use crate::vk::barrier::Tracker;
+use crate::vk::gpu::Gpu;
+use crate::vk::memory::MemoryReport;
+use crate::vk::profiler::Profiler;
+use crate::waves;
+use ash::vk;
+
+/// A rendered frame, read back to the CPU.
+pub struct RenderedFrame {
+    pub width: u32,
+    pub height: u32,
+    /// Linear HDR radiance, RGBA, row-major from the top-left.
+    pub hdr: Vec<[f32; 4]>,
+    /// Tone-mapped sRGB, RGBA8.
+    pub ldr: Vec<u8>,
+    /// GPU time per pass (ms); empty when the queue has no timestamps.
+    pub pass_ms: Vec<(String, f64)>,
+    pub frame: FrameData,
+}
+
+pub struct Renderer<'g> {
+    gpu: &'g Gpu,
+    width: u32,
+    height: u32,
+    cell_px: f64,
+    anisotropy: f64,
+    // Declared in execution order.
+    passes: Vec<Box<dyn Pass>>,
+    resources: Option<Resources>,
+    profiler: Profiler,
+    tracker: Tracker,
+    command_pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+}
+
+impl<'g> Renderer<'g> {
+    /// A renderer for `width` x `height` images of scenes with `scene`'s grid cell and anisotropy.
+    pub fn new(
+        gpu: &'g Gpu,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        terms: Terms,
+    ) -> Result<Renderer<'g>> {
+        let device = &gpu.device;
+        let resources = Resources::new(
+            gpu,
+            width,
+            height,
+            scene.render.grid_cell_px,
+            scene.render.sky_anisotropy as f32,
+        )?;
+        let passes: Vec<Box<dyn Pass>> = vec![
+            Box::new(SkyMapPass::new(device, &resources)?),
+            Box::new(OceanPass::new(device, &resources, terms)?),
+            Box::new(TonemapPass::new(device, &resources)?),
+            Box::new(ReadbackPass),
+        ];
+        let profiler = Profiler::new(device, passes.len() as u32)?;
+        let raw = &device.raw;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(device.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid create infos; destroyed in Drop after the device idles.
+        let command_pool =
+            unsafe { raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        let cmd =
+            unsafe { raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
+        let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .during("vkCreateFence")?;
+        device.set_name(cmd, "frame");
+        device.set_name(fence, "frame done");
+        Ok(Renderer {
+            gpu,
+            width,
+            height,
+            cell_px: scene.render.grid_cell_px,
+            anisotropy: scene.render.sky_anisotropy,
+            passes,
+            resources: Some(resources),
+            profiler,
+            tracker: Tracker::default(),
+            command_pool,
+            cmd,
+            fence,
+        })
+    }
+
+    pub fn memory(&self) -> MemoryReport {
+        self.gpu.allocator.borrow().report()
+    }
+
+    pub fn render(&mut self, scene: &Scene) -> Result<RenderedFrame> {
+        if scene.render.grid_cell_px != self.cell_px
+            || scene.render.sky_anisotropy != self.anisotropy
+        {
+            return Err(Error::Argument(format!(
+                "this renderer was built for grid_cell_px = {} and sky_anisotropy = {}",
+                self.cell_px, self.anisotropy
+            )));
+        }
+        let wave_set = waves::generate(scene);
+        let data = frame::build(scene, &wave_set, self.width, self.height);
+        let gpu = self.gpu;
+        let resources = self.resources.as_mut().expect("live renderer");
+        resources.set_grid(gpu, data.grid.columns, data.grid.rows)?;
+        resources
+            .frame_uniforms
+            .write(gpu, std::slice::from_ref(&data.uniforms))?;
+        resources.waves.write(gpu, &data.waves)?;
+        self.submit_frame()?;
+
+        let resources = self.resources.as_ref().expect("live renderer");
+        let pixels = self.width as usize * self.height as usize;
+        let hdr_bits: Vec<u16> = resources.hdr_readback.read(gpu, 4 * pixels)?;
+        let hdr = hdr_bits
+            .chunks_exact(4)
+            .map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32()))
+            .collect();
+        let ldr = resources.ldr_readback.read(gpu, 4 * pixels)?;
+        let pass_ms = self
+            .profiler
+            .read(&gpu.device.raw)?
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(n, ms)| (n.to_owned(), ms))
+            .collect();
+        Ok(RenderedFrame {
+            width: self.width,
+            height: self.height,
+            hdr,
+            ldr,
+            pass_ms,
+            frame: data,
+        })
+    }
+
+    fn submit_frame(&mut self) -> Result<()> {
+        let device = &self.gpu.device;
+        let raw = &device.raw;
+        let resources = self.resources.as_ref().expect("live renderer");
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: the previous submission's fence was waited on, so the buffer is not pending.
+        unsafe { raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")?;
+        self.profiler.reset(raw, self.cmd);
+        for pass in &self.passes {
+            self.profiler.begin(device, self.cmd, pass.name());
+            pass.declare(resources, &mut self.tracker);
+            self.tracker.flush(raw, self.cmd);
+            pass.record(
+                &mut Recorder {
+                    device,
+                    cmd: self.cmd,
+                    tracker: &mut self.tracker,
+                },
+                resources,
+            );
+            self.profiler.end(device, self.cmd);
+        }
+        // SAFETY: recording began above.
+        unsafe { raw.end_command_buffer(self.cmd) }.during("vkEndCommandBuffer")?;
+        let cmds = [self.cmd];
+        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        // SAFETY: the fence is unsignalled; host writes to mapped buffers happen before submit,
+        // which makes them visible to the device (host write ordering guarantee of vkQueueSubmit).
+        unsafe { raw.queue_submit(device.queue, &[submit], self.fence) }.map_err(|result| {
+            match result {
+                vk::Result::ERROR_DEVICE_LOST => Error::Vulkan {
+                    call: "vkQueueSubmit (device lost)",
+                    result,
+                },
+                result => Error::Vulkan {
+                    call: "vkQueueSubmit",
+                    result,
+                },
+            }
+        })?;
+        unsafe { raw.wait_for_fences(&[self.fence], true, u64::MAX) }.during("vkWaitForFences")?;
+        unsafe { raw.reset_fences(&[self.fence]) }.during("vkResetFences")?;
+        Ok(())
+    }
+}
+
+impl Drop for Renderer<'_> {
+    fn drop(&mut self) {
+        let raw = &self.gpu.device.raw;
+        let _ = self.gpu.device.wait_idle();
+        // Reverse creation order.
+        // SAFETY: the device is idle; nothing below is in use.
+        unsafe {
+            raw.destroy_fence(self.fence, None);
+            raw.destroy_command_pool(self.command_pool, None);
+        }
+        self.profiler.destroy(raw);
+        for pass in self.passes.iter().rev() {
+            pass.destroy(raw);
+        }
+        if let Some(resources) = self.resources.take() {
+            resources.destroy(self.gpu);
+        }
+    }
+}

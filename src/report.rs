@@ -1,0 +1,50 @@
+//! The machine-readable report of one render.
+
+use crate::vk::memory::MemoryReport;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+#[derive(Debug, Serialize)]
+pub struct Report {
+    pub device: String,
+    pub width: u32,
+    pub height: u32,
+    /// GPU time per pass and in total (ms), from timestamp queries.
+    pub gpu_ms: BTreeMap<String, f64>,
+    pub validation: bool,
+    pub validation_errors: u32,
+    pub validation_warnings: u32,
+    /// Message ids seen, with counts.
+    pub validation_messages: BTreeMap<String, u32>,
+    pub nonfinite_pixels: u64,
+    /// Mean linear radiance of the HDR image (kcd/m^2 per channel).
+    pub mean_radiance: [f64; 3],
+    pub memory: MemoryReport,
+    pub grid: GridReport,
+    pub waves: WaveReport,
+}
+
+#[derive(Debug, Serialize)]
+pub struct GridReport {
+    pub columns: u32,
+    pub rows: u32,
+    pub cell_px: f64,
+}
+
+#[derive(Debug, Serialize)]
+pub struct WaveReport {
+    pub count: usize,
+    pub sigma2_along_wind: f64,
+    pub sigma2_across_wind: f64,
+    pub mean_height_offset_m: f64,
+}
+
+impl Report {
+    pub fn gpu_total_ms(pass_ms: &[(String, f64)]) -> BTreeMap<String, f64> {
+        let mut map: BTreeMap<String, f64> = pass_ms.iter().cloned().collect();
+        if !pass_ms.is_empty() {
+            map.insert("total".into(), pass_ms.iter().map(|(_, ms)| ms).sum());
+        }
+        map
+    }
+}

@@ -1,0 +1,108 @@
+//! Buffers placed in our allocator.
+
+use super::gpu::Gpu;
+use super::memory::{Allocation, Location, ResourceKind};
+use crate::error::{Result, VkContext};
+use ash::vk;
+
+pub struct Buffer {
+    pub raw: vk::Buffer,
+    pub size: u64,
+    allocation: Option<Allocation>,
+}
+
+impl Buffer {
+    pub fn new(
+        gpu: &Gpu,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: Location,
+    ) -> Result<Buffer> {
+        let device = gpu.raw();
+        let info = vk::BufferCreateInfo::default()
+            .size(size.max(4))
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid create info; the buffer is destroyed in `destroy`.
+        let raw = unsafe { device.create_buffer(&info, None) }.during("vkCreateBuffer")?;
+        gpu.device.set_name(raw, name);
+        let mut dedicated = vk::MemoryDedicatedRequirements::default();
+        let mut req2 = vk::MemoryRequirements2::default().push_next(&mut dedicated);
+        // SAFETY: `raw` is a live buffer of this device.
+        unsafe {
+            device.get_buffer_memory_requirements2(
+                &vk::BufferMemoryRequirementsInfo2::default().buffer(raw),
+                &mut req2,
+            )
+        };
+        let req = req2.memory_requirements;
+        let wants_own = dedicated.prefers_dedicated_allocation == vk::TRUE
+            || dedicated.requires_dedicated_allocation == vk::TRUE;
+        let own = wants_own.then(|| vk::MemoryDedicatedAllocateInfo::default().buffer(raw));
+        let allocation = match gpu.allocator.borrow_mut().allocate(
+            name,
+            req,
+            location,
+            ResourceKind::Linear,
+            own,
+        ) {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: never bound, never used.
+                unsafe { device.destroy_buffer(raw, None) };
+                return Err(e);
+            }
+        };
+        // SAFETY: the allocation satisfies `req` (type, size, alignment).
+        unsafe { device.bind_buffer_memory(raw, allocation.memory, allocation.offset) }
+            .during("vkBindBufferMemory")?;
+        Ok(Buffer {
+            raw,
+            size,
+            allocation: Some(allocation),
+        })
+    }
+
+    /// Copies `data` to the start of a mapped buffer.
+    pub fn write<T: Copy>(&self, gpu: &Gpu, data: &[T]) -> Result<()> {
+        let allocation = self.allocation.as_ref().expect("live buffer");
+        let bytes = std::mem::size_of_val(data);
+        assert!(
+            bytes as u64 <= self.size,
+            "write of {bytes} bytes into a {}-byte buffer",
+            self.size
+        );
+        let ptr = allocation.mapped().expect("write to an unmapped buffer");
+        // SAFETY: the mapping covers `size` >= `bytes` bytes, and the GPU is not reading it (the
+        // previous frame's fence was waited on).
+        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr() as *const u8, ptr, bytes) };
+        gpu.allocator.borrow().flush(allocation)
+    }
+
+    /// Reads `count` values of T from the start of a mapped readback buffer.
+    pub fn read<T: Copy + Default>(&self, gpu: &Gpu, count: usize) -> Result<Vec<T>> {
+        let allocation = self.allocation.as_ref().expect("live buffer");
+        assert!((count * std::mem::size_of::<T>()) as u64 <= self.size);
+        gpu.allocator.borrow().invalidate(allocation)?;
+        let ptr = allocation.mapped().expect("read from an unmapped buffer");
+        let mut out = vec![T::default(); count];
+        // SAFETY: the mapping covers the bytes read; the GPU finished writing (fence waited).
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                ptr,
+                out.as_mut_ptr() as *mut u8,
+                count * std::mem::size_of::<T>(),
+            )
+        };
+        Ok(out)
+    }
+
+    pub fn destroy(mut self, gpu: &Gpu) {
+        // SAFETY: the device is idle; nothing refers to the buffer any more.
+        unsafe { gpu.raw().destroy_buffer(self.raw, None) };
+        if let Some(a) = self.allocation.take() {
+            gpu.allocator.borrow_mut().free(a);
+        }
+    }
+}

@@ -1,0 +1,216 @@
+//! Physical-device choice and the logical device with its one graphics+compute queue.
+
+use super::instance::Instance;
+use crate::error::{Error, Result, VkContext};
+use ash::{ext, vk};
+
+/// Formats the renderer uses and the features each must offer with optimal tiling.
+pub const HDR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+pub const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static str); 3] {
+    use vk::FormatFeatureFlags as F;
+    [
+        (
+            HDR_FORMAT,
+            F::COLOR_ATTACHMENT | F::STORAGE_IMAGE | F::SAMPLED_IMAGE_FILTER_LINEAR | F::BLIT_SRC | F::BLIT_DST | F::TRANSFER_SRC,
+            "R16G16B16A16_SFLOAT as colour attachment, storage, linear-filtered blit source and destination",
+        ),
+        (LDR_FORMAT, F::STORAGE_IMAGE | F::TRANSFER_SRC, "R8G8B8A8_UNORM as storage image"),
+        (DEPTH_FORMAT, F::DEPTH_STENCIL_ATTACHMENT, "D32_SFLOAT as depth attachment"),
+    ]
+}
+
+pub struct Device {
+    pub raw: ash::Device,
+    pub physical: vk::PhysicalDevice,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub name: String,
+    pub properties: vk::PhysicalDeviceProperties,
+    pub memory_properties: vk::PhysicalDeviceMemoryProperties,
+    pub timestamp_valid_bits: u32,
+    pub anisotropy: bool,
+    pub debug_utils: Option<ext::debug_utils::Device>,
+}
+
+fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    }
+}
+
+struct Candidate {
+    physical: vk::PhysicalDevice,
+    name: String,
+    properties: vk::PhysicalDeviceProperties,
+    queue_family: u32,
+    timestamp_valid_bits: u32,
+    anisotropy: bool,
+}
+
+/// Checks one physical device; Err names the first thing it lacks.
+fn check(instance: &Instance, physical: vk::PhysicalDevice) -> Result<Candidate> {
+    let raw = &instance.raw;
+    // SAFETY: `physical` comes from vkEnumeratePhysicalDevices on this instance.
+    let properties = unsafe { raw.get_physical_device_properties(physical) };
+    let name = properties
+        .device_name_as_c_str()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let missing = |feature: &str| Error::MissingFeature {
+        device: name.clone(),
+        feature: feature.into(),
+    };
+    if properties.api_version < vk::API_VERSION_1_3 {
+        return Err(missing("Vulkan 1.3"));
+    }
+    let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+    // SAFETY: as above; `features` chains only locals.
+    unsafe { raw.get_physical_device_features2(physical, &mut features) };
+    let anisotropy = features.features.sampler_anisotropy == vk::TRUE;
+    if f13.synchronization2 != vk::TRUE {
+        return Err(missing("the synchronization2 feature"));
+    }
+    if f13.dynamic_rendering != vk::TRUE {
+        return Err(missing("the dynamicRendering feature"));
+    }
+    for (format, needed, what) in required_format_features() {
+        // SAFETY: as above.
+        let props = unsafe { raw.get_physical_device_format_properties(physical, format) };
+        if !props.optimal_tiling_features.contains(needed) {
+            return Err(missing(what));
+        }
+    }
+    // SAFETY: as above.
+    let families = unsafe { raw.get_physical_device_queue_family_properties(physical) };
+    let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+    let (queue_family, family) = families
+        .iter()
+        .enumerate()
+        .find(|(_, f)| f.queue_flags.contains(wanted))
+        .ok_or_else(|| missing("a graphics and compute queue"))?;
+    Ok(Candidate {
+        physical,
+        name,
+        properties,
+        queue_family: queue_family as u32,
+        timestamp_valid_bits: family.timestamp_valid_bits,
+        anisotropy,
+    })
+}
+
+impl Device {
+    /// Picks discrete > integrated > virtual > CPU among devices that have what we need, or the
+    /// first device whose name contains `name_filter` (case-insensitive).
+    pub fn new(instance: &Instance, name_filter: Option<&str>) -> Result<Device> {
+        // SAFETY: enumeration on a live instance.
+        let physicals = unsafe { instance.raw.enumerate_physical_devices() }
+            .during("vkEnumeratePhysicalDevices")?;
+        if physicals.is_empty() {
+            return Err(Error::NoDevice(
+                "the Vulkan loader reports no device (Debian: install mesa-vulkan-drivers)".into(),
+            ));
+        }
+        let mut rejected = Vec::new();
+        let mut candidates = Vec::new();
+        for p in physicals {
+            match check(instance, p) {
+                Ok(c) => candidates.push(c),
+                Err(e) => rejected.push(e.to_string()),
+            }
+        }
+        if let Some(filter) = name_filter {
+            let filter = filter.to_lowercase();
+            candidates.retain(|c| c.name.to_lowercase().contains(&filter));
+            if candidates.is_empty() {
+                return Err(Error::NoDevice(format!(
+                    "no suitable device matches --device {filter:?}"
+                )));
+            }
+        }
+        candidates.sort_by_key(|c| type_rank(c.properties.device_type));
+        let Some(chosen) = candidates.into_iter().next() else {
+            return Err(Error::NoDevice(rejected.join("; ")));
+        };
+        Self::open(instance, chosen)
+    }
+
+    fn open(instance: &Instance, c: Candidate) -> Result<Device> {
+        let priorities = [1.0];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(c.queue_family)
+            .queue_priorities(&priorities)];
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
+            .synchronization2(true)
+            .dynamic_rendering(true);
+        let base = vk::PhysicalDeviceFeatures::default().sampler_anisotropy(c.anisotropy);
+        let info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_features(&base)
+            .push_next(&mut f13);
+        // SAFETY: the features requested were checked as supported; pointers refer to locals.
+        let raw = unsafe { instance.raw.create_device(c.physical, &info, None) }
+            .during("vkCreateDevice")?;
+        // SAFETY: queue 0 of a family we created one queue in.
+        let queue = unsafe { raw.get_device_queue(c.queue_family, 0) };
+        // SAFETY: plain query on a live physical device.
+        let memory_properties = unsafe {
+            instance
+                .raw
+                .get_physical_device_memory_properties(c.physical)
+        };
+        let debug_utils = instance
+            .debug_utils
+            .as_ref()
+            .map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
+        let device = Device {
+            raw,
+            physical: c.physical,
+            queue,
+            queue_family: c.queue_family,
+            name: c.name,
+            properties: c.properties,
+            memory_properties,
+            timestamp_valid_bits: c.timestamp_valid_bits,
+            anisotropy: c.anisotropy,
+            debug_utils,
+        };
+        device.set_name(device.queue, "main queue");
+        Ok(device)
+    }
+
+    /// Gives a Vulkan object a debug name (shown by validation messages, RenderDoc, Nsight).
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        let Some(du) = &self.debug_utils else { return };
+        let Ok(name) = std::ffi::CString::new(name) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&name);
+        // SAFETY: `handle` is a live object of this device; naming failure is harmless.
+        let _ = unsafe { du.set_debug_utils_object_name(&info) };
+    }
+
+    pub fn wait_idle(&self) -> Result<()> {
+        // SAFETY: the device is live.
+        unsafe { self.raw.device_wait_idle() }.during("vkDeviceWaitIdle")
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: owners of child objects drop first (Gpu's field order), after wait_idle.
+        unsafe {
+            let _ = self.raw.device_wait_idle();
+            self.raw.destroy_device(None);
+        }
+    }
+}

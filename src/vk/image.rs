@@ -1,0 +1,148 @@
+//! 2D images placed in our allocator, with a view of all levels and one per level on demand.
+
+use super::gpu::Gpu;
+use super::memory::{Allocation, Location, ResourceKind};
+use crate::error::{Result, VkContext};
+use ash::vk;
+
+pub struct Image {
+    pub raw: vk::Image,
+    /// View of every mip level.
+    pub view: vk::ImageView,
+    /// View of level 0 alone (storage writes need single-level views).
+    pub level0_view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub mip_levels: u32,
+    pub aspect: vk::ImageAspectFlags,
+    allocation: Option<Allocation>,
+}
+
+impl Image {
+    pub fn new(
+        gpu: &Gpu,
+        name: &str,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        mip_levels: u32,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Image> {
+        let device = gpu.raw();
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
+            .mip_levels(mip_levels)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid create info (formats checked at device choice); destroyed in `destroy`.
+        let raw = unsafe { device.create_image(&info, None) }.during("vkCreateImage")?;
+        gpu.device.set_name(raw, name);
+        let mut dedicated = vk::MemoryDedicatedRequirements::default();
+        let mut req2 = vk::MemoryRequirements2::default().push_next(&mut dedicated);
+        // SAFETY: `raw` is a live image of this device.
+        unsafe {
+            device.get_image_memory_requirements2(
+                &vk::ImageMemoryRequirementsInfo2::default().image(raw),
+                &mut req2,
+            )
+        };
+        let req = req2.memory_requirements;
+        let wants_own = dedicated.prefers_dedicated_allocation == vk::TRUE
+            || dedicated.requires_dedicated_allocation == vk::TRUE;
+        let own = wants_own.then(|| vk::MemoryDedicatedAllocateInfo::default().image(raw));
+        let allocation = match gpu.allocator.borrow_mut().allocate(
+            name,
+            req,
+            Location::Gpu,
+            ResourceKind::Optimal,
+            own,
+        ) {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: never bound, never used.
+                unsafe { device.destroy_image(raw, None) };
+                return Err(e);
+            }
+        };
+        // SAFETY: the allocation satisfies the image's requirements.
+        unsafe { device.bind_image_memory(raw, allocation.memory, allocation.offset) }
+            .during("vkBindImageMemory")?;
+        let aspect = if format == vk::Format::D32_SFLOAT {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let make_view = |base: u32, count: u32, label: &str| -> Result<vk::ImageView> {
+            let info = vk::ImageViewCreateInfo::default()
+                .image(raw)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format)
+                .subresource_range(vk::ImageSubresourceRange {
+                    aspect_mask: aspect,
+                    base_mip_level: base,
+                    level_count: count,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                });
+            // SAFETY: the range lies inside the image.
+            let view =
+                unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
+            gpu.device.set_name(view, &format!("{name} {label}"));
+            Ok(view)
+        };
+        let view = make_view(0, mip_levels, "all levels")?;
+        let level0_view = if mip_levels > 1 {
+            make_view(0, 1, "level 0")?
+        } else {
+            view
+        };
+        Ok(Image {
+            raw,
+            view,
+            level0_view,
+            format,
+            extent,
+            mip_levels,
+            aspect,
+            allocation: Some(allocation),
+        })
+    }
+
+    pub fn full_range(&self) -> vk::ImageSubresourceRange {
+        self.levels(0, self.mip_levels)
+    }
+
+    pub fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: base,
+            level_count: count,
+            base_array_layer: 0,
+            layer_count: 1,
+        }
+    }
+
+    pub fn destroy(mut self, gpu: &Gpu) {
+        let device = gpu.raw();
+        // SAFETY: the device is idle; no command buffer or descriptor in use refers to these.
+        unsafe {
+            if self.level0_view != self.view {
+                device.destroy_image_view(self.level0_view, None);
+            }
+            device.destroy_image_view(self.view, None);
+            device.destroy_image(self.raw, None);
+        }
+        if let Some(a) = self.allocation.take() {
+            gpu.allocator.borrow_mut().free(a);
+        }
+    }
+}

@@ -1,0 +1,123 @@
+//! Vulkan instance: loader, optional validation (with synchronization validation) and the
+//! debug-utils messenger, chained into instance creation so creation messages are caught too.
+
+use super::validation::{messenger_info, ValidationLog};
+use crate::error::{Error, Result, VkContext};
+use ash::{ext, vk};
+use std::ffi::CStr;
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+pub struct Instance {
+    pub entry: ash::Entry,
+    pub raw: ash::Instance,
+    pub debug_utils: Option<ext::debug_utils::Instance>,
+    messenger: vk::DebugUtilsMessengerEXT,
+    /// Boxed so its address, given to the layer as user data, never moves.
+    pub log: Box<ValidationLog>,
+}
+
+impl Instance {
+    pub fn new(validation: bool) -> Result<Instance> {
+        // SAFETY: loading the system loader library; its symbols are only used through ash.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))?;
+        // SAFETY: plain enumeration calls on a loaded entry.
+        let layers = unsafe { entry.enumerate_instance_layer_properties() }
+            .during("vkEnumerateInstanceLayerProperties")?;
+        let extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
+            .during("vkEnumerateInstanceExtensionProperties")?;
+        let has_layer = layers
+            .iter()
+            .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+        let has_debug_utils = extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ext::debug_utils::NAME));
+        if validation && !has_layer {
+            return Err(Error::ValidationUnavailable(
+                "VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)"
+                    .into(),
+            ));
+        }
+        if validation && !has_debug_utils {
+            return Err(Error::ValidationUnavailable(
+                "VK_EXT_debug_utils is not available".into(),
+            ));
+        }
+
+        let log = Box::<ValidationLog>::default();
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"ocean")
+            .application_version(1)
+            .engine_name(c"ocean")
+            .api_version(vk::API_VERSION_1_3);
+        let layer_names = if validation {
+            vec![VALIDATION_LAYER.as_ptr()]
+        } else {
+            vec![]
+        };
+        let extension_names = if has_debug_utils {
+            vec![ext::debug_utils::NAME.as_ptr()]
+        } else {
+            vec![]
+        };
+        let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+        let mut creation_messenger = messenger_info(&log);
+        let mut info = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layer_names)
+            .enabled_extension_names(&extension_names);
+        if validation {
+            info = info
+                .push_next(&mut features)
+                .push_next(&mut creation_messenger);
+        }
+        // SAFETY: every pointer in `info` refers to locals that outlive the call.
+        let raw = unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice(
+                "no Vulkan 1.3 driver is installed (Debian: mesa-vulkan-drivers)".into(),
+            ),
+            result => Error::Vulkan {
+                call: "vkCreateInstance",
+                result,
+            },
+        })?;
+
+        let (debug_utils, messenger) = if has_debug_utils {
+            let debug_utils = ext::debug_utils::Instance::new(&entry, &raw);
+            let messenger = if validation {
+                // SAFETY: `log` is boxed and outlives the messenger (destroyed first in Drop).
+                unsafe { debug_utils.create_debug_utils_messenger(&messenger_info(&log), None) }
+                    .during("vkCreateDebugUtilsMessengerEXT")?
+            } else {
+                vk::DebugUtilsMessengerEXT::null()
+            };
+            (Some(debug_utils), messenger)
+        } else {
+            (None, vk::DebugUtilsMessengerEXT::null())
+        };
+        Ok(Instance {
+            entry,
+            raw,
+            debug_utils,
+            messenger,
+            log,
+        })
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        // SAFETY: every child object (device, messenger) is destroyed before the instance; the
+        // Device owner drops before this Instance.
+        unsafe {
+            if let Some(du) = &self.debug_utils {
+                if self.messenger != vk::DebugUtilsMessengerEXT::null() {
+                    du.destroy_debug_utils_messenger(self.messenger, None);
+                }
+            }
+            self.raw.destroy_instance(None);
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! The Vulkan backend: one small file per concept. `unsafe` lives here and in the passes'
+//! recording functions, each block stating the invariant it relies on.
+
+pub mod barrier;
+pub mod buffer;
+pub mod device;
+pub mod gpu;
+pub mod image;
+pub mod instance;
+pub mod memory;
+pub mod pipeline;
+pub mod profiler;
+pub mod validation;

@@ -1,0 +1,316 @@
+//! Shader modules, descriptor layouts and pipelines (compute, and graphics with dynamic rendering).
+
+use super::device::Device;
+use crate::error::{Result, VkContext};
+use ash::vk;
+
+pub fn shader_module(device: &Device, spirv: &[u8], name: &str) -> Result<vk::ShaderModule> {
+    let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
+        .expect("build.rs embeds whole SPIR-V words");
+    let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    // SAFETY: the words are SPIR-V produced by shaderc at build time.
+    let module =
+        unsafe { device.raw.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
+    device.set_name(module, name);
+    Ok(module)
+}
+
+/// Boolean specialization constants 0..n (VkBool32 each).
+pub struct Specialization {
+    entries: Vec<vk::SpecializationMapEntry>,
+    data: Vec<u32>,
+}
+
+impl Specialization {
+    pub fn bools(values: &[bool]) -> Specialization {
+        let entries = (0..values.len() as u32)
+            .map(|i| vk::SpecializationMapEntry {
+                constant_id: i,
+                offset: 4 * i,
+                size: 4,
+            })
+            .collect();
+        Specialization {
+            entries,
+            data: values.iter().map(|&b| b as u32).collect(),
+        }
+    }
+
+    pub fn info(&self) -> vk::SpecializationInfo<'_> {
+        // SAFETY of the cast: u32 has no padding; the slice's bytes are exactly the constants.
+        let bytes = unsafe {
+            std::slice::from_raw_parts(self.data.as_ptr() as *const u8, 4 * self.data.len())
+        };
+        vk::SpecializationInfo::default()
+            .map_entries(&self.entries)
+            .data(bytes)
+    }
+}
+
+/// A descriptor set layout, its pipeline layout, and one set allocated from its own pool.
+pub struct Bindings {
+    pub set_layout: vk::DescriptorSetLayout,
+    pub pipeline_layout: vk::PipelineLayout,
+    pub pool: vk::DescriptorPool,
+    pub set: vk::DescriptorSet,
+}
+
+impl Bindings {
+    pub fn new(
+        device: &Device,
+        name: &str,
+        bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
+    ) -> Result<Bindings> {
+        let raw = &device.raw;
+        let layout_bindings: Vec<_> = bindings
+            .iter()
+            .map(|&(binding, ty, stages)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(binding)
+                    .descriptor_type(ty)
+                    .descriptor_count(1)
+                    .stage_flags(stages)
+            })
+            .collect();
+        // SAFETY: valid create infos; all objects are destroyed in `destroy`.
+        let set_layout = unsafe {
+            raw.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
+                None,
+            )
+        }
+        .during("vkCreateDescriptorSetLayout")?;
+        let set_layouts = [set_layout];
+        let pipeline_layout = unsafe {
+            raw.create_pipeline_layout(
+                &vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts),
+                None,
+            )
+        }
+        .during("vkCreatePipelineLayout")?;
+        let sizes: Vec<_> = bindings
+            .iter()
+            .map(|&(_, ty, _)| vk::DescriptorPoolSize {
+                ty,
+                descriptor_count: 1,
+            })
+            .collect();
+        let pool = unsafe {
+            raw.create_descriptor_pool(
+                &vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(1)
+                    .pool_sizes(&sizes),
+                None,
+            )
+        }
+        .during("vkCreateDescriptorPool")?;
+        let set = unsafe {
+            raw.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default()
+                    .descriptor_pool(pool)
+                    .set_layouts(&set_layouts),
+            )
+        }
+        .during("vkAllocateDescriptorSets")?[0];
+        device.set_name(set_layout, name);
+        device.set_name(pipeline_layout, name);
+        device.set_name(set, name);
+        Ok(Bindings {
+            set_layout,
+            pipeline_layout,
+            pool,
+            set,
+        })
+    }
+
+    pub fn write_buffer(
+        &self,
+        device: &Device,
+        binding: u32,
+        ty: vk::DescriptorType,
+        buffer: vk::Buffer,
+    ) {
+        let info = [vk::DescriptorBufferInfo {
+            buffer,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(ty)
+            .buffer_info(&info);
+        // SAFETY: the set is not in use by any pending command buffer when written.
+        unsafe { device.raw.update_descriptor_sets(&[write], &[]) };
+    }
+
+    pub fn write_image(
+        &self,
+        device: &Device,
+        binding: u32,
+        ty: vk::DescriptorType,
+        view: vk::ImageView,
+        layout: vk::ImageLayout,
+        sampler: vk::Sampler,
+    ) {
+        let info = [vk::DescriptorImageInfo {
+            sampler,
+            image_view: view,
+            image_layout: layout,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(ty)
+            .image_info(&info);
+        // SAFETY: as above.
+        unsafe { device.raw.update_descriptor_sets(&[write], &[]) };
+    }
+
+    pub fn bind(&self, device: &Device, cmd: vk::CommandBuffer, point: vk::PipelineBindPoint) {
+        // SAFETY: `cmd` is recording with a pipeline made from this layout.
+        unsafe {
+            device.raw.cmd_bind_descriptor_sets(
+                cmd,
+                point,
+                self.pipeline_layout,
+                0,
+                &[self.set],
+                &[],
+            )
+        };
+    }
+
+    pub fn destroy(&self, device: &ash::Device) {
+        // SAFETY: the device is idle.
+        unsafe {
+            device.destroy_descriptor_pool(self.pool, None);
+            device.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+pub fn compute_pipeline(
+    device: &Device,
+    layout: vk::PipelineLayout,
+    spirv: &[u8],
+    name: &str,
+) -> Result<vk::Pipeline> {
+    let module = shader_module(device, spirv, name)?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout);
+    // SAFETY: valid create info; the module may be destroyed once the pipeline exists.
+    let result = unsafe {
+        device
+            .raw
+            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    unsafe { device.raw.destroy_shader_module(module, None) };
+    let pipeline = result
+        .map_err(|(_, e)| e)
+        .during("vkCreateComputePipelines")?[0];
+    device.set_name(pipeline, name);
+    Ok(pipeline)
+}
+
+/// What differs between our graphics pipelines.
+pub struct GraphicsDesc<'a> {
+    pub name: &'a str,
+    pub vertex: &'a [u8],
+    pub fragment: &'a [u8],
+    pub fragment_specialization: Option<&'a Specialization>,
+    pub color_format: vk::Format,
+    pub depth_format: vk::Format,
+    pub depth_write: bool,
+    pub depth_compare: vk::CompareOp,
+}
+
+pub fn graphics_pipeline(
+    device: &Device,
+    layout: vk::PipelineLayout,
+    desc: &GraphicsDesc,
+) -> Result<vk::Pipeline> {
+    let vs = shader_module(device, desc.vertex, &format!("{} vs", desc.name))?;
+    let fs = match shader_module(device, desc.fragment, &format!("{} fs", desc.name)) {
+        Ok(fs) => fs,
+        Err(e) => {
+            // SAFETY: unused module.
+            unsafe { device.raw.destroy_shader_module(vs, None) };
+            return Err(e);
+        }
+    };
+    let spec_info = desc.fragment_specialization.map(|s| s.info());
+    let mut fs_stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::FRAGMENT)
+        .module(fs)
+        .name(c"main");
+    if let Some(info) = spec_info.as_ref() {
+        fs_stage = fs_stage.specialization_info(info);
+    }
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vs)
+            .name(c"main"),
+        fs_stage,
+    ];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(desc.depth_write)
+        .depth_compare_op(desc.depth_compare);
+    let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats = [desc.color_format];
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(desc.depth_format);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&input_assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .push_next(&mut rendering);
+    // SAFETY: valid create info built from locals; modules destroyed after creation.
+    let result = unsafe {
+        device
+            .raw
+            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    unsafe {
+        device.raw.destroy_shader_module(vs, None);
+        device.raw.destroy_shader_module(fs, None);
+    }
+    let pipeline = result
+        .map_err(|(_, e)| e)
+        .during("vkCreateGraphicsPipelines")?[0];
+    device.set_name(pipeline, desc.name);
+    Ok(pipeline)
+}

@@ -1,0 +1,173 @@
+//! Wave trains on the CPU, in f64: wavelengths, directions, amplitudes from a wind spectrum,
+//! total slope variances and the mean-height offset. Deterministic from the scene's seed.
+
+use crate::scene::Scene;
+use std::f64::consts::{PI, TAU};
+
+/// Standard gravity (m/s^2).
+pub const G: f64 = 9.81;
+/// Pierson-Moskowitz constants (Pierson & Moskowitz 1964): alpha (Phillips) and beta.
+const PM_ALPHA: f64 = 8.1e-3;
+const PM_BETA: f64 = 0.74;
+/// Directional spread narrowing for long waves: angle / (1 + 40 (omega0/omega)^4) (authors' demo).
+const SPREAD_NARROWING: f64 = 40.0;
+
+/// One trochoid train. Directions are unit vectors in the world frame (x east, y north).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Train {
+    pub wavelength: f64,
+    pub k: f64,
+    pub direction: [f64; 2],
+    /// Angle from the wind direction (rad).
+    pub angle_from_wind: f64,
+    pub amplitude: f64,
+    pub omega: f64,
+    /// Initial phase (rad); phase(x, t) = omega t - k.x + phase0.
+    pub phase0: f64,
+}
+
+impl Train {
+    /// Phase at the origin and time t, reduced to [0, 2 pi) in f64 so f32 shaders keep precision.
+    pub fn phase_at(&self, t: f64) -> f64 {
+        (self.omega * t + self.phase0).rem_euclid(TAU)
+    }
+
+    /// This train's slope variance along and across the wind: (cos^2, sin^2) (1 - sqrt(1 - (k h)^2)).
+    pub fn slope_variance(&self) -> [f64; 2] {
+        let v = trochoid_slope_variance(self.k * self.amplitude);
+        let (s, c) = self.angle_from_wind.sin_cos();
+        [c * c * v, s * s * v]
+    }
+}
+
+/// 1 - sqrt(1 - a^2) in the cancellation-free form a^2 / (1 + sqrt(1 - a^2)), for 0 <= a <= 1.
+pub fn trochoid_slope_variance(a: f64) -> f64 {
+    let a2 = a * a;
+    a2 / (1.0 + (1.0 - a2).max(0.0).sqrt())
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct WaveSet {
+    /// Sorted by increasing wavelength.
+    pub trains: Vec<Train>,
+    pub wind_direction: [f64; 2],
+    /// Total slope variance along and across the wind.
+    pub sigma2: [f64; 2],
+    /// Mean height of the trochoid surface below the rest plane: sum k h^2 / 2.
+    pub mean_height_offset: f64,
+}
+
+/// Pierson-Moskowitz spectrum S(omega) for wind speed u (m^2 s).
+pub fn pierson_moskowitz(omega: f64, wind_speed: f64) -> f64 {
+    if wind_speed <= 0.0 || omega <= 0.0 {
+        return 0.0; // no wind, no waves: the limit of exp(-beta (g/(U w))^4)
+    }
+    let omega0 = G / wind_speed;
+    PM_ALPHA * G * G / omega.powi(5) * (-PM_BETA * (omega0 / omega).powi(4)).exp()
+}
+
+/// Integral of S over [lo, hi] by composite Simpson's rule in log(omega), where S is smooth.
+fn band_energy(lo: f64, hi: f64, wind_speed: f64) -> f64 {
+    const STEPS: usize = 64;
+    let (a, b) = (lo.ln(), hi.ln());
+    let dx = (b - a) / STEPS as f64;
+    let f = |x: f64| {
+        let w = x.exp();
+        pierson_moskowitz(w, wind_speed) * w
+    };
+    let mut sum = f(a) + f(b);
+    for i in 1..STEPS {
+        sum += f(a + i as f64 * dx) * if i % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    sum * dx / 3.0
+}
+
+/// splitmix64 (Steele, Lea & Flood 2014): a small, well-mixed deterministic generator.
+struct SplitMix64(u64);
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn omega_of_wavelength(lambda: f64) -> f64 {
+    (G * TAU / lambda).sqrt()
+}
+
+pub fn generate(scene: &Scene) -> WaveSet {
+    let w = &scene.waves;
+    let n = w.count as usize;
+    let wind_angle = scene.wind.direction_deg.to_radians();
+    let wind_direction = [wind_angle.cos(), wind_angle.sin()];
+    let wind_speed = scene.wind.speed_mps;
+    let omega0 = if wind_speed > 0.0 {
+        G / wind_speed
+    } else {
+        0.0
+    };
+    let (log_min, log_max) = (w.lambda_min_m.log2(), w.lambda_max_m.log2());
+    let wavelength = |x: f64| 2f64.powf((1.0 - x) * log_min + x * log_max);
+    let position = |i: f64| if n > 1 { i / (n - 1) as f64 } else { 1.0 };
+    let mut rng = SplitMix64(w.seed);
+
+    let mut trains = Vec::with_capacity(n);
+    for i in 0..n {
+        let lambda = wavelength(position(i as f64));
+        let k = TAU / lambda;
+        let omega = omega_of_wavelength(lambda);
+        // The band this train stands for: half a step either side on the geometric progression.
+        let (lambda_hi, lambda_lo) = (
+            wavelength(position(i as f64 - 0.5)),
+            wavelength(position(i as f64 + 0.5)),
+        );
+        let (omega_lo, omega_hi) = (
+            omega_of_wavelength(lambda_lo.max(lambda_hi)),
+            omega_of_wavelength(lambda_lo.min(lambda_hi)),
+        );
+        let energy = band_energy(omega_lo, omega_hi, wind_speed);
+        // A sinusoid of amplitude h carries variance h^2 / 2; clamp k h <= 1 so no trochoid loops.
+        let amplitude = (2.0 * energy).sqrt().min(1.0 / k);
+        let spread = (rng.next_f64() * 2.0 - 1.0) * PI / 2.0;
+        let narrowing = 1.0 + SPREAD_NARROWING * (omega0 / omega).powi(4);
+        let angle_from_wind = spread / narrowing;
+        let angle = wind_angle + angle_from_wind;
+        let phase0 = rng.next_f64() * TAU;
+        trains.push(Train {
+            wavelength: lambda,
+            k,
+            direction: [angle.cos(), angle.sin()],
+            angle_from_wind,
+            amplitude,
+            omega,
+            phase0,
+        });
+    }
+    trains.sort_by(|a, b| a.wavelength.total_cmp(&b.wavelength));
+    let sigma2 = trains.iter().fold([0.0; 2], |acc, t| {
+        let v = t.slope_variance();
+        [acc[0] + v[0], acc[1] + v[1]]
+    });
+    let mean_height_offset = trains
+        .iter()
+        .map(|t| t.k * t.amplitude * t.amplitude / 2.0)
+        .sum();
+    WaveSet {
+        trains,
+        wind_direction,
+        sigma2,
+        mean_height_offset,
+    }
+}
+
+/// Cox & Munk (1954), clean sea: total slope variance 0.003 + 5.12e-3 U (U in m/s at 12.5 m).
+pub fn cox_munk_total_variance(wind_speed: f64) -> f64 {
+    0.003 + 5.12e-3 * wind_speed
+}
