@@ -18,10 +18,7 @@ pub enum Error {
     #[error("validation layer requested but {0}")]
     ValidationUnavailable(String),
     #[error("Vulkan call {call} failed: {result}")]
-    Vulkan {
-        call: &'static str,
-        result: vk::Result,
-    },
+    Vulkan { call: &'static str, result: vk::Result },
     #[error("out of GPU memory for {name} ({bytes} bytes)")]
     OutOfMemory { name: String, bytes: u64 },
     #[error("{path}: {message}")]
@@ -30,10 +27,7 @@ pub enum Error {
 
 impl From<vk::Result> for Error {
     fn from(result: vk::Result) -> Self {
-        Error::Vulkan {
-            call: "vkCall",
-            result,
-        }
+        Error::Vulkan { call: "vkCall", result }
     }
 }
 

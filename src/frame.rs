@@ -63,15 +63,8 @@ pub struct CameraFrame {
 
 impl CameraFrame {
     pub fn new(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> CameraFrame {
-        let (pitch, yaw) = (
-            scene.camera.pitch_deg.to_radians(),
-            scene.camera.yaw_deg.to_radians(),
-        );
-        let forward = DVec3::new(
-            pitch.cos() * yaw.cos(),
-            pitch.cos() * yaw.sin(),
-            pitch.sin(),
-        );
+        let (pitch, yaw) = (scene.camera.pitch_deg.to_radians(), scene.camera.yaw_deg.to_radians());
+        let forward = DVec3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), pitch.sin());
         let right = DVec3::new(yaw.sin(), -yaw.cos(), 0.0);
         let up = right.cross(forward);
         let tan_half_y = (scene.camera.fov_y_deg.to_radians() / 2.0).tan();
@@ -79,16 +72,8 @@ impl CameraFrame {
         // The trochoids' mean surface lies sum(k h^2 / 2) below their rest plane, so the rest plane
         // sits that much above mean sea level. A projected grid needs the eye above the rest plane:
         // an eye lower than twice the offset keeps half its height (a limit, reported by the caller).
-        let plane_height =
-            (scene.camera.height_m - waves.mean_height_offset).max(0.5 * scene.camera.height_m);
-        CameraFrame {
-            forward,
-            right,
-            up,
-            tan_half_x,
-            tan_half_y,
-            plane_height,
-        }
+        let plane_height = (scene.camera.height_m - waves.mean_height_offset).max(0.5 * scene.camera.height_m);
+        CameraFrame { forward, right, up, tan_half_x, tan_half_y, plane_height }
     }
 
     /// Unnormalized ray through an NDC position (y down), as `camera_ray` in the shaders.
@@ -98,8 +83,7 @@ impl CameraFrame {
 
     pub fn view_proj(&self, aspect: f64) -> DMat4 {
         let view = DMat4::look_to_rh(DVec3::ZERO, self.forward, self.up);
-        let proj =
-            DMat4::perspective_infinite_reverse_rh(2.0 * self.tan_half_y.atan(), aspect, Z_NEAR);
+        let proj = DMat4::perspective_infinite_reverse_rh(2.0 * self.tan_half_y.atan(), aspect, Z_NEAR);
         // Vulkan's NDC y points down.
         DMat4::from_diagonal(glam::DVec4::new(1.0, -1.0, 1.0, 1.0)) * proj * view
     }
@@ -131,15 +115,8 @@ pub struct GridLayout {
 impl GridLayout {
     /// The grid runs from the horizon (or the top margin) down past the bottom edge, and past the
     /// side edges, by the screen-space reach of the largest displacement at the nearest visible sea.
-    pub fn new(
-        cam: &CameraFrame,
-        waves: &WaveSet,
-        cell_px: f64,
-        width: u32,
-        height: u32,
-    ) -> GridLayout {
-        let reach =
-            std::f64::consts::SQRT_2 * waves.trains.iter().map(|t| t.amplitude).sum::<f64>();
+    pub fn new(cam: &CameraFrame, waves: &WaveSet, cell_px: f64, width: u32, height: u32) -> GridLayout {
+        let reach = std::f64::consts::SQRT_2 * waves.trains.iter().map(|t| t.amplitude).sum::<f64>();
         let bottom = cam.ray([0.0, 1.0]);
         let (margin_x, margin_y) = if bottom.z < 0.0 {
             let depth = cam.plane_height / -bottom.z; // view depth: ray . forward = 1
@@ -163,31 +140,20 @@ impl GridLayout {
         let columns = ((2.0 + 2.0 * margin_x) / cell_ndc_x).ceil() as u32 + 1;
         let top_ndc_y = cam.horizon_ndc_y().max(-1.0 - margin_y);
         let bottom_ndc_y = 1.0 + margin_y;
-        let rows = if top_ndc_y < bottom_ndc_y {
-            ((bottom_ndc_y - top_ndc_y) / cell_ndc_y).ceil() as u32 + 1
-        } else {
-            0
-        };
-        GridLayout {
-            columns,
-            rows,
-            top_ndc_y,
-            margin_x,
-            margin_y,
-        }
+        let rows =
+            if top_ndc_y < bottom_ndc_y { ((bottom_ndc_y - top_ndc_y) / cell_ndc_y).ceil() as u32 + 1 } else { 0 };
+        GridLayout { columns, rows, top_ndc_y, margin_x, margin_y }
     }
 
     /// Most rows any camera can need at this size: both margins at their cap plus the screen.
     pub fn max_rows(cell_px: f64, height: u32) -> u32 {
         let cell_ndc_y = 2.0 * cell_px / height as f64;
-        (((2.0 + 4.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / height as f64) / cell_ndc_y).ceil() as u32
-            + 2
+        (((2.0 + 4.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / height as f64) / cell_ndc_y).ceil() as u32 + 2
     }
 
     pub fn max_columns(cell_px: f64, width: u32) -> u32 {
         let cell_ndc_x = 2.0 * cell_px / width as f64;
-        (((2.0 + 2.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / width as f64) / cell_ndc_x).ceil() as u32
-            + 2
+        (((2.0 + 2.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / width as f64) / cell_ndc_x).ceil() as u32 + 2
     }
 }
 
@@ -212,11 +178,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
     let camera = CameraFrame::new(scene, waves, width, height);
     let cell_px = scene.render.grid_cell_px;
     let grid = GridLayout::new(&camera, waves, cell_px, width, height);
-    let sky = SkyModel::new(
-        scene.sun.elevation_deg,
-        scene.sun.azimuth_deg,
-        scene.sky.turbidity,
-    );
+    let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
     let view_proj = camera.view_proj(width as f64 / height as f64).as_mat4();
 
     let mut prefix = [0.0f64; 2];
@@ -233,46 +195,22 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
                     t.amplitude as f32,
                     t.phase_at(scene.render.time_s) as f32,
                 ],
-                len_k_prefix: [
-                    t.wavelength as f32,
-                    t.k as f32,
-                    prefix[0] as f32,
-                    prefix[1] as f32,
-                ],
+                len_k_prefix: [t.wavelength as f32, t.k as f32, prefix[0] as f32, prefix[1] as f32],
             }
         })
         .collect();
 
-    let sun_above = if sky.sun_radiance.iter().any(|&l| l > 0.0) {
-        1.0
-    } else {
-        0.0
-    };
+    let sun_above = if sky.sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
     let perez = std::array::from_fn(|i| v4(sky.perez[i], 0.0));
     let uniforms = FrameUniforms {
         view_proj: mat(view_proj),
         cam_right: v4((camera.right * camera.tan_half_x).to_array(), 0.0),
         cam_down: v4((-camera.up * camera.tan_half_y).to_array(), 0.0),
         cam_forward: v4(camera.forward.to_array(), camera.plane_height),
-        viewport: [
-            width as f32,
-            height as f32,
-            1.0 / width as f32,
-            1.0 / height as f32,
-        ],
-        grid: [
-            cell_px as f32,
-            grid.top_ndc_y as f32,
-            grid.margin_x as f32,
-            grid.margin_y as f32,
-        ],
+        viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
+        grid: [cell_px as f32, grid.top_ndc_y as f32, grid.margin_x as f32, grid.margin_y as f32],
         grid_dims: [grid.columns, grid.rows, waves.trains.len() as u32, 0],
-        filter_bounds: [
-            GEOMETRY_FILTER[0],
-            GEOMETRY_FILTER[1],
-            NORMAL_FILTER[0],
-            NORMAL_FILTER[1],
-        ],
+        filter_bounds: [GEOMETRY_FILTER[0], GEOMETRY_FILTER[1], NORMAL_FILTER[0], NORMAL_FILTER[1]],
         sun_dir: v4(sky.sun_dir, crate::sky::SUN_ANGULAR_RADIUS.cos()),
         sun_radiance: v4(sky.sun_radiance, SkyModel::sun_slope_variance()),
         sun_irradiance: v4(sky.sun_irradiance(), sun_above),
@@ -288,11 +226,5 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
         sky_zenith: v4(sky.zenith_over_f0, sky.sky_scale),
         tone: [scene.render.exposure as f32, SKY_MAP_EXTENT, 0.0, 0.0],
     };
-    FrameData {
-        uniforms,
-        waves: gpu_waves,
-        grid,
-        camera,
-        sky,
-    }
+    FrameData { uniforms, waves: gpu_waves, grid, camera, sky }
 }

@@ -7,11 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(
-    name = "ocean",
-    version,
-    about = "Vulkan ocean renderer (Bruneton, Neyret & Holzschuch 2010)"
-)]
+#[command(name = "ocean", version, about = "Vulkan ocean renderer (Bruneton, Neyret & Holzschuch 2010)")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -43,40 +39,23 @@ enum Command {
         /// Use the first device whose name contains this text.
         #[arg(long)]
         device: Option<String>,
+        /// Render this many frames; timings are then the median after the first (warm-up).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
     },
 }
 
 fn run(cli: Cli) -> ocean::Result<()> {
     match cli.command {
-        Command::Render {
-            scene,
-            width,
-            height,
-            out,
-            exr,
-            report,
-            validation,
-            device,
-        } => {
+        Command::Render { scene, width, height, out, exr, report, validation, device, frames } => {
             let scene = match scene {
                 Some(path) => Scene::load(&path)?,
                 None => Scene::default(),
             };
-            let request = RenderRequest {
-                scene,
-                width,
-                height,
-                png: Some(out.clone()),
-                exr,
-                report,
-                validation,
-                device,
-            };
+            let request =
+                RenderRequest { scene, width, height, png: Some(out.clone()), exr, report, validation, device, frames };
             let (report, _) = app::render(&request)?;
-            let total = report
-                .gpu_ms
-                .get("total")
-                .map_or("n/a".to_owned(), |ms| format!("{ms:.1} ms"));
+            let total = report.gpu_ms.get("total").map_or("n/a".to_owned(), |ms| format!("{ms:.1} ms"));
             println!(
                 "{}: {}x{} on {}, GPU {total}, {} validation errors, {} non-finite pixels",
                 out.display(),

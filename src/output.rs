@@ -26,17 +26,11 @@ pub fn stats(hdr: &[[f32; 4]]) -> ImageStats {
         }
     }
     let n = finite.max(1) as f64;
-    ImageStats {
-        nonfinite_pixels: nonfinite,
-        mean_radiance: sum.map(|s| s / n),
-    }
+    ImageStats { nonfinite_pixels: nonfinite, mean_radiance: sum.map(|s| s / n) }
 }
 
 fn io_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Io {
-        path: path.to_owned(),
-        message: e.to_string(),
-    }
+    Error::Io { path: path.to_owned(), message: e.to_string() }
 }
 
 /// Writes through `<path>.partial` then renames over `path`.
@@ -52,10 +46,7 @@ fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
 }
 
 pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
-    let rgb: Vec<u8> = rgba8
-        .chunks_exact(4)
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect();
+    let rgb: Vec<u8> = rgba8.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
     write_atomically(path, |tmp| {
         image::save_buffer_with_format(
             tmp,
@@ -80,7 +71,5 @@ pub fn write_exr(path: &Path, width: u32, height: u32, hdr: &[[f32; 4]]) -> Resu
 }
 
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, text).map_err(|e| io_error(path, e))
-    })
+    write_atomically(path, |tmp| std::fs::write(tmp, text).map_err(|e| io_error(path, e)))
 }

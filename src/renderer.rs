@@ -5,7 +5,7 @@ use crate::error::{Error, Result, VkContext};
 use crate::frame::{self, FrameData};
 use crate::passes::ocean::{OceanPass, Terms};
 use crate::passes::readback::ReadbackPass;
-use crate::passes::sky_map::SkyMapPass;
+use crate::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::passes::tonemap::TonemapPass;
 use crate::passes::{Pass, Recorder};
 use crate::resources::Resources;
@@ -48,23 +48,13 @@ pub struct Renderer<'g> {
 
 impl<'g> Renderer<'g> {
     /// A renderer for `width` x `height` images of scenes with `scene`'s grid cell and anisotropy.
-    pub fn new(
-        gpu: &'g Gpu,
-        scene: &Scene,
-        width: u32,
-        height: u32,
-        terms: Terms,
-    ) -> Result<Renderer<'g>> {
+    pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> Result<Renderer<'g>> {
         let device = &gpu.device;
-        let resources = Resources::new(
-            gpu,
-            width,
-            height,
-            scene.render.grid_cell_px,
-            scene.render.sky_anisotropy as f32,
-        )?;
+        let resources =
+            Resources::new(gpu, width, height, scene.render.grid_cell_px, scene.render.sky_anisotropy as f32)?;
         let passes: Vec<Box<dyn Pass>> = vec![
             Box::new(SkyMapPass::new(device, &resources)?),
+            Box::new(SkyMipsPass),
             Box::new(OceanPass::new(device, &resources, terms)?),
             Box::new(TonemapPass::new(device, &resources)?),
             Box::new(ReadbackPass),
@@ -75,16 +65,13 @@ impl<'g> Renderer<'g> {
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: valid create infos; destroyed in Drop after the device idles.
-        let command_pool =
-            unsafe { raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
+        let command_pool = unsafe { raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        let cmd =
-            unsafe { raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
-        let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .during("vkCreateFence")?;
+        let cmd = unsafe { raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
+        let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
         device.set_name(cmd, "frame");
         device.set_name(fence, "frame done");
         Ok(Renderer {
@@ -108,9 +95,7 @@ impl<'g> Renderer<'g> {
     }
 
     pub fn render(&mut self, scene: &Scene) -> Result<RenderedFrame> {
-        if scene.render.grid_cell_px != self.cell_px
-            || scene.render.sky_anisotropy != self.anisotropy
-        {
+        if scene.render.grid_cell_px != self.cell_px || scene.render.sky_anisotropy != self.anisotropy {
             return Err(Error::Argument(format!(
                 "this renderer was built for grid_cell_px = {} and sky_anisotropy = {}",
                 self.cell_px, self.anisotropy
@@ -121,19 +106,15 @@ impl<'g> Renderer<'g> {
         let gpu = self.gpu;
         let resources = self.resources.as_mut().expect("live renderer");
         resources.set_grid(gpu, data.grid.columns, data.grid.rows)?;
-        resources
-            .frame_uniforms
-            .write(gpu, std::slice::from_ref(&data.uniforms))?;
+        resources.frame_uniforms.write(gpu, std::slice::from_ref(&data.uniforms))?;
         resources.waves.write(gpu, &data.waves)?;
         self.submit_frame()?;
 
         let resources = self.resources.as_ref().expect("live renderer");
         let pixels = self.width as usize * self.height as usize;
         let hdr_bits: Vec<u16> = resources.hdr_readback.read(gpu, 4 * pixels)?;
-        let hdr = hdr_bits
-            .chunks_exact(4)
-            .map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32()))
-            .collect();
+        let hdr =
+            hdr_bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
         let ldr = resources.ldr_readback.read(gpu, 4 * pixels)?;
         let pass_ms = self
             .profiler
@@ -142,22 +123,14 @@ impl<'g> Renderer<'g> {
             .into_iter()
             .map(|(n, ms)| (n.to_owned(), ms))
             .collect();
-        Ok(RenderedFrame {
-            width: self.width,
-            height: self.height,
-            hdr,
-            ldr,
-            pass_ms,
-            frame: data,
-        })
+        Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data })
     }
 
     fn submit_frame(&mut self) -> Result<()> {
         let device = &self.gpu.device;
         let raw = &device.raw;
         let resources = self.resources.as_ref().expect("live renderer");
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: the previous submission's fence was waited on, so the buffer is not pending.
         unsafe { raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")?;
         self.profiler.reset(raw, self.cmd);
@@ -165,14 +138,7 @@ impl<'g> Renderer<'g> {
             self.profiler.begin(device, self.cmd, pass.name());
             pass.declare(resources, &mut self.tracker);
             self.tracker.flush(raw, self.cmd);
-            pass.record(
-                &mut Recorder {
-                    device,
-                    cmd: self.cmd,
-                    tracker: &mut self.tracker,
-                },
-                resources,
-            );
+            pass.record(&mut Recorder { device, cmd: self.cmd, tracker: &mut self.tracker }, resources);
             self.profiler.end(device, self.cmd);
         }
         // SAFETY: recording began above.
@@ -181,17 +147,9 @@ impl<'g> Renderer<'g> {
         let submit = vk::SubmitInfo::default().command_buffers(&cmds);
         // SAFETY: the fence is unsignalled; host writes to mapped buffers happen before submit,
         // which makes them visible to the device (host write ordering guarantee of vkQueueSubmit).
-        unsafe { raw.queue_submit(device.queue, &[submit], self.fence) }.map_err(|result| {
-            match result {
-                vk::Result::ERROR_DEVICE_LOST => Error::Vulkan {
-                    call: "vkQueueSubmit (device lost)",
-                    result,
-                },
-                result => Error::Vulkan {
-                    call: "vkQueueSubmit",
-                    result,
-                },
-            }
+        unsafe { raw.queue_submit(device.queue, &[submit], self.fence) }.map_err(|result| match result {
+            vk::Result::ERROR_DEVICE_LOST => Error::Vulkan { call: "vkQueueSubmit (device lost)", result },
+            result => Error::Vulkan { call: "vkQueueSubmit", result },
         })?;
         unsafe { raw.wait_for_fences(&[self.fence], true, u64::MAX) }.during("vkWaitForFences")?;
         unsafe { raw.reset_fences(&[self.fence]) }.during("vkResetFences")?;

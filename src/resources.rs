@@ -31,13 +31,7 @@ pub struct Resources {
 }
 
 impl Resources {
-    pub fn new(
-        gpu: &Gpu,
-        width: u32,
-        height: u32,
-        cell_px: f64,
-        anisotropy: f32,
-    ) -> Result<Resources> {
+    pub fn new(gpu: &Gpu, width: u32, height: u32, cell_px: f64, anisotropy: f32) -> Result<Resources> {
         let limit = gpu.device.properties.limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > limit || height > limit {
             return Err(Error::Argument(format!(
@@ -65,17 +59,8 @@ impl Resources {
         )?;
         let cols = GridLayout::max_columns(cell_px, width) as u64;
         let rows = GridLayout::max_rows(cell_px, height) as u64;
-        let grid_indices = Buffer::new(
-            gpu,
-            "grid indices",
-            6 * 4 * cols * rows,
-            B::INDEX_BUFFER,
-            Location::Upload,
-        )?;
-        let sky_extent = vk::Extent2D {
-            width: SKY_MAP_SIZE,
-            height: SKY_MAP_SIZE,
-        };
+        let grid_indices = Buffer::new(gpu, "grid indices", 6 * 4 * cols * rows, B::INDEX_BUFFER, Location::Upload)?;
+        let sky_extent = vk::Extent2D { width: SKY_MAP_SIZE, height: SKY_MAP_SIZE };
         let sky_levels = SKY_MAP_SIZE.ilog2() + 1;
         let sky_map = Image::new(
             gpu,
@@ -85,44 +70,12 @@ impl Resources {
             sky_levels,
             I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST,
         )?;
-        let hdr = Image::new(
-            gpu,
-            "hdr radiance",
-            HDR_FORMAT,
-            extent,
-            1,
-            I::COLOR_ATTACHMENT | I::STORAGE | I::TRANSFER_SRC,
-        )?;
-        let depth = Image::new(
-            gpu,
-            "depth",
-            DEPTH_FORMAT,
-            extent,
-            1,
-            I::DEPTH_STENCIL_ATTACHMENT,
-        )?;
-        let ldr = Image::new(
-            gpu,
-            "ldr srgb",
-            LDR_FORMAT,
-            extent,
-            1,
-            I::STORAGE | I::TRANSFER_SRC,
-        )?;
-        let hdr_readback = Buffer::new(
-            gpu,
-            "hdr readback",
-            pixels * 8,
-            B::TRANSFER_DST,
-            Location::Readback,
-        )?;
-        let ldr_readback = Buffer::new(
-            gpu,
-            "ldr readback",
-            pixels * 4,
-            B::TRANSFER_DST,
-            Location::Readback,
-        )?;
+        let hdr =
+            Image::new(gpu, "hdr radiance", HDR_FORMAT, extent, 1, I::COLOR_ATTACHMENT | I::STORAGE | I::TRANSFER_SRC)?;
+        let depth = Image::new(gpu, "depth", DEPTH_FORMAT, extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
+        let ldr = Image::new(gpu, "ldr srgb", LDR_FORMAT, extent, 1, I::STORAGE | I::TRANSFER_SRC)?;
+        let hdr_readback = Buffer::new(gpu, "hdr readback", pixels * 8, B::TRANSFER_DST, Location::Readback)?;
+        let ldr_readback = Buffer::new(gpu, "ldr readback", pixels * 4, B::TRANSFER_DST, Location::Readback)?;
         let anisotropic = anisotropy > 1.0 && gpu.device.anisotropy;
         let sampler_info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
@@ -140,8 +93,7 @@ impl Resources {
             .min_lod(0.0)
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: valid create info; anisotropy only when the feature was enabled.
-        let sky_sampler =
-            unsafe { gpu.raw().create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
+        let sky_sampler = unsafe { gpu.raw().create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
         gpu.device.set_name(sky_sampler, "sky map sampler");
         Ok(Resources {
             frame_uniforms,
@@ -165,13 +117,8 @@ impl Resources {
         if self.grid_layout == Some((columns, rows)) {
             return Ok(());
         }
-        assert!(
-            (columns as u64) * (rows as u64) <= self.max_grid_nodes,
-            "grid larger than its index buffer"
-        );
-        let mut indices = Vec::with_capacity(
-            6 * columns.saturating_sub(1) as usize * rows.saturating_sub(1) as usize,
-        );
+        assert!((columns as u64) * (rows as u64) <= self.max_grid_nodes, "grid larger than its index buffer");
+        let mut indices = Vec::with_capacity(6 * columns.saturating_sub(1) as usize * rows.saturating_sub(1) as usize);
         for row in 0..rows.saturating_sub(1) {
             for col in 0..columns.saturating_sub(1) {
                 let a = row * columns + col;

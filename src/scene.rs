@@ -76,20 +76,12 @@ pub struct Scene {
 
 impl Default for Camera {
     fn default() -> Self {
-        Self {
-            height_m: 6.0,
-            pitch_deg: 0.0,
-            yaw_deg: 0.0,
-            fov_y_deg: 60.0,
-        }
+        Self { height_m: 6.0, pitch_deg: 0.0, yaw_deg: 0.0, fov_y_deg: 60.0 }
     }
 }
 impl Default for Sun {
     fn default() -> Self {
-        Self {
-            elevation_deg: 3.0,
-            azimuth_deg: 0.0,
-        }
+        Self { elevation_deg: 3.0, azimuth_deg: 0.0 }
     }
 }
 impl Default for Sky {
@@ -99,30 +91,17 @@ impl Default for Sky {
 }
 impl Default for Wind {
     fn default() -> Self {
-        Self {
-            speed_mps: 10.0,
-            direction_deg: 0.0,
-        }
+        Self { speed_mps: 10.0, direction_deg: 0.0 }
     }
 }
 impl Default for Waves {
     fn default() -> Self {
-        Self {
-            count: 60,
-            lambda_min_m: 0.02,
-            lambda_max_m: 30.0,
-            seed: 1,
-        }
+        Self { count: 60, lambda_min_m: 0.02, lambda_max_m: 30.0, seed: 1 }
     }
 }
 impl Default for Render {
     fn default() -> Self {
-        Self {
-            grid_cell_px: 8.0,
-            exposure: 0.4,
-            time_s: 0.0,
-            sky_anisotropy: 1.0,
-        }
+        Self { grid_cell_px: 8.0, exposure: 0.4, time_s: 0.0, sky_anisotropy: 1.0 }
     }
 }
 
@@ -132,19 +111,15 @@ pub const MAX_WAVES: u32 = 256;
 impl Scene {
     pub fn load(path: &Path) -> Result<Scene> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Scene {
-            file: file.clone(),
-            message: format!("cannot read: {e}"),
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::Scene { file: file.clone(), message: format!("cannot read: {e}") })?;
         Scene::parse(&text, &file)
     }
 
     /// Parses and validates; `file` names the source in errors.
     pub fn parse(text: &str, file: &str) -> Result<Scene> {
         let scene: Scene = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+            let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
             let message = e.message().replace('\n', " ");
             let file = match line {
                 Some(line) => format!("{file} line {line}"),
@@ -152,89 +127,28 @@ impl Scene {
             };
             Error::Scene { file, message }
         })?;
-        scene.validate().map_err(|message| Error::Scene {
-            file: file.to_owned(),
-            message,
-        })?;
+        scene.validate().map_err(|message| Error::Scene { file: file.to_owned(), message })?;
         Ok(scene)
     }
 
     pub fn validate(&self) -> Result<(), String> {
         let c = &self.camera;
-        in_range(
-            "camera.height_m",
-            c.height_m,
-            Bound::Open(0.0),
-            Bound::Closed(100_000.0),
-        )?;
-        in_range(
-            "camera.pitch_deg",
-            c.pitch_deg,
-            Bound::Closed(-90.0),
-            Bound::Closed(90.0),
-        )?;
-        in_range(
-            "camera.yaw_deg",
-            c.yaw_deg,
-            Bound::Closed(-360.0),
-            Bound::Closed(360.0),
-        )?;
-        in_range(
-            "camera.fov_y_deg",
-            c.fov_y_deg,
-            Bound::Open(0.0),
-            Bound::Open(180.0),
-        )?;
-        in_range(
-            "sun.elevation_deg",
-            self.sun.elevation_deg,
-            Bound::Closed(-90.0),
-            Bound::Closed(90.0),
-        )?;
-        in_range(
-            "sun.azimuth_deg",
-            self.sun.azimuth_deg,
-            Bound::Closed(-360.0),
-            Bound::Closed(360.0),
-        )?;
+        in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(100_000.0))?;
+        in_range("camera.pitch_deg", c.pitch_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
+        in_range("camera.yaw_deg", c.yaw_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
+        in_range("camera.fov_y_deg", c.fov_y_deg, Bound::Open(0.0), Bound::Open(180.0))?;
+        in_range("sun.elevation_deg", self.sun.elevation_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
+        in_range("sun.azimuth_deg", self.sun.azimuth_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
         // Preetham's fit covers turbidities 2 to 10; below 1.7 its zenith chromaticity leaves the gamut.
-        in_range(
-            "sky.turbidity",
-            self.sky.turbidity,
-            Bound::Closed(1.7),
-            Bound::Closed(10.0),
-        )?;
-        in_range(
-            "wind.speed_mps",
-            self.wind.speed_mps,
-            Bound::Closed(0.0),
-            Bound::Closed(60.0),
-        )?;
-        in_range(
-            "wind.direction_deg",
-            self.wind.direction_deg,
-            Bound::Closed(-360.0),
-            Bound::Closed(360.0),
-        )?;
+        in_range("sky.turbidity", self.sky.turbidity, Bound::Closed(1.7), Bound::Closed(10.0))?;
+        in_range("wind.speed_mps", self.wind.speed_mps, Bound::Closed(0.0), Bound::Closed(60.0))?;
+        in_range("wind.direction_deg", self.wind.direction_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
         let w = &self.waves;
         if w.count == 0 || w.count > MAX_WAVES {
-            return Err(format!(
-                "waves.count = {} is out of range [1, {MAX_WAVES}]",
-                w.count
-            ));
+            return Err(format!("waves.count = {} is out of range [1, {MAX_WAVES}]", w.count));
         }
-        in_range(
-            "waves.lambda_min_m",
-            w.lambda_min_m,
-            Bound::Closed(1e-3),
-            Bound::Closed(1e4),
-        )?;
-        in_range(
-            "waves.lambda_max_m",
-            w.lambda_max_m,
-            Bound::Closed(1e-3),
-            Bound::Closed(1e4),
-        )?;
+        in_range("waves.lambda_min_m", w.lambda_min_m, Bound::Closed(1e-3), Bound::Closed(1e4))?;
+        in_range("waves.lambda_max_m", w.lambda_max_m, Bound::Closed(1e-3), Bound::Closed(1e4))?;
         if w.lambda_min_m >= w.lambda_max_m && w.count > 1 {
             return Err(format!(
                 "waves.lambda_min_m = {} must be below waves.lambda_max_m = {}",
@@ -242,30 +156,10 @@ impl Scene {
             ));
         }
         let r = &self.render;
-        in_range(
-            "render.grid_cell_px",
-            r.grid_cell_px,
-            Bound::Closed(1.0),
-            Bound::Closed(64.0),
-        )?;
-        in_range(
-            "render.exposure",
-            r.exposure,
-            Bound::Open(0.0),
-            Bound::Closed(1e4),
-        )?;
-        in_range(
-            "render.time_s",
-            r.time_s,
-            Bound::Closed(-1e9),
-            Bound::Closed(1e9),
-        )?;
-        in_range(
-            "render.sky_anisotropy",
-            r.sky_anisotropy,
-            Bound::Closed(1.0),
-            Bound::Closed(16.0),
-        )?;
+        in_range("render.grid_cell_px", r.grid_cell_px, Bound::Closed(1.0), Bound::Closed(64.0))?;
+        in_range("render.exposure", r.exposure, Bound::Open(0.0), Bound::Closed(1e4))?;
+        in_range("render.time_s", r.time_s, Bound::Closed(-1e9), Bound::Closed(1e9))?;
+        in_range("render.sky_anisotropy", r.sky_anisotropy, Bound::Closed(1.0), Bound::Closed(16.0))?;
         Ok(())
     }
 }
@@ -288,8 +182,6 @@ fn in_range(key: &str, value: f64, lo: Bound, hi: Bound) -> Result<(), String> {
     if lo_ok && hi_ok {
         Ok(())
     } else {
-        Err(format!(
-            "{key} = {value} is out of range {lo_text}, {hi_text}"
-        ))
+        Err(format!("{key} = {value} is out of range {lo_text}, {hi_text}"))
     }
 }

@@ -32,46 +32,18 @@ impl SkyModel {
     pub fn new(sun_elevation_deg: f64, sun_azimuth_deg: f64, turbidity: f64) -> SkyModel {
         let elevation = sun_elevation_deg.to_radians();
         let azimuth = sun_azimuth_deg.to_radians();
-        let sun_dir = [
-            elevation.cos() * azimuth.cos(),
-            elevation.cos() * azimuth.sin(),
-            elevation.sin(),
-        ];
+        let sun_dir = [elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()];
         // Preetham's fit holds for the sun above the horizon; below it, the sky keeps its shape at
         // theta_s = 90 degrees and fades linearly to night at the end of astronomical twilight.
         let theta_s = (FRAC_PI_2 - elevation).min(FRAC_PI_2);
-        let sky_scale = if elevation >= 0.0 {
-            1.0
-        } else {
-            (1.0 + elevation / TWILIGHT_END).max(0.0)
-        };
+        let sky_scale = if elevation >= 0.0 { 1.0 } else { (1.0 + elevation / TWILIGHT_END).max(0.0) };
         let t = turbidity;
         let perez = [
-            [
-                0.1787 * t - 1.4630,
-                -0.0193 * t - 0.2592,
-                -0.0167 * t - 0.2608,
-            ],
-            [
-                -0.3554 * t + 0.4275,
-                -0.0665 * t + 0.0008,
-                -0.0950 * t + 0.0092,
-            ],
-            [
-                -0.0227 * t + 5.3251,
-                -0.0004 * t + 0.2125,
-                -0.0079 * t + 0.2102,
-            ],
-            [
-                0.1206 * t - 2.5771,
-                -0.0641 * t - 0.8989,
-                -0.0441 * t - 1.6537,
-            ],
-            [
-                -0.0670 * t + 0.3703,
-                -0.0033 * t + 0.0452,
-                -0.0109 * t + 0.0529,
-            ],
+            [0.1787 * t - 1.4630, -0.0193 * t - 0.2592, -0.0167 * t - 0.2608],
+            [-0.3554 * t + 0.4275, -0.0665 * t + 0.0008, -0.0950 * t + 0.0092],
+            [-0.0227 * t + 5.3251, -0.0004 * t + 0.2125, -0.0079 * t + 0.2102],
+            [0.1206 * t - 2.5771, -0.0641 * t - 0.8989, -0.0441 * t - 1.6537],
+            [-0.0670 * t + 0.3703, -0.0033 * t + 0.0452, -0.0109 * t + 0.0529],
         ];
         let chi = (4.0 / 9.0 - t / 120.0) * (PI - 2.0 * theta_s);
         let zenith_luminance = (4.0453 * t - 4.9710) * chi.tan() - 0.2155 * t + 2.4192;
@@ -86,46 +58,26 @@ impl SkyModel {
         let zenith = [zenith_luminance, zx, zy];
         let mut zenith_over_f0 = [0.0; 3];
         for (c, z) in zenith_over_f0.iter_mut().enumerate() {
-            let coeff = [
-                perez[0][c],
-                perez[1][c],
-                perez[2][c],
-                perez[3][c],
-                perez[4][c],
-            ];
+            let coeff = [perez[0][c], perez[1][c], perez[2][c], perez[3][c], perez[4][c]];
             *z = zenith[c] / perez_f(coeff, 1.0, theta_s, theta_s.cos());
         }
         let sun_radiance = if elevation > -SUN_ANGULAR_RADIUS {
-            sun_transmittance(elevation, turbidity)
-                .map(|tr| tr * sun_luminance_outside_atmosphere())
+            sun_transmittance(elevation, turbidity).map(|tr| tr * sun_luminance_outside_atmosphere())
         } else {
             [0.0; 3]
         };
-        SkyModel {
-            sun_dir,
-            perez,
-            zenith_over_f0,
-            sky_scale,
-            sun_radiance,
-        }
+        SkyModel { sun_dir, perez, zenith_over_f0, sky_scale, sun_radiance }
     }
 
     /// Sky radiance towards unit direction `dir` (linear sRGB, kcd/m^2), like glsl/sky.glsl.
     pub fn radiance(&self, dir: [f64; 3]) -> [f64; 3] {
         let cos_theta = dir[2].max(0.0);
         let cos_gamma =
-            (dir[0] * self.sun_dir[0] + dir[1] * self.sun_dir[1] + dir[2] * self.sun_dir[2])
-                .clamp(-1.0, 1.0);
+            (dir[0] * self.sun_dir[0] + dir[1] * self.sun_dir[1] + dir[2] * self.sun_dir[2]).clamp(-1.0, 1.0);
         let gamma = cos_gamma.acos();
         let mut yxy = [0.0; 3];
         for (c, v) in yxy.iter_mut().enumerate() {
-            let coeff = [
-                self.perez[0][c],
-                self.perez[1][c],
-                self.perez[2][c],
-                self.perez[3][c],
-                self.perez[4][c],
-            ];
+            let coeff = [self.perez[0][c], self.perez[1][c], self.perez[2][c], self.perez[3][c], self.perez[4][c]];
             *v = self.zenith_over_f0[c] * perez_f(coeff, cos_theta, gamma, cos_gamma);
         }
         xyy_to_linear_srgb(yxy[1], yxy[2], yxy[0]).map(|v| (v * self.sky_scale).max(0.0))
@@ -171,11 +123,7 @@ impl SkyModel {
 /// Perez et al. (1993): F = (1 + A exp(B / cos theta)) (1 + C exp(D gamma) + E cos^2 gamma).
 /// exp(B / cos theta) with B < 0 tends to 0 as cos theta -> 0+.
 fn perez_f(c: [f64; 5], cos_theta: f64, gamma: f64, cos_gamma: f64) -> f64 {
-    let horizon = if cos_theta > 0.0 {
-        (c[1] / cos_theta).exp()
-    } else {
-        0.0
-    };
+    let horizon = if cos_theta > 0.0 { (c[1] / cos_theta).exp() } else { 0.0 };
     (1.0 + c[0] * horizon) * (1.0 + c[2] * (c[3] * gamma).exp() + c[4] * cos_gamma * cos_gamma)
 }
 
@@ -200,8 +148,7 @@ fn sun_luminance_outside_atmosphere() -> f64 {
 /// times the Kasten & Young (1989) relative air mass.
 pub fn sun_transmittance(elevation: f64, turbidity: f64) -> [f64; 3] {
     let zenith_deg = 90.0 - elevation.to_degrees().max(0.0);
-    let air_mass =
-        1.0 / (zenith_deg.to_radians().cos() + 0.50572 * (96.07995 - zenith_deg).powf(-1.6364));
+    let air_mass = 1.0 / (zenith_deg.to_radians().cos() + 0.50572 * (96.07995 - zenith_deg).powf(-1.6364));
     let beta = 0.04608 * turbidity - 0.04586;
     RGB_WAVELENGTHS_UM.map(|l| {
         let tau = 0.008735 * l.powf(-4.08) + beta * l.powf(-1.3);

@@ -108,11 +108,7 @@ pub fn generate(scene: &Scene) -> WaveSet {
     let wind_angle = scene.wind.direction_deg.to_radians();
     let wind_direction = [wind_angle.cos(), wind_angle.sin()];
     let wind_speed = scene.wind.speed_mps;
-    let omega0 = if wind_speed > 0.0 {
-        G / wind_speed
-    } else {
-        0.0
-    };
+    let omega0 = if wind_speed > 0.0 { G / wind_speed } else { 0.0 };
     let (log_min, log_max) = (w.lambda_min_m.log2(), w.lambda_max_m.log2());
     let wavelength = |x: f64| 2f64.powf((1.0 - x) * log_min + x * log_max);
     let position = |i: f64| if n > 1 { i / (n - 1) as f64 } else { 1.0 };
@@ -124,14 +120,9 @@ pub fn generate(scene: &Scene) -> WaveSet {
         let k = TAU / lambda;
         let omega = omega_of_wavelength(lambda);
         // The band this train stands for: half a step either side on the geometric progression.
-        let (lambda_hi, lambda_lo) = (
-            wavelength(position(i as f64 - 0.5)),
-            wavelength(position(i as f64 + 0.5)),
-        );
-        let (omega_lo, omega_hi) = (
-            omega_of_wavelength(lambda_lo.max(lambda_hi)),
-            omega_of_wavelength(lambda_lo.min(lambda_hi)),
-        );
+        let (lambda_hi, lambda_lo) = (wavelength(position(i as f64 - 0.5)), wavelength(position(i as f64 + 0.5)));
+        let (omega_lo, omega_hi) =
+            (omega_of_wavelength(lambda_lo.max(lambda_hi)), omega_of_wavelength(lambda_lo.min(lambda_hi)));
         let energy = band_energy(omega_lo, omega_hi, wind_speed);
         // A sinusoid of amplitude h carries variance h^2 / 2; clamp k h <= 1 so no trochoid loops.
         let amplitude = (2.0 * energy).sqrt().min(1.0 / k);
@@ -155,16 +146,8 @@ pub fn generate(scene: &Scene) -> WaveSet {
         let v = t.slope_variance();
         [acc[0] + v[0], acc[1] + v[1]]
     });
-    let mean_height_offset = trains
-        .iter()
-        .map(|t| t.k * t.amplitude * t.amplitude / 2.0)
-        .sum();
-    WaveSet {
-        trains,
-        wind_direction,
-        sigma2,
-        mean_height_offset,
-    }
+    let mean_height_offset = trains.iter().map(|t| t.k * t.amplitude * t.amplitude / 2.0).sum();
+    WaveSet { trains, wind_direction, sigma2, mean_height_offset }
 }
 
 /// Cox & Munk (1954), clean sea: total slope variance 0.003 + 5.12e-3 U (U in m/s at 12.5 m).

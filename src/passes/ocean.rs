@@ -19,11 +19,7 @@ pub struct Terms {
 }
 
 impl Terms {
-    pub const ALL: Terms = Terms {
-        sun: true,
-        sky: true,
-        sea: true,
-    };
+    pub const ALL: Terms = Terms { sun: true, sky: true, sea: true };
 }
 
 pub struct OceanPass {
@@ -84,11 +80,7 @@ impl OceanPass {
                 depth_compare: vk::CompareOp::GREATER_OR_EQUAL, // only where depth is still the far clear
             },
         )?;
-        Ok(OceanPass {
-            bindings,
-            ocean,
-            sky,
-        })
+        Ok(OceanPass { bindings, ocean, sky })
     }
 }
 
@@ -98,13 +90,7 @@ impl Pass for OceanPass {
     }
 
     fn declare(&self, r: &Resources, t: &mut Tracker) {
-        t.image(
-            &r.sky_map,
-            0,
-            r.sky_map.mip_levels,
-            Access::FragmentSampled,
-            false,
-        );
+        t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::FragmentSampled, false);
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
     }
@@ -122,16 +108,8 @@ impl Pass for OceanPass {
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 0.0,
-                    stencil: 0,
-                },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         let info = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
@@ -151,8 +129,7 @@ impl Pass for OceanPass {
             device.cmd_begin_rendering(cmd, &info);
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[area]);
-            self.bindings
-                .bind(rec.device, cmd, vk::PipelineBindPoint::GRAPHICS);
+            self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::GRAPHICS);
             if r.grid_index_count > 0 {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean);
                 device.cmd_bind_index_buffer(cmd, r.grid_indices.raw, 0, vk::IndexType::UINT32);

@@ -32,11 +32,7 @@ impl Pass for ReadbackPass {
                 layer_count: 1,
             },
             image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: r.hdr.extent.width,
-                height: r.hdr.extent.height,
-                depth: 1,
-            },
+            image_extent: vk::Extent3D { width: r.hdr.extent.width, height: r.hdr.extent.height, depth: 1 },
         };
         // SAFETY: images in TRANSFER_SRC_OPTIMAL (declared); buffers sized for the full images.
         unsafe {

@@ -1,5 +1,5 @@
-//! Sky map: level 0 of the stereographic sky texture from the analytic model (compute), then the
-//! full mip chain by successive linear blits, each level a barrier from the one above.
+//! Sky map: level 0 of the stereographic sky texture from the analytic model (compute); then, in
+//! its own pass, the full mip chain by successive linear blits, each level a barrier from the one above.
 
 use super::{dispatch_size, Pass, Recorder};
 use crate::error::Result;
@@ -19,14 +19,8 @@ impl SkyMapPass {
     pub fn new(device: &Device, resources: &Resources) -> Result<SkyMapPass> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
-        let bindings = Bindings::new(
-            device,
-            "sky map",
-            &[
-                (0, D::UNIFORM_BUFFER, stages),
-                (3, D::STORAGE_IMAGE, stages),
-            ],
-        )?;
+        let bindings =
+            Bindings::new(device, "sky map", &[(0, D::UNIFORM_BUFFER, stages), (3, D::STORAGE_IMAGE, stages)])?;
         bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, resources.frame_uniforms.raw);
         let sky = &resources.sky_map;
         bindings.write_image(
@@ -37,12 +31,7 @@ impl SkyMapPass {
             vk::ImageLayout::GENERAL,
             vk::Sampler::null(),
         );
-        let pipeline = compute_pipeline(
-            device,
-            bindings.pipeline_layout,
-            shaders::SKY_MAP_COMP,
-            "sky map",
-        )?;
+        let pipeline = compute_pipeline(device, bindings.pipeline_layout, shaders::SKY_MAP_COMP, "sky map")?;
         Ok(SkyMapPass { bindings, pipeline })
     }
 }
@@ -62,15 +51,36 @@ impl Pass for SkyMapPass {
         let (gx, gy) = dispatch_size(sky.extent, 8);
         // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
-        self.bindings
-            .bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
+        self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
         unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
+    }
 
+    fn destroy(&self, device: &ash::Device) {
+        // SAFETY: the device is idle.
+        unsafe { device.destroy_pipeline(self.pipeline, None) };
+        self.bindings.destroy(device);
+    }
+}
+
+/// The sky map's mip chain, each level blitted (linear filter) from the one above.
+pub struct SkyMipsPass;
+
+impl Pass for SkyMipsPass {
+    fn name(&self) -> &'static str {
+        "sky_mips"
+    }
+
+    fn declare(&self, r: &Resources, t: &mut Tracker) {
+        // Level by level in `record`: each blit reads the level the previous one wrote.
+        t.image(&r.sky_map, 0, 1, Access::TransferRead, false);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let sky = &r.sky_map;
         for level in 1..sky.mip_levels {
-            rec.tracker
-                .image(sky, level - 1, 1, Access::TransferRead, false);
-            rec.tracker
-                .image(sky, level, 1, Access::TransferWrite, true);
+            rec.tracker.image(sky, level - 1, 1, Access::TransferRead, false);
+            rec.tracker.image(sky, level, 1, Access::TransferWrite, true);
             rec.tracker.flush(device, cmd);
             let size = |l: u32| vk::Offset3D {
                 x: (sky.extent.width >> l).max(1) as i32,
@@ -105,9 +115,5 @@ impl Pass for SkyMapPass {
         }
     }
 
-    fn destroy(&self, device: &ash::Device) {
-        // SAFETY: the device is idle.
-        unsafe { device.destroy_pipeline(self.pipeline, None) };
-        self.bindings.destroy(device);
-    }
+    fn destroy(&self, _device: &ash::Device) {}
 }

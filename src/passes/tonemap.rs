@@ -21,35 +21,12 @@ impl TonemapPass {
         let bindings = Bindings::new(
             device,
             "tonemap",
-            &[
-                (0, D::UNIFORM_BUFFER, stages),
-                (4, D::STORAGE_IMAGE, stages),
-                (5, D::STORAGE_IMAGE, stages),
-            ],
+            &[(0, D::UNIFORM_BUFFER, stages), (4, D::STORAGE_IMAGE, stages), (5, D::STORAGE_IMAGE, stages)],
         )?;
         bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
-        bindings.write_image(
-            device,
-            4,
-            D::STORAGE_IMAGE,
-            r.hdr.view,
-            vk::ImageLayout::GENERAL,
-            vk::Sampler::null(),
-        );
-        bindings.write_image(
-            device,
-            5,
-            D::STORAGE_IMAGE,
-            r.ldr.view,
-            vk::ImageLayout::GENERAL,
-            vk::Sampler::null(),
-        );
-        let pipeline = compute_pipeline(
-            device,
-            bindings.pipeline_layout,
-            shaders::TONEMAP_COMP,
-            "tonemap",
-        )?;
+        bindings.write_image(device, 4, D::STORAGE_IMAGE, r.hdr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
+        bindings.write_image(device, 5, D::STORAGE_IMAGE, r.ldr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
+        let pipeline = compute_pipeline(device, bindings.pipeline_layout, shaders::TONEMAP_COMP, "tonemap")?;
         Ok(TonemapPass { bindings, pipeline })
     }
 }
@@ -69,8 +46,7 @@ impl Pass for TonemapPass {
         let (gx, gy) = dispatch_size(r.hdr.extent, 8);
         // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
-        self.bindings
-            .bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
+        self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
         unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
     }
 

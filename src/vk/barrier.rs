@@ -46,9 +46,7 @@ impl Access {
             Access::TransferWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
             Access::ColorAttachmentWrite => A::COLOR_ATTACHMENT_WRITE,
-            Access::DepthAttachmentReadWrite => {
-                A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE
-            }
+            Access::DepthAttachmentReadWrite => A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
             Access::HostRead => A::HOST_READ,
         }
     }
@@ -96,10 +94,7 @@ impl Tracker {
     /// Declares that levels [base, base + count) of `image` are next accessed as `next`.
     /// `discard`: the previous contents are not needed (the layout may start from UNDEFINED).
     pub fn image(&mut self, image: &Image, base: u32, count: u32, next: Access, discard: bool) {
-        let levels = self
-            .images
-            .entry(image.raw)
-            .or_insert_with(|| vec![Access::Undefined; image.mip_levels as usize]);
+        let levels = self.images.entry(image.raw).or_insert_with(|| vec![Access::Undefined; image.mip_levels as usize]);
         let mut level = base;
         while level < base + count {
             // Batch consecutive levels that share their previous access into one barrier.
@@ -109,11 +104,7 @@ impl Tracker {
                 end += 1;
             }
             if prev.needs_barrier_to(next, true) {
-                let old_layout = if discard {
-                    vk::ImageLayout::UNDEFINED
-                } else {
-                    prev.layout()
-                };
+                let old_layout = if discard { vk::ImageLayout::UNDEFINED } else { prev.layout() };
                 self.image_barriers.push(
                     vk::ImageMemoryBarrier2::default()
                         .src_stage_mask(prev.stage())
@@ -137,10 +128,7 @@ impl Tracker {
 
     /// Declares that `buffer` is next accessed as `next`.
     pub fn buffer(&mut self, buffer: &Buffer, next: Access) {
-        let prev = self
-            .buffers
-            .insert(buffer.raw, next)
-            .unwrap_or(Access::Undefined);
+        let prev = self.buffers.insert(buffer.raw, next).unwrap_or(Access::Undefined);
         if prev != Access::Undefined && prev.needs_barrier_to(next, false) {
             self.buffer_barriers.push(
                 vk::BufferMemoryBarrier2::default()

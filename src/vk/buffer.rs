@@ -12,18 +12,10 @@ pub struct Buffer {
 }
 
 impl Buffer {
-    pub fn new(
-        gpu: &Gpu,
-        name: &str,
-        size: u64,
-        usage: vk::BufferUsageFlags,
-        location: Location,
-    ) -> Result<Buffer> {
+    pub fn new(gpu: &Gpu, name: &str, size: u64, usage: vk::BufferUsageFlags, location: Location) -> Result<Buffer> {
         let device = gpu.raw();
-        let info = vk::BufferCreateInfo::default()
-            .size(size.max(4))
-            .usage(usage)
-            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let info =
+            vk::BufferCreateInfo::default().size(size.max(4)).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid create info; the buffer is destroyed in `destroy`.
         let raw = unsafe { device.create_buffer(&info, None) }.during("vkCreateBuffer")?;
         gpu.device.set_name(raw, name);
@@ -31,22 +23,13 @@ impl Buffer {
         let mut req2 = vk::MemoryRequirements2::default().push_next(&mut dedicated);
         // SAFETY: `raw` is a live buffer of this device.
         unsafe {
-            device.get_buffer_memory_requirements2(
-                &vk::BufferMemoryRequirementsInfo2::default().buffer(raw),
-                &mut req2,
-            )
+            device.get_buffer_memory_requirements2(&vk::BufferMemoryRequirementsInfo2::default().buffer(raw), &mut req2)
         };
         let req = req2.memory_requirements;
-        let wants_own = dedicated.prefers_dedicated_allocation == vk::TRUE
-            || dedicated.requires_dedicated_allocation == vk::TRUE;
+        let wants_own =
+            dedicated.prefers_dedicated_allocation == vk::TRUE || dedicated.requires_dedicated_allocation == vk::TRUE;
         let own = wants_own.then(|| vk::MemoryDedicatedAllocateInfo::default().buffer(raw));
-        let allocation = match gpu.allocator.borrow_mut().allocate(
-            name,
-            req,
-            location,
-            ResourceKind::Linear,
-            own,
-        ) {
+        let allocation = match gpu.allocator.borrow_mut().allocate(name, req, location, ResourceKind::Linear, own) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: never bound, never used.
@@ -55,24 +38,15 @@ impl Buffer {
             }
         };
         // SAFETY: the allocation satisfies `req` (type, size, alignment).
-        unsafe { device.bind_buffer_memory(raw, allocation.memory, allocation.offset) }
-            .during("vkBindBufferMemory")?;
-        Ok(Buffer {
-            raw,
-            size,
-            allocation: Some(allocation),
-        })
+        unsafe { device.bind_buffer_memory(raw, allocation.memory, allocation.offset) }.during("vkBindBufferMemory")?;
+        Ok(Buffer { raw, size, allocation: Some(allocation) })
     }
 
     /// Copies `data` to the start of a mapped buffer.
     pub fn write<T: Copy>(&self, gpu: &Gpu, data: &[T]) -> Result<()> {
         let allocation = self.allocation.as_ref().expect("live buffer");
         let bytes = std::mem::size_of_val(data);
-        assert!(
-            bytes as u64 <= self.size,
-            "write of {bytes} bytes into a {}-byte buffer",
-            self.size
-        );
+        assert!(bytes as u64 <= self.size, "write of {bytes} bytes into a {}-byte buffer", self.size);
         let ptr = allocation.mapped().expect("write to an unmapped buffer");
         // SAFETY: the mapping covers `size` >= `bytes` bytes, and the GPU is not reading it (the
         // previous frame's fence was waited on).
@@ -88,13 +62,7 @@ impl Buffer {
         let ptr = allocation.mapped().expect("read from an unmapped buffer");
         let mut out = vec![T::default(); count];
         // SAFETY: the mapping covers the bytes read; the GPU finished writing (fence waited).
-        unsafe {
-            std::ptr::copy_nonoverlapping(
-                ptr,
-                out.as_mut_ptr() as *mut u8,
-                count * std::mem::size_of::<T>(),
-            )
-        };
+        unsafe { std::ptr::copy_nonoverlapping(ptr, out.as_mut_ptr() as *mut u8, count * std::mem::size_of::<T>()) };
         Ok(out)
     }
 

@@ -14,7 +14,12 @@ fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static 
     [
         (
             HDR_FORMAT,
-            F::COLOR_ATTACHMENT | F::STORAGE_IMAGE | F::SAMPLED_IMAGE_FILTER_LINEAR | F::BLIT_SRC | F::BLIT_DST | F::TRANSFER_SRC,
+            F::COLOR_ATTACHMENT
+                | F::STORAGE_IMAGE
+                | F::SAMPLED_IMAGE_FILTER_LINEAR
+                | F::BLIT_SRC
+                | F::BLIT_DST
+                | F::TRANSFER_SRC,
             "R16G16B16A16_SFLOAT as colour attachment, storage, linear-filtered blit source and destination",
         ),
         (LDR_FORMAT, F::STORAGE_IMAGE | F::TRANSFER_SRC, "R8G8B8A8_UNORM as storage image"),
@@ -59,14 +64,8 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice) -> Result<Candidate>
     let raw = &instance.raw;
     // SAFETY: `physical` comes from vkEnumeratePhysicalDevices on this instance.
     let properties = unsafe { raw.get_physical_device_properties(physical) };
-    let name = properties
-        .device_name_as_c_str()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let missing = |feature: &str| Error::MissingFeature {
-        device: name.clone(),
-        feature: feature.into(),
-    };
+    let name = properties.device_name_as_c_str().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let missing = |feature: &str| Error::MissingFeature { device: name.clone(), feature: feature.into() };
     if properties.api_version < vk::API_VERSION_1_3 {
         return Err(missing("Vulkan 1.3"));
     }
@@ -111,8 +110,7 @@ impl Device {
     /// first device whose name contains `name_filter` (case-insensitive).
     pub fn new(instance: &Instance, name_filter: Option<&str>) -> Result<Device> {
         // SAFETY: enumeration on a live instance.
-        let physicals = unsafe { instance.raw.enumerate_physical_devices() }
-            .during("vkEnumeratePhysicalDevices")?;
+        let physicals = unsafe { instance.raw.enumerate_physical_devices() }.during("vkEnumeratePhysicalDevices")?;
         if physicals.is_empty() {
             return Err(Error::NoDevice(
                 "the Vulkan loader reports no device (Debian: install mesa-vulkan-drivers)".into(),
@@ -130,9 +128,7 @@ impl Device {
             let filter = filter.to_lowercase();
             candidates.retain(|c| c.name.to_lowercase().contains(&filter));
             if candidates.is_empty() {
-                return Err(Error::NoDevice(format!(
-                    "no suitable device matches --device {filter:?}"
-                )));
+                return Err(Error::NoDevice(format!("no suitable device matches --device {filter:?}")));
             }
         }
         candidates.sort_by_key(|c| type_rank(c.properties.device_type));
@@ -144,32 +140,19 @@ impl Device {
 
     fn open(instance: &Instance, c: Candidate) -> Result<Device> {
         let priorities = [1.0];
-        let queue_info = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(c.queue_family)
-            .queue_priorities(&priorities)];
-        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
-            .synchronization2(true)
-            .dynamic_rendering(true);
+        let queue_info =
+            [vk::DeviceQueueCreateInfo::default().queue_family_index(c.queue_family).queue_priorities(&priorities)];
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
         let base = vk::PhysicalDeviceFeatures::default().sampler_anisotropy(c.anisotropy);
-        let info = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queue_info)
-            .enabled_features(&base)
-            .push_next(&mut f13);
+        let info =
+            vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).enabled_features(&base).push_next(&mut f13);
         // SAFETY: the features requested were checked as supported; pointers refer to locals.
-        let raw = unsafe { instance.raw.create_device(c.physical, &info, None) }
-            .during("vkCreateDevice")?;
+        let raw = unsafe { instance.raw.create_device(c.physical, &info, None) }.during("vkCreateDevice")?;
         // SAFETY: queue 0 of a family we created one queue in.
         let queue = unsafe { raw.get_device_queue(c.queue_family, 0) };
         // SAFETY: plain query on a live physical device.
-        let memory_properties = unsafe {
-            instance
-                .raw
-                .get_physical_device_memory_properties(c.physical)
-        };
-        let debug_utils = instance
-            .debug_utils
-            .as_ref()
-            .map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
+        let memory_properties = unsafe { instance.raw.get_physical_device_memory_properties(c.physical) };
+        let debug_utils = instance.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
         let device = Device {
             raw,
             physical: c.physical,
@@ -192,9 +175,7 @@ impl Device {
         let Ok(name) = std::ffi::CString::new(name) else {
             return;
         };
-        let info = vk::DebugUtilsObjectNameInfoEXT::default()
-            .object_handle(handle)
-            .object_name(&name);
+        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
         // SAFETY: `handle` is a live object of this device; naming failure is harmless.
         let _ = unsafe { du.set_debug_utils_object_name(&info) };
     }

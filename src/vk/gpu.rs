@@ -18,16 +18,9 @@ impl Gpu {
     pub fn new(validation: bool, device_filter: Option<&str>) -> Result<Gpu> {
         let instance = Instance::new(validation)?;
         let device = Device::new(&instance, device_filter)?;
-        let allocator = RefCell::new(Allocator::new(
-            device.raw.clone(),
-            device.memory_properties,
-            &device.properties.limits,
-        ));
-        Ok(Gpu {
-            allocator,
-            device,
-            instance,
-        })
+        let allocator =
+            RefCell::new(Allocator::new(device.raw.clone(), device.memory_properties, &device.properties.limits));
+        Ok(Gpu { allocator, device, instance })
     }
 
     pub fn raw(&self) -> &ash::Device {

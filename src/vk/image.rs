@@ -31,11 +31,7 @@ impl Image {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
-            .extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            })
+            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
             .mip_levels(mip_levels)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -50,22 +46,14 @@ impl Image {
         let mut req2 = vk::MemoryRequirements2::default().push_next(&mut dedicated);
         // SAFETY: `raw` is a live image of this device.
         unsafe {
-            device.get_image_memory_requirements2(
-                &vk::ImageMemoryRequirementsInfo2::default().image(raw),
-                &mut req2,
-            )
+            device.get_image_memory_requirements2(&vk::ImageMemoryRequirementsInfo2::default().image(raw), &mut req2)
         };
         let req = req2.memory_requirements;
-        let wants_own = dedicated.prefers_dedicated_allocation == vk::TRUE
-            || dedicated.requires_dedicated_allocation == vk::TRUE;
+        let wants_own =
+            dedicated.prefers_dedicated_allocation == vk::TRUE || dedicated.requires_dedicated_allocation == vk::TRUE;
         let own = wants_own.then(|| vk::MemoryDedicatedAllocateInfo::default().image(raw));
-        let allocation = match gpu.allocator.borrow_mut().allocate(
-            name,
-            req,
-            Location::Gpu,
-            ResourceKind::Optimal,
-            own,
-        ) {
+        let allocation = match gpu.allocator.borrow_mut().allocate(name, req, Location::Gpu, ResourceKind::Optimal, own)
+        {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: never bound, never used.
@@ -74,13 +62,9 @@ impl Image {
             }
         };
         // SAFETY: the allocation satisfies the image's requirements.
-        unsafe { device.bind_image_memory(raw, allocation.memory, allocation.offset) }
-            .during("vkBindImageMemory")?;
-        let aspect = if format == vk::Format::D32_SFLOAT {
-            vk::ImageAspectFlags::DEPTH
-        } else {
-            vk::ImageAspectFlags::COLOR
-        };
+        unsafe { device.bind_image_memory(raw, allocation.memory, allocation.offset) }.during("vkBindImageMemory")?;
+        let aspect =
+            if format == vk::Format::D32_SFLOAT { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
         let make_view = |base: u32, count: u32, label: &str| -> Result<vk::ImageView> {
             let info = vk::ImageViewCreateInfo::default()
                 .image(raw)
@@ -94,27 +78,13 @@ impl Image {
                     layer_count: 1,
                 });
             // SAFETY: the range lies inside the image.
-            let view =
-                unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
+            let view = unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
             gpu.device.set_name(view, &format!("{name} {label}"));
             Ok(view)
         };
         let view = make_view(0, mip_levels, "all levels")?;
-        let level0_view = if mip_levels > 1 {
-            make_view(0, 1, "level 0")?
-        } else {
-            view
-        };
-        Ok(Image {
-            raw,
-            view,
-            level0_view,
-            format,
-            extent,
-            mip_levels,
-            aspect,
-            allocation: Some(allocation),
-        })
+        let level0_view = if mip_levels > 1 { make_view(0, 1, "level 0")? } else { view };
+        Ok(Image { raw, view, level0_view, format, extent, mip_levels, aspect, allocation: Some(allocation) })
     }
 
     pub fn full_range(&self) -> vk::ImageSubresourceRange {

@@ -22,26 +22,19 @@ impl Instance {
         // SAFETY: loading the system loader library; its symbols are only used through ash.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))?;
         // SAFETY: plain enumeration calls on a loaded entry.
-        let layers = unsafe { entry.enumerate_instance_layer_properties() }
-            .during("vkEnumerateInstanceLayerProperties")?;
+        let layers =
+            unsafe { entry.enumerate_instance_layer_properties() }.during("vkEnumerateInstanceLayerProperties")?;
         let extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
             .during("vkEnumerateInstanceExtensionProperties")?;
-        let has_layer = layers
-            .iter()
-            .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
-        let has_debug_utils = extensions
-            .iter()
-            .any(|e| e.extension_name_as_c_str() == Ok(ext::debug_utils::NAME));
+        let has_layer = layers.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+        let has_debug_utils = extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(ext::debug_utils::NAME));
         if validation && !has_layer {
             return Err(Error::ValidationUnavailable(
-                "VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)"
-                    .into(),
+                "VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)".into(),
             ));
         }
         if validation && !has_debug_utils {
-            return Err(Error::ValidationUnavailable(
-                "VK_EXT_debug_utils is not available".into(),
-            ));
+            return Err(Error::ValidationUnavailable("VK_EXT_debug_utils is not available".into()));
         }
 
         let log = Box::<ValidationLog>::default();
@@ -50,38 +43,24 @@ impl Instance {
             .application_version(1)
             .engine_name(c"ocean")
             .api_version(vk::API_VERSION_1_3);
-        let layer_names = if validation {
-            vec![VALIDATION_LAYER.as_ptr()]
-        } else {
-            vec![]
-        };
-        let extension_names = if has_debug_utils {
-            vec![ext::debug_utils::NAME.as_ptr()]
-        } else {
-            vec![]
-        };
+        let layer_names = if validation { vec![VALIDATION_LAYER.as_ptr()] } else { vec![] };
+        let extension_names = if has_debug_utils { vec![ext::debug_utils::NAME.as_ptr()] } else { vec![] };
         let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
-        let mut features =
-            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
         let mut creation_messenger = messenger_info(&log);
         let mut info = vk::InstanceCreateInfo::default()
             .application_info(&app)
             .enabled_layer_names(&layer_names)
             .enabled_extension_names(&extension_names);
         if validation {
-            info = info
-                .push_next(&mut features)
-                .push_next(&mut creation_messenger);
+            info = info.push_next(&mut features).push_next(&mut creation_messenger);
         }
         // SAFETY: every pointer in `info` refers to locals that outlive the call.
         let raw = unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
-            vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice(
-                "no Vulkan 1.3 driver is installed (Debian: mesa-vulkan-drivers)".into(),
-            ),
-            result => Error::Vulkan {
-                call: "vkCreateInstance",
-                result,
-            },
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => {
+                Error::NoDevice("no Vulkan 1.3 driver is installed (Debian: mesa-vulkan-drivers)".into())
+            }
+            result => Error::Vulkan { call: "vkCreateInstance", result },
         })?;
 
         let (debug_utils, messenger) = if has_debug_utils {
@@ -97,13 +76,7 @@ impl Instance {
         } else {
             (None, vk::DebugUtilsMessengerEXT::null())
         };
-        Ok(Instance {
-            entry,
-            raw,
-            debug_utils,
-            messenger,
-            log,
-        })
+        Ok(Instance { entry, raw, debug_utils, messenger, log })
     }
 }
 

@@ -164,12 +164,10 @@ impl Allocator {
         kind: ResourceKind,
         dedicated: Option<vk::MemoryDedicatedAllocateInfo<'_>>,
     ) -> Result<Allocation> {
-        let memory_type = self
-            .memory_type(req.memory_type_bits, location)
-            .ok_or_else(|| Error::OutOfMemory {
-                name: format!("{name}: no memory type for {location:?}"),
-                bytes: req.size,
-            })?;
+        let memory_type = self.memory_type(req.memory_type_bits, location).ok_or_else(|| Error::OutOfMemory {
+            name: format!("{name}: no memory type for {location:?}"),
+            bytes: req.size,
+        })?;
         let alignment = req.alignment.max(1);
         if dedicated.is_none() && req.size <= BLOCK_SIZE {
             for (index, block) in self.blocks.iter().enumerate() {
@@ -182,11 +180,7 @@ impl Allocator {
                 }
             }
         }
-        let size = if dedicated.is_some() || req.size > BLOCK_SIZE {
-            req.size
-        } else {
-            BLOCK_SIZE
-        };
+        let size = if dedicated.is_some() || req.size > BLOCK_SIZE { req.size } else { BLOCK_SIZE };
         let index = self.new_block(name, size, memory_type, dedicated)?;
         Ok(self.place(index, 0, req.size, kind, name))
     }
@@ -198,48 +192,26 @@ impl Allocator {
         memory_type: u32,
         dedicated: Option<vk::MemoryDedicatedAllocateInfo<'_>>,
     ) -> Result<usize> {
-        let mut info = vk::MemoryAllocateInfo::default()
-            .allocation_size(size)
-            .memory_type_index(memory_type);
+        let mut info = vk::MemoryAllocateInfo::default().allocation_size(size).memory_type_index(memory_type);
         let mut dedicated_info = dedicated;
         if let Some(d) = dedicated_info.as_mut() {
             info = info.push_next(d);
         }
         // SAFETY: the type index comes from this device's memory properties and `size` > 0.
-        let raw =
-            unsafe { self.device.allocate_memory(&info, None) }.map_err(|result| match result {
-                vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
-                    Error::OutOfMemory {
-                        name: name.to_owned(),
-                        bytes: size,
-                    }
-                }
-                result => Error::Vulkan {
-                    call: "vkAllocateMemory",
-                    result,
-                },
-            })?;
-        let mapped = if self
-            .flags(memory_type)
-            .contains(vk::MemoryPropertyFlags::HOST_VISIBLE)
-        {
-            // SAFETY: host-visible memory mapped once, whole, for the block's lifetime.
-            unsafe {
-                self.device
-                    .map_memory(raw, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty())
+        let raw = unsafe { self.device.allocate_memory(&info, None) }.map_err(|result| match result {
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+                Error::OutOfMemory { name: name.to_owned(), bytes: size }
             }
-            .during("vkMapMemory")? as *mut u8
+            result => Error::Vulkan { call: "vkAllocateMemory", result },
+        })?;
+        let mapped = if self.flags(memory_type).contains(vk::MemoryPropertyFlags::HOST_VISIBLE) {
+            // SAFETY: host-visible memory mapped once, whole, for the block's lifetime.
+            unsafe { self.device.map_memory(raw, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty()) }
+                .during("vkMapMemory")? as *mut u8
         } else {
             std::ptr::null_mut()
         };
-        let block = Block {
-            raw,
-            size,
-            memory_type,
-            dedicated: dedicated.is_some(),
-            mapped,
-            live: BTreeMap::new(),
-        };
+        let block = Block { raw, size, memory_type, dedicated: dedicated.is_some(), mapped, live: BTreeMap::new() };
         if let Some(slot) = self.blocks.iter().position(Option::is_none) {
             self.blocks[slot] = Some(block);
             Ok(slot)
@@ -249,46 +221,16 @@ impl Allocator {
         }
     }
 
-    fn place(
-        &mut self,
-        index: usize,
-        offset: u64,
-        size: u64,
-        kind: ResourceKind,
-        name: &str,
-    ) -> Allocation {
+    fn place(&mut self, index: usize, offset: u64, size: u64, kind: ResourceKind, name: &str) -> Allocation {
         let coherent = {
-            let block = self.blocks[index]
-                .as_ref()
-                .expect("placing into a live block");
-            self.flags(block.memory_type)
-                .contains(vk::MemoryPropertyFlags::HOST_COHERENT)
+            let block = self.blocks[index].as_ref().expect("placing into a live block");
+            self.flags(block.memory_type).contains(vk::MemoryPropertyFlags::HOST_COHERENT)
         };
-        let block = self.blocks[index]
-            .as_mut()
-            .expect("placing into a live block");
-        block.live.insert(
-            offset,
-            Placement {
-                size,
-                kind,
-                name: name.to_owned(),
-            },
-        );
+        let block = self.blocks[index].as_mut().expect("placing into a live block");
+        block.live.insert(offset, Placement { size, kind, name: name.to_owned() });
         // SAFETY: offset + size lies inside the mapped block.
-        let mapped = if block.mapped.is_null() {
-            block.mapped
-        } else {
-            unsafe { block.mapped.add(offset as usize) }
-        };
-        Allocation {
-            memory: block.raw,
-            offset,
-            size,
-            block: index,
-            mapped,
-            coherent,
-        }
+        let mapped = if block.mapped.is_null() { block.mapped } else { unsafe { block.mapped.add(offset as usize) } };
+        Allocation { memory: block.raw, offset, size, block: index, mapped, coherent }
     }
 
     /// Returns an allocation; a dedicated or emptied oversize block goes back to the driver.
@@ -312,16 +254,11 @@ impl Allocator {
         let atom = self.non_coherent_atom;
         let start = allocation.offset / atom * atom;
         let end = align_up(allocation.offset + allocation.size, atom);
-        let block_size = self.blocks[allocation.block]
-            .as_ref()
-            .map_or(end, |b| b.size);
-        let range = vk::MappedMemoryRange::default()
-            .memory(allocation.memory)
-            .offset(start)
-            .size(end.min(block_size) - start);
+        let block_size = self.blocks[allocation.block].as_ref().map_or(end, |b| b.size);
+        let range =
+            vk::MappedMemoryRange::default().memory(allocation.memory).offset(start).size(end.min(block_size) - start);
         // SAFETY: the range lies in a mapped block.
-        unsafe { self.device.invalidate_mapped_memory_ranges(&[range]) }
-            .during("vkInvalidateMappedMemoryRanges")
+        unsafe { self.device.invalidate_mapped_memory_ranges(&[range]) }.during("vkInvalidateMappedMemoryRanges")
     }
 
     /// Makes CPU writes to a non-coherent upload allocation visible to the GPU.
@@ -332,16 +269,11 @@ impl Allocator {
         let atom = self.non_coherent_atom;
         let start = allocation.offset / atom * atom;
         let end = align_up(allocation.offset + allocation.size, atom);
-        let block_size = self.blocks[allocation.block]
-            .as_ref()
-            .map_or(end, |b| b.size);
-        let range = vk::MappedMemoryRange::default()
-            .memory(allocation.memory)
-            .offset(start)
-            .size(end.min(block_size) - start);
+        let block_size = self.blocks[allocation.block].as_ref().map_or(end, |b| b.size);
+        let range =
+            vk::MappedMemoryRange::default().memory(allocation.memory).offset(start).size(end.min(block_size) - start);
         // SAFETY: the range lies in a mapped block.
-        unsafe { self.device.flush_mapped_memory_ranges(&[range]) }
-            .during("vkFlushMappedMemoryRanges")
+        unsafe { self.device.flush_mapped_memory_ranges(&[range]) }.during("vkFlushMappedMemoryRanges")
     }
 
     pub fn report(&self) -> MemoryReport {
@@ -349,10 +281,7 @@ impl Allocator {
         for block in self.blocks.iter().flatten() {
             r.blocks += 1;
             r.reserved_bytes += block.size;
-            if self
-                .flags(block.memory_type)
-                .contains(vk::MemoryPropertyFlags::DEVICE_LOCAL)
-            {
+            if self.flags(block.memory_type).contains(vk::MemoryPropertyFlags::DEVICE_LOCAL) {
                 r.device_local_reserved_bytes += block.size;
             }
             for p in block.live.values() {
@@ -368,11 +297,7 @@ impl Allocator {
         self.blocks
             .iter()
             .flatten()
-            .flat_map(|b| {
-                b.live
-                    .values()
-                    .map(|p| format!("{} ({} bytes)", p.name, p.size))
-            })
+            .flat_map(|b| b.live.values().map(|p| format!("{} ({} bytes)", p.name, p.size)))
             .collect()
     }
 }
@@ -381,11 +306,7 @@ impl Drop for Allocator {
     fn drop(&mut self) {
         let leaks = self.live_allocations();
         if !leaks.is_empty() {
-            eprintln!(
-                "memory leak report: {} allocation(s) never freed: {}",
-                leaks.len(),
-                leaks.join(", ")
-            );
+            eprintln!("memory leak report: {} allocation(s) never freed: {}", leaks.len(), leaks.join(", "));
         }
         for block in self.blocks.drain(..).flatten() {
             // SAFETY: the owner waited for the device to idle before dropping the allocator.

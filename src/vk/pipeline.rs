@@ -5,12 +5,10 @@ use crate::error::{Result, VkContext};
 use ash::vk;
 
 pub fn shader_module(device: &Device, spirv: &[u8], name: &str) -> Result<vk::ShaderModule> {
-    let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
-        .expect("build.rs embeds whole SPIR-V words");
+    let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).expect("build.rs embeds whole SPIR-V words");
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V produced by shaderc at build time.
-    let module =
-        unsafe { device.raw.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
+    let module = unsafe { device.raw.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
     device.set_name(module, name);
     Ok(module)
 }
@@ -24,26 +22,15 @@ pub struct Specialization {
 impl Specialization {
     pub fn bools(values: &[bool]) -> Specialization {
         let entries = (0..values.len() as u32)
-            .map(|i| vk::SpecializationMapEntry {
-                constant_id: i,
-                offset: 4 * i,
-                size: 4,
-            })
+            .map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 })
             .collect();
-        Specialization {
-            entries,
-            data: values.iter().map(|&b| b as u32).collect(),
-        }
+        Specialization { entries, data: values.iter().map(|&b| b as u32).collect() }
     }
 
     pub fn info(&self) -> vk::SpecializationInfo<'_> {
         // SAFETY of the cast: u32 has no padding; the slice's bytes are exactly the constants.
-        let bytes = unsafe {
-            std::slice::from_raw_parts(self.data.as_ptr() as *const u8, 4 * self.data.len())
-        };
-        vk::SpecializationInfo::default()
-            .map_entries(&self.entries)
-            .data(bytes)
+        let bytes = unsafe { std::slice::from_raw_parts(self.data.as_ptr() as *const u8, 4 * self.data.len()) };
+        vk::SpecializationInfo::default().map_entries(&self.entries).data(bytes)
     }
 }
 
@@ -82,59 +69,29 @@ impl Bindings {
         .during("vkCreateDescriptorSetLayout")?;
         let set_layouts = [set_layout];
         let pipeline_layout = unsafe {
-            raw.create_pipeline_layout(
-                &vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts),
-                None,
-            )
+            raw.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts), None)
         }
         .during("vkCreatePipelineLayout")?;
-        let sizes: Vec<_> = bindings
-            .iter()
-            .map(|&(_, ty, _)| vk::DescriptorPoolSize {
-                ty,
-                descriptor_count: 1,
-            })
-            .collect();
+        let sizes: Vec<_> =
+            bindings.iter().map(|&(_, ty, _)| vk::DescriptorPoolSize { ty, descriptor_count: 1 }).collect();
         let pool = unsafe {
-            raw.create_descriptor_pool(
-                &vk::DescriptorPoolCreateInfo::default()
-                    .max_sets(1)
-                    .pool_sizes(&sizes),
-                None,
-            )
+            raw.create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
         }
         .during("vkCreateDescriptorPool")?;
         let set = unsafe {
             raw.allocate_descriptor_sets(
-                &vk::DescriptorSetAllocateInfo::default()
-                    .descriptor_pool(pool)
-                    .set_layouts(&set_layouts),
+                &vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&set_layouts),
             )
         }
         .during("vkAllocateDescriptorSets")?[0];
         device.set_name(set_layout, name);
         device.set_name(pipeline_layout, name);
         device.set_name(set, name);
-        Ok(Bindings {
-            set_layout,
-            pipeline_layout,
-            pool,
-            set,
-        })
+        Ok(Bindings { set_layout, pipeline_layout, pool, set })
     }
 
-    pub fn write_buffer(
-        &self,
-        device: &Device,
-        binding: u32,
-        ty: vk::DescriptorType,
-        buffer: vk::Buffer,
-    ) {
-        let info = [vk::DescriptorBufferInfo {
-            buffer,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
+    pub fn write_buffer(&self, device: &Device, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
+        let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)
@@ -153,11 +110,7 @@ impl Bindings {
         layout: vk::ImageLayout,
         sampler: vk::Sampler,
     ) {
-        let info = [vk::DescriptorImageInfo {
-            sampler,
-            image_view: view,
-            image_layout: layout,
-        }];
+        let info = [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)
@@ -169,16 +122,7 @@ impl Bindings {
 
     pub fn bind(&self, device: &Device, cmd: vk::CommandBuffer, point: vk::PipelineBindPoint) {
         // SAFETY: `cmd` is recording with a pipeline made from this layout.
-        unsafe {
-            device.raw.cmd_bind_descriptor_sets(
-                cmd,
-                point,
-                self.pipeline_layout,
-                0,
-                &[self.set],
-                &[],
-            )
-        };
+        unsafe { device.raw.cmd_bind_descriptor_sets(cmd, point, self.pipeline_layout, 0, &[self.set], &[]) };
     }
 
     pub fn destroy(&self, device: &ash::Device) {
@@ -191,30 +135,15 @@ impl Bindings {
     }
 }
 
-pub fn compute_pipeline(
-    device: &Device,
-    layout: vk::PipelineLayout,
-    spirv: &[u8],
-    name: &str,
-) -> Result<vk::Pipeline> {
+pub fn compute_pipeline(device: &Device, layout: vk::PipelineLayout, spirv: &[u8], name: &str) -> Result<vk::Pipeline> {
     let module = shader_module(device, spirv, name)?;
-    let stage = vk::PipelineShaderStageCreateInfo::default()
-        .stage(vk::ShaderStageFlags::COMPUTE)
-        .module(module)
-        .name(c"main");
-    let info = vk::ComputePipelineCreateInfo::default()
-        .stage(stage)
-        .layout(layout);
+    let stage =
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::COMPUTE).module(module).name(c"main");
+    let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
     // SAFETY: valid create info; the module may be destroyed once the pipeline exists.
-    let result = unsafe {
-        device
-            .raw
-            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
-    };
+    let result = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
     unsafe { device.raw.destroy_shader_module(module, None) };
-    let pipeline = result
-        .map_err(|(_, e)| e)
-        .during("vkCreateComputePipelines")?[0];
+    let pipeline = result.map_err(|(_, e)| e).during("vkCreateComputePipelines")?[0];
     device.set_name(pipeline, name);
     Ok(pipeline)
 }
@@ -231,11 +160,7 @@ pub struct GraphicsDesc<'a> {
     pub depth_compare: vk::CompareOp,
 }
 
-pub fn graphics_pipeline(
-    device: &Device,
-    layout: vk::PipelineLayout,
-    desc: &GraphicsDesc,
-) -> Result<vk::Pipeline> {
+pub fn graphics_pipeline(device: &Device, layout: vk::PipelineLayout, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
     let vs = shader_module(device, desc.vertex, &format!("{} vs", desc.name))?;
     let fs = match shader_module(device, desc.fragment, &format!("{} fs", desc.name)) {
         Ok(fs) => fs,
@@ -246,39 +171,32 @@ pub fn graphics_pipeline(
         }
     };
     let spec_info = desc.fragment_specialization.map(|s| s.info());
-    let mut fs_stage = vk::PipelineShaderStageCreateInfo::default()
-        .stage(vk::ShaderStageFlags::FRAGMENT)
-        .module(fs)
-        .name(c"main");
+    let mut fs_stage =
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs).name(c"main");
     if let Some(info) = spec_info.as_ref() {
         fs_stage = fs_stage.specialization_info(info);
     }
     let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vs)
-            .name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs).name(c"main"),
         fs_stage,
     ];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
+    let input_assembly =
+        vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(desc.depth_write)
         .depth_compare_op(desc.depth_compare);
-    let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachment =
+        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
@@ -299,18 +217,12 @@ pub fn graphics_pipeline(
         .layout(layout)
         .push_next(&mut rendering);
     // SAFETY: valid create info built from locals; modules destroyed after creation.
-    let result = unsafe {
-        device
-            .raw
-            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-    };
+    let result = unsafe { device.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
     unsafe {
         device.raw.destroy_shader_module(vs, None);
         device.raw.destroy_shader_module(fs, None);
     }
-    let pipeline = result
-        .map_err(|(_, e)| e)
-        .during("vkCreateGraphicsPipelines")?[0];
+    let pipeline = result.map_err(|(_, e)| e).during("vkCreateGraphicsPipelines")?[0];
     device.set_name(pipeline, desc.name);
     Ok(pipeline)
 }

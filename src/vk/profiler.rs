@@ -15,12 +15,9 @@ pub struct Profiler {
 
 impl Profiler {
     pub fn new(device: &Device, max_scopes: u32) -> Result<Profiler> {
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(2 * max_scopes);
+        let info = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(2 * max_scopes);
         // SAFETY: valid create info; destroyed in `destroy`.
-        let pool =
-            unsafe { device.raw.create_query_pool(&info, None) }.during("vkCreateQueryPool")?;
+        let pool = unsafe { device.raw.create_query_pool(&info, None) }.during("vkCreateQueryPool")?;
         device.set_name(pool, "pass timestamps");
         Ok(Profiler {
             pool,
@@ -42,28 +39,15 @@ impl Profiler {
         if let Some(du) = &device.debug_utils {
             let label = std::ffi::CString::new(name).unwrap_or_default();
             // SAFETY: `cmd` is recording; the label string lives through the call.
-            unsafe {
-                du.cmd_begin_debug_utils_label(
-                    cmd,
-                    &vk::DebugUtilsLabelEXT::default().label_name(&label),
-                )
-            };
+            unsafe { du.cmd_begin_debug_utils_label(cmd, &vk::DebugUtilsLabelEXT::default().label_name(&label)) };
         }
         let index = self.names.len() as u32;
-        assert!(
-            index < self.capacity,
-            "more timestamp scopes than the profiler was made for"
-        );
+        assert!(index < self.capacity, "more timestamp scopes than the profiler was made for");
         self.names.push(name);
         if self.valid_bits > 0 {
             // SAFETY: query 2*index was reset this frame.
             unsafe {
-                device.raw.cmd_write_timestamp2(
-                    cmd,
-                    vk::PipelineStageFlags2::ALL_COMMANDS,
-                    self.pool,
-                    2 * index,
-                )
+                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, 2 * index)
             };
         }
     }
@@ -73,12 +57,7 @@ impl Profiler {
         if self.valid_bits > 0 {
             // SAFETY: query 2*index+1 was reset this frame.
             unsafe {
-                device.raw.cmd_write_timestamp2(
-                    cmd,
-                    vk::PipelineStageFlags2::ALL_COMMANDS,
-                    self.pool,
-                    2 * index + 1,
-                )
+                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, 2 * index + 1)
             };
         }
         if let Some(du) = &device.debug_utils {
@@ -104,11 +83,7 @@ impl Profiler {
             )
         }
         .during("vkGetQueryPoolResults")?;
-        let mask = if self.valid_bits >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << self.valid_bits) - 1
-        };
+        let mask = if self.valid_bits >= 64 { u64::MAX } else { (1u64 << self.valid_bits) - 1 };
         Ok(Some(
             self.names
                 .iter()

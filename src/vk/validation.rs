@@ -53,10 +53,7 @@ impl ValidationLog {
 
 pub fn messenger_info(log: &ValidationLog) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
     vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(
-            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
-                | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
-        )
+        .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING)
         .message_type(
             vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
                 | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
@@ -83,11 +80,7 @@ unsafe extern "system" fn on_message(
         }
     };
     let id = text(data.p_message_id_name);
-    let id = if id.is_empty() {
-        format!("{:#x}", data.message_id_number)
-    } else {
-        id
-    };
+    let id = if id.is_empty() { format!("{:#x}", data.message_id_number) } else { id };
     log.record(severity, &id, &text(data.p_message));
     vk::FALSE
 }
