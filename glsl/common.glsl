@@ -31,4 +31,19 @@ float ratio_smoothstep(float lo, float hi, float num, float den) {
     return smoothstep(lo, hi, num / den);
 }
 
+// sin and cos of 2 pi t for any t, sharing one range reduction (Cody-Waite in turns, exact for
+// |t| < 2^22): q = round(4t) picks the quadrant and x = 2 pi (t - q/4) lies in [-pi/4, pi/4], where
+// Taylor polynomials to x^7 (sin) and x^8 (cos) are within 3.2e-7 and 2.5e-8 (next-term bounds).
+// Vulkan only bounds the builtins' error on [-pi, pi]; this keeps large phases accurate everywhere.
+vec2 sincos_turns(float t) {
+    float q = round(4.0 * t);
+    float x = 2.0 * PI * (t - 0.25 * q);
+    float x2 = x * x;
+    float s = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0))));
+    float c = 1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40320.0))));
+    int quadrant = int(q) & 3;
+    vec2 sc = (quadrant & 1) == 0 ? vec2(s, c) : vec2(c, -s);
+    return quadrant >= 2 ? -sc : sc;
+}
+
 #endif

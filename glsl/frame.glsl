@@ -1,5 +1,5 @@
 // Per-frame uniforms and the wave trains, shared by every pass.
-// Mirrors `FrameUniforms` and `GpuWave` in src/frame.rs (std140 / std430, vec4-packed).
+// Mirrors `FrameUniforms` and `GpuWave` in src/frame.rs (std140, vec4-packed).
 #ifndef FRAME_GLSL
 #define FRAME_GLSL
 
@@ -11,7 +11,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 viewport;         // width, height, 1/width, 1/height (pixels)
     vec4 grid;             // x: cell size (px), y: horizon ndc y, z: margin ndc x, w: margin ndc y
     uvec4 grid_dims;       // x: columns, y: rows, z: wave count, w: unused
-    vec4 filter_bounds;    // x,y: geometry smoothstep (samples per wavelength), z,w: normals
+    vec4 filter_steps;     // phase step per sample (turns) where a train is resolved / unresolved: xy geometry, zw normals
     vec4 sun_dir;          // xyz: unit vector towards the sun; w: cos(angular radius)
     vec4 sun_radiance;     // rgb: disc radiance (kcd/m^2); w: sun slope variance per axis
     vec4 sun_irradiance;   // rgb: irradiance normal to the sun (klux); w: 1 if above horizon
@@ -28,8 +28,10 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 } frame;
 
 struct Wave {
-    vec4 dir_amp_phase;    // xy: unit propagation direction (world), z: amplitude h (m), w: phase at t (rad, in [0, 2pi))
-    vec4 len_k_prefix;     // x: wavelength (m), y: |k| (rad/m), zw: slope variance of this and all shorter trains (wind frame)
+    vec4 dir_amp_phase;    // xy: unit propagation direction (world), z: amplitude h (m), w: phase at t (turns, in [0, 1))
+    vec4 k_prefix;         // xy: wave vector in turns per metre (dir / lambda), zw: slope variance of this and all shorter trains (wind frame)
+    vec4 shape;            // x: wavelength (m), y: k h, z, w: cos^2, sin^2 of the angle to the wind
 };
+const uint MAX_WAVES = 256u;
 
 #endif

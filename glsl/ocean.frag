@@ -3,7 +3,7 @@
 // the rest as BRDF slope variance (paper, sections 4-5).
 #include "frame.glsl"
 #include "common.glsl"
-layout(set = 0, binding = 1, std430) readonly buffer Waves { Wave waves[]; };
+layout(set = 0, binding = 1, std140) uniform Waves { Wave waves[MAX_WAVES]; };
 layout(set = 0, binding = 2) uniform sampler2D sky_map;
 layout(constant_id = 0) const bool TERM_SUN = true;
 layout(constant_id = 1) const bool TERM_SKY = true;
@@ -18,14 +18,13 @@ layout(location = 0) out vec4 out_radiance;
 void main() {
     vec3 ray = camera_ray(pixel_to_ndc(gl_FragCoord.xy));
     vec3 v = -normalize(ray);
-    Footprint fp = plane_footprint(ray);
+    SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
     vec3 n = vec3(0.0, 0.0, 1.0);
     vec2 sigma2 = frame.wind.zw;    // nothing resolved: all slopes in the BRDF
-    uint last = frame.grid_dims.z - 1u;
-    // Only where some train is resolved is the rest position used; there the pixel is at a finite
+    // Only where some train is resolvable is the rest position used; there the pixel is at a finite
     // distance, so the interpolated w is positive.
-    if (in_rest_h.z > 0.0 && !surely_unresolved(fp, waves[last].len_k_prefix.x, 1.0, frame.filter_bounds.z)) {
-        SurfaceSample s = surface_sample(in_rest_h.xy / in_rest_h.z, fp, frame.filter_bounds.zw);
+    if (pixel.any && in_rest_h.z > 0.0) {
+        SurfaceSample s = surface_sample(in_rest_h.xy / in_rest_h.z, pixel, frame.filter_steps.zw);
         n = normalize(cross(s.tangent_x, s.tangent_y));
         sigma2 = s.sigma2;
     }

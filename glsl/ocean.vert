@@ -4,7 +4,7 @@
 // t >= 0, the top row at t = infinity, which stays a finite homogeneous point (x H, 0).
 #include "frame.glsl"
 #include "common.glsl"
-layout(set = 0, binding = 1, std430) readonly buffer Waves { Wave waves[]; };
+layout(set = 0, binding = 1, std140) uniform Waves { Wave waves[MAX_WAVES]; };
 #include "waves.glsl"
 
 layout(location = 0) out vec3 out_rest_h;   // (H r.xy, w): rest position = xy / w, interpolated projectively
@@ -23,11 +23,8 @@ void main() {
     vec2 rest_times_w = height * ray.xy;
 
     vec3 d = vec3(0.0);
-    Footprint fp = plane_footprint(ray);
-    uint last = frame.grid_dims.z - 1u;
-    if (w > 0.0 && !surely_unresolved(fp, waves[last].len_k_prefix.x, cell_px, frame.filter_bounds.x)) {
-        d = displacement(rest_times_w / w, fp, cell_px, frame.filter_bounds.xy);
-    }
+    SampleScale cell = sample_scale(ray, cell_px, frame.filter_steps.xy);
+    if (cell.any) d = displacement(rest_times_w / w, cell, frame.filter_steps.xy);   // any implies w > 0
     vec4 p_h = vec4(rest_times_w + w * d.xy, w * (d.z - height), w);
     gl_Position = frame.view_proj * p_h;
     out_rest_h = vec3(rest_times_w, w);

@@ -6,11 +6,12 @@ use crate::sky::SkyModel;
 use crate::waves::WaveSet;
 use glam::{DMat4, DVec3, Mat4};
 
-/// Smoothstep bounds in samples per wavelength for a train to be resolved by the grid
-/// (geometry) and by the per-pixel normal. Nyquist needs 2 samples per wavelength; the ramp to 4
-/// keeps partially resolved trains away from aliasing. (The authors' demo ramps 1 to 1.5 cells.)
-pub const GEOMETRY_FILTER: [f32; 2] = [2.0, 4.0];
-pub const NORMAL_FILTER: [f32; 2] = [2.0, 4.0];
+/// Phase step per sample (turns) up to which a train is fully resolved, and from which it is not
+/// resolved at all, by the grid (geometry) and by the per-pixel normal. Half a turn per sample is
+/// Nyquist's limit (2 samples per wavelength); full weight from a quarter turn (4 samples) keeps
+/// partially resolved trains clear of aliasing. (The authors' demo ramps 1 to 1.5 cells.)
+pub const GEOMETRY_STEPS: [f32; 2] = [0.25, 0.5];
+pub const NORMAL_STEPS: [f32; 2] = [0.25, 0.5];
 /// Stereographic sky-map extent: u in [-R, R]^2 covers a little beyond the horizon circle |u| = 1.
 pub const SKY_MAP_EXTENT: f32 = 1.125;
 /// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
@@ -30,7 +31,7 @@ pub struct FrameUniforms {
     pub viewport: [f32; 4],
     pub grid: [f32; 4],
     pub grid_dims: [u32; 4],
-    pub filter_bounds: [f32; 4],
+    pub filter_steps: [f32; 4],
     pub sun_dir: [f32; 4],
     pub sun_radiance: [f32; 4],
     pub sun_irradiance: [f32; 4],
@@ -46,7 +47,8 @@ pub struct FrameUniforms {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GpuWave {
     pub dir_amp_phase: [f32; 4],
-    pub len_k_prefix: [f32; 4],
+    pub k_prefix: [f32; 4],
+    pub shape: [f32; 4],
 }
 
 /// The camera in the camera-relative world frame (origin at the eye, z up).
@@ -188,14 +190,21 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
         .map(|t| {
             let v = t.slope_variance();
             prefix = [prefix[0] + v[0], prefix[1] + v[1]];
+            let (sin, cos) = t.angle_from_wind.sin_cos();
             GpuWave {
                 dir_amp_phase: [
                     t.direction[0] as f32,
                     t.direction[1] as f32,
                     t.amplitude as f32,
-                    t.phase_at(scene.render.time_s) as f32,
+                    (t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32,
                 ],
-                len_k_prefix: [t.wavelength as f32, t.k as f32, prefix[0] as f32, prefix[1] as f32],
+                k_prefix: [
+                    (t.direction[0] / t.wavelength) as f32,
+                    (t.direction[1] / t.wavelength) as f32,
+                    prefix[0] as f32,
+                    prefix[1] as f32,
+                ],
+                shape: [t.wavelength as f32, (t.k * t.amplitude) as f32, (cos * cos) as f32, (sin * sin) as f32],
             }
         })
         .collect();
@@ -210,7 +219,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
         viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
         grid: [cell_px as f32, grid.top_ndc_y as f32, grid.margin_x as f32, grid.margin_y as f32],
         grid_dims: [grid.columns, grid.rows, waves.trains.len() as u32, 0],
-        filter_bounds: [GEOMETRY_FILTER[0], GEOMETRY_FILTER[1], NORMAL_FILTER[0], NORMAL_FILTER[1]],
+        filter_steps: [GEOMETRY_STEPS[0], GEOMETRY_STEPS[1], NORMAL_STEPS[0], NORMAL_STEPS[1]],
         sun_dir: v4(sky.sun_dir, crate::sky::SUN_ANGULAR_RADIUS.cos()),
         sun_radiance: v4(sky.sun_radiance, SkyModel::sun_slope_variance()),
         sun_irradiance: v4(sky.sun_irradiance(), sun_above),

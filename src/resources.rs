@@ -54,7 +54,7 @@ impl Resources {
             gpu,
             "wave trains",
             (MAX_WAVES as usize * std::mem::size_of::<GpuWave>()) as u64,
-            B::STORAGE_BUFFER,
+            B::UNIFORM_BUFFER,
             Location::Upload,
         )?;
         let cols = GridLayout::max_columns(cell_px, width) as u64;

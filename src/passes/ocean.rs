@@ -37,12 +37,12 @@ impl OceanPass {
             "ocean",
             &[
                 (0, D::UNIFORM_BUFFER, both),
-                (1, D::STORAGE_BUFFER, both),
+                (1, D::UNIFORM_BUFFER, both),
                 (2, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
             ],
         )?;
         bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
-        bindings.write_buffer(device, 1, D::STORAGE_BUFFER, r.waves.raw);
+        bindings.write_buffer(device, 1, D::UNIFORM_BUFFER, r.waves.raw);
         bindings.write_image(
             device,
             2,
