@@ -25,13 +25,28 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 perez_e;
     vec4 sky_zenith;       // (Y, x, y) zenith values, Y already divided by F(0, theta_s); w: sky scale
     vec4 tone;             // x: exposure; y: sky map extent R (map spans [-R, R]^2 in stereographic u)
+    vec4 wave_extent;      // x: longest wavelength (m)
 } frame;
 
-struct Wave {
-    vec4 dir_amp_phase;    // xy: unit propagation direction (world), z: amplitude h (m), w: phase at t (turns, in [0, 1))
-    vec4 k_prefix;         // xy: wave vector in turns per metre (dir / lambda), zw: slope variance of this and all shorter trains (wind frame)
-    vec4 shape;            // x: wavelength (m), y: k h, z, w: cos^2, sin^2 of the angle to the wind
-};
+// The wave trains, sorted by increasing wavelength. One vec4 per train keeps the per-pixel loop
+// to four reads (drivers that cannot prove a loop index uniform gather each component per lane):
+//   xy: wave vector in turns per metre (direction / wavelength), full f32 for phase precision
+//   z:  phase at time t (turns, in [0, 1)), reduced in f64 on the CPU
+//   w:  packHalf2x16(k h, cos^2 of the angle to the wind) as float bits
+// prefix[i].xy: slope variance (wind frame) of train i and all shorter ones.
 const uint MAX_WAVES = 256u;
+#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { vec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
+
+struct Wave {
+    vec2 k;          // turns per metre
+    float phase;     // turns
+    float kh;        // steepness k h <= 1
+    float cos2_wind; // cos^2 of the angle to the wind
+};
+
+Wave unpack_wave(vec4 d) {
+    vec2 steep = unpackHalf2x16(floatBitsToUint(d.w));
+    return Wave(d.xy, d.z, steep.x, steep.y);
+}
 
 #endif

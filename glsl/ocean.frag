@@ -3,7 +3,7 @@
 // the rest as BRDF slope variance (paper, sections 4-5).
 #include "frame.glsl"
 #include "common.glsl"
-layout(set = 0, binding = 1, std140) uniform Waves { Wave waves[MAX_WAVES]; };
+WAVES_BLOCK;
 layout(set = 0, binding = 2) uniform sampler2D sky_map;
 layout(constant_id = 0) const bool TERM_SUN = true;
 layout(constant_id = 1) const bool TERM_SKY = true;

@@ -4,7 +4,7 @@
 // t >= 0, the top row at t = infinity, which stays a finite homogeneous point (x H, 0).
 #include "frame.glsl"
 #include "common.glsl"
-layout(set = 0, binding = 1, std140) uniform Waves { Wave waves[MAX_WAVES]; };
+WAVES_BLOCK;
 #include "waves.glsl"
 
 layout(location = 0) out vec3 out_rest_h;   // (H r.xy, w): rest position = xy / w, interpolated projectively

@@ -1,5 +1,5 @@
 // Filtered trochoid waves: per-train resolution weights, displacement and slopes.
-// Requires frame.glsl and common.glsl, and a `waves[]` array in scope.
+// Requires frame.glsl and common.glsl, and WAVES_BLOCK in scope.
 #ifndef WAVES_GLSL
 #define WAVES_GLSL
 
@@ -12,6 +12,7 @@ struct SampleScale {
     vec2 a_u;            // rest-position change per sample along screen u (m)
     vec2 a_v;            // same along screen v
     float lambda_cut;    // trains with wavelength <= this are unresolved in every direction
+    float lambda_cut2;   // its square: the loop compares |k|^2 lambda_cut^2 >= 1 (lambda <= cut)
     bool any;            // whether the longest train can be resolved at all
 };
 
@@ -29,7 +30,7 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     float frobenius = sqrt(2.0 * (lu * lu + lv * lv));
     float q_min = frobenius > 0.0 ? det / frobenius : 0.0;   // det <= frobenius^2 / 4: no overflow
     float reach = frame.cam_forward.w * cells;                // H cells
-    float longest = waves[frame.grid_dims.z - 1u].shape.x;
+    float longest = frame.wave_extent.x;
     SampleScale s;
     // Train lambda is unresolved everywhere when q_min reach / (lambda w^2) >= steps.y.
     s.any = longest * w2 * steps.y > q_min * reach;
@@ -38,12 +39,13 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
         float per_w2 = reach / w2;
         s.a_u = q_u * per_w2;
         s.a_v = q_v * per_w2;
-        s.lambda_cut = q_min * per_w2 / steps.y;
+        s.lambda_cut = q_min * per_w2 / steps.y;   // < longest <= 1e4 m: its square is finite
     } else {
         s.a_u = vec2(0.0);
         s.a_v = vec2(0.0);
         s.lambda_cut = longest;
     }
+    s.lambda_cut2 = s.lambda_cut * s.lambda_cut;
     return s;
 }
 
@@ -64,11 +66,14 @@ vec3 displacement(vec2 x, SampleScale s, vec2 steps) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
     vec3 d = vec3(0.0);
     for (int i = int(frame.grid_dims.z) - 1; i >= 0; --i) {
-        Wave wave = waves[i];
-        if (wave.shape.x <= s.lambda_cut) break;
-        float h = resolution_weight(s, wave.k_prefix.xy, steps, inv_ramp) * wave.dir_amp_phase.z;
-        vec2 sc = sincos_turns(wave.dir_amp_phase.w - dot(wave.k_prefix.xy, x));
-        d += vec3(wave.dir_amp_phase.xy * (h * sc.x), h * sc.y);
+        Wave wave = unpack_wave(wave_data[i]);
+        float k2 = dot(wave.k, wave.k);
+        if (k2 * s.lambda_cut2 >= 1.0) break;
+        // h = k h / k with k = 2 pi |k_turns|; the direction is k_turns / |k_turns|.
+        float inv_k = inversesqrt(k2);
+        float h = resolution_weight(s, wave.k, steps, inv_ramp) * wave.kh * inv_k * (0.5 / PI);
+        vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
+        d += vec3(wave.k * (inv_k * h * sc.x), h * sc.y);
     }
     return d;
 }
@@ -94,21 +99,22 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps) {
     r.sigma2 = vec2(0.0);
     int i = int(frame.grid_dims.z) - 1;
     for (; i >= 0; --i) {
-        Wave wave = waves[i];
-        if (wave.shape.x <= s.lambda_cut) break;
-        float wn = resolution_weight(s, wave.k_prefix.xy, steps, inv_ramp);
-        vec2 dir = wave.dir_amp_phase.xy;
-        vec2 sc = sincos_turns(wave.dir_amp_phase.w - dot(wave.k_prefix.xy, x));
+        Wave wave = unpack_wave(wave_data[i]);
+        float k2 = dot(wave.k, wave.k);
+        if (k2 * s.lambda_cut2 >= 1.0) break;
+        float wn = resolution_weight(s, wave.k, steps, inv_ramp);
+        vec2 dir = wave.k * inversesqrt(k2);
+        vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
         // d/dx of (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir.
-        float kh = wave.shape.y;
-        float c = wn * kh * sc.y, sn = wn * kh * sc.x;
+        float c = wn * wave.kh * sc.y, sn = wn * wave.kh * sc.x;
         r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
         r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
         // The unresolved part (1 - wn) of the amplitude stays in the BRDF (0 when wn = 1).
-        r.sigma2 += wave.shape.zw * trochoid_slope_variance((1.0 - wn) * kh);
+        vec2 wind2 = vec2(wave.cos2_wind, 1.0 - wave.cos2_wind);
+        r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
     }
     // Trains 0..i are unresolved at this pixel: their whole variance, summed on the CPU.
-    if (i >= 0) r.sigma2 += waves[i].k_prefix.zw;
+    if (i >= 0) r.sigma2 += wave_prefix[i].xy;
     return r;
 }
 

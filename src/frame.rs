@@ -1,7 +1,7 @@
 //! What the CPU hands the shaders each frame: the camera, the sun and sky, the projected grid's
 //! extent and the wave trains. Layouts mirror glsl/frame.glsl (std140 / std430, vec4-packed).
 
-use crate::scene::Scene;
+use crate::scene::{Scene, MAX_WAVES};
 use crate::sky::SkyModel;
 use crate::waves::WaveSet;
 use glam::{DMat4, DVec3, Mat4};
@@ -41,14 +41,21 @@ pub struct FrameUniforms {
     pub perez: [[f32; 4]; 5],
     pub sky_zenith: [f32; 4],
     pub tone: [f32; 4],
+    pub wave_extent: [f32; 4],
 }
 
+/// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GpuWave {
-    pub dir_amp_phase: [f32; 4],
-    pub k_prefix: [f32; 4],
-    pub shape: [f32; 4],
+#[derive(Clone, Copy, Debug)]
+pub struct GpuWaves {
+    pub data: [[f32; 4]; MAX_WAVES as usize],
+    pub prefix: [[f32; 4]; MAX_WAVES as usize],
+}
+
+impl Default for GpuWaves {
+    fn default() -> Self {
+        GpuWaves { data: [[0.0; 4]; MAX_WAVES as usize], prefix: [[0.0; 4]; MAX_WAVES as usize] }
+    }
 }
 
 /// The camera in the camera-relative world frame (origin at the eye, z up).
@@ -162,7 +169,7 @@ impl GridLayout {
 /// Everything derived from a scene for one frame.
 pub struct FrameData {
     pub uniforms: FrameUniforms,
-    pub waves: Vec<GpuWave>,
+    pub waves: Box<GpuWaves>,
     pub grid: GridLayout,
     pub camera: CameraFrame,
     pub sky: SkyModel,
@@ -183,31 +190,22 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
     let view_proj = camera.view_proj(width as f64 / height as f64).as_mat4();
 
+    let mut gpu_waves = Box::<GpuWaves>::default();
     let mut prefix = [0.0f64; 2];
-    let gpu_waves = waves
-        .trains
-        .iter()
-        .map(|t| {
-            let v = t.slope_variance();
-            prefix = [prefix[0] + v[0], prefix[1] + v[1]];
-            let (sin, cos) = t.angle_from_wind.sin_cos();
-            GpuWave {
-                dir_amp_phase: [
-                    t.direction[0] as f32,
-                    t.direction[1] as f32,
-                    t.amplitude as f32,
-                    (t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32,
-                ],
-                k_prefix: [
-                    (t.direction[0] / t.wavelength) as f32,
-                    (t.direction[1] / t.wavelength) as f32,
-                    prefix[0] as f32,
-                    prefix[1] as f32,
-                ],
-                shape: [t.wavelength as f32, (t.k * t.amplitude) as f32, (cos * cos) as f32, (sin * sin) as f32],
-            }
-        })
-        .collect();
+    for (i, t) in waves.trains.iter().enumerate() {
+        let v = t.slope_variance();
+        prefix = [prefix[0] + v[0], prefix[1] + v[1]];
+        let cos2 = t.angle_from_wind.cos().powi(2);
+        let steep = half::f16::from_f64(t.k * t.amplitude).to_bits() as u32
+            | (half::f16::from_f64(cos2).to_bits() as u32) << 16;
+        gpu_waves.data[i] = [
+            (t.direction[0] / t.wavelength) as f32,
+            (t.direction[1] / t.wavelength) as f32,
+            (t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32,
+            f32::from_bits(steep),
+        ];
+        gpu_waves.prefix[i] = [prefix[0] as f32, prefix[1] as f32, 0.0, 0.0];
+    }
 
     let sun_above = if sky.sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
     let perez = std::array::from_fn(|i| v4(sky.perez[i], 0.0));
@@ -234,6 +232,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
         perez,
         sky_zenith: v4(sky.zenith_over_f0, sky.sky_scale),
         tone: [scene.render.exposure as f32, SKY_MAP_EXTENT, 0.0, 0.0],
+        wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, 0.0, 0.0, 0.0],
     };
     FrameData { uniforms, waves: gpu_waves, grid, camera, sky }
 }

@@ -107,7 +107,7 @@ impl<'g> Renderer<'g> {
         let resources = self.resources.as_mut().expect("live renderer");
         resources.set_grid(gpu, data.grid.columns, data.grid.rows)?;
         resources.frame_uniforms.write(gpu, std::slice::from_ref(&data.uniforms))?;
-        resources.waves.write(gpu, &data.waves)?;
+        resources.waves.write(gpu, std::slice::from_ref(data.waves.as_ref()))?;
         self.submit_frame()?;
 
         let resources = self.resources.as_ref().expect("live renderer");

@@ -1,8 +1,7 @@
 //! Every GPU resource of a frame, created once for an image size and torn down in reverse.
 
 use crate::error::{Error, Result, VkContext};
-use crate::frame::{FrameUniforms, GpuWave, GridLayout};
-use crate::scene::MAX_WAVES;
+use crate::frame::{FrameUniforms, GpuWaves, GridLayout};
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT, LDR_FORMAT};
 use crate::vk::gpu::Gpu;
@@ -53,7 +52,7 @@ impl Resources {
         let waves = Buffer::new(
             gpu,
             "wave trains",
-            (MAX_WAVES as usize * std::mem::size_of::<GpuWave>()) as u64,
+            std::mem::size_of::<GpuWaves>() as u64,
             B::UNIFORM_BUFFER,
             Location::Upload,
         )?;
