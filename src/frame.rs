@@ -8,10 +8,11 @@ use glam::{DMat4, DVec3, Mat4};
 
 /// Phase step per sample (turns) up to which a train is fully resolved, and from which it is not
 /// resolved at all, by the grid (geometry) and by the per-pixel normal. Half a turn per sample is
-/// Nyquist's limit (2 samples per wavelength); full weight from a quarter turn (4 samples) keeps
-/// partially resolved trains clear of aliasing. (The authors' demo ramps 1 to 1.5 cells.)
-pub const GEOMETRY_STEPS: [f32; 2] = [0.25, 0.5];
-pub const NORMAL_STEPS: [f32; 2] = [0.25, 0.5];
+/// Nyquist's limit; a sinusoid sampled that coarsely still beats against the sample grid (moire,
+/// shimmer as the camera moves), so a train counts fully from 8 samples per wavelength and is
+/// dropped to the next scale below 4. (The authors' demo ramps over 1 to 1.5 cells per wavelength.)
+pub const GEOMETRY_STEPS: [f32; 2] = [0.125, 0.25];
+pub const NORMAL_STEPS: [f32; 2] = [0.125, 0.25];
 /// Stereographic sky-map extent: u in [-R, R]^2 covers a little beyond the horizon circle |u| = 1.
 pub const SKY_MAP_EXTENT: f32 = 1.125;
 /// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
