@@ -23,8 +23,9 @@ void main() {
     vec2 sigma2 = frame.wind.zw;    // nothing resolved: all slopes in the BRDF
     // Only where some train is resolvable is the rest position used; there the pixel is at a finite
     // distance, so the interpolated w is positive.
-    if (pixel.any && in_rest_h.z > 0.0) {
-        SurfaceSample s = surface_sample(in_rest_h.xy / in_rest_h.z, pixel, frame.filter_steps.zw);
+    // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit.
+    if (pixel.any && in_rest_h.z > 0.0 && v.z > 0.0) {
+        SurfaceSample s = surface_sample(in_rest_h.xy / in_rest_h.z, pixel, frame.filter_steps.zw, 2.0 * PI / v.z);
         n = normalize(cross(s.tangent_x, s.tangent_y));
         sigma2 = s.sigma2;
     }

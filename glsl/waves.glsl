@@ -49,10 +49,11 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     return s;
 }
 
-// Weight of a train at this scale from its phase step per sample (turns): 1 up to
-// steps.x (resolved), 0 from steps.y (Nyquist) on, a smoothstep between.
-float resolution_weight(SampleScale s, vec2 k_turns, vec2 steps, float inv_ramp) {
-    float step = max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v)));
+// Weight of a train at this scale from its step per sample: 1 up to steps.x (resolved), 0 from
+// steps.y on, a smoothstep between. The step is the phase advance per sample (turns), times
+// `nonlinearity` >= 1 where the shading is steeper than the phase (see surface_sample).
+float resolution_weight(SampleScale s, vec2 k_turns, vec2 steps, float inv_ramp, float nonlinearity) {
+    float step = max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v))) * nonlinearity;
     float t = clamp((step - steps.x) * inv_ramp, 0.0, 1.0);
     return 1.0 - t * t * (3.0 - 2.0 * t);
 }
@@ -71,7 +72,7 @@ vec3 displacement(vec2 x, SampleScale s, vec2 steps) {
         if (k2 * s.lambda_cut2 >= 1.0) break;
         // h = k h / k with k = 2 pi |k_turns|; the direction is k_turns / |k_turns|.
         float inv_k = inversesqrt(k2);
-        float h = resolution_weight(s, wave.k, steps, inv_ramp) * wave.kh * inv_k * (0.5 / PI);
+        float h = resolution_weight(s, wave.k, steps, inv_ramp, 1.0) * wave.kh * inv_k * (0.5 / PI);
         vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
         d += vec3(wave.k * (inv_k * h * sc.x), h * sc.y);
     }
@@ -91,7 +92,13 @@ float trochoid_slope_variance(float a) {
     return a2 / (1.0 + sqrt(max(1.0 - a2, 0.0)));
 }
 
-SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps) {
+// A pixel's shading is a point sample of the BRDF at the resolved normal. At grazing view the BRDF
+// turns steep in the normal: a train whose slope (amplitude k h) advances by 2 pi k h per turn of
+// phase changes cos(theta_v) ~ v_z by that much, i.e. by 2 pi k h / v_z of itself per turn. A
+// train therefore counts as resolved only while both its phase and that relative change in
+// v_z stay within the per-pixel steps; otherwise it goes to the BRDF's slope variance, whose
+// Smith masking is built for grazing statistics. `grazing` = 2 pi / v_z (v_z > 0).
+SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
     SurfaceSample r;
     r.tangent_x = vec3(1.0, 0.0, 0.0);
@@ -102,7 +109,7 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps) {
         Wave wave = unpack_wave(wave_data[i]);
         float k2 = dot(wave.k, wave.k);
         if (k2 * s.lambda_cut2 >= 1.0) break;
-        float wn = resolution_weight(s, wave.k, steps, inv_ramp);
+        float wn = resolution_weight(s, wave.k, steps, inv_ramp, max(1.0, wave.kh * grazing));
         vec2 dir = wave.k * inversesqrt(k2);
         vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
         // d/dx of (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir.

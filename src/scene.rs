@@ -101,7 +101,7 @@ impl Default for Waves {
 }
 impl Default for Render {
     fn default() -> Self {
-        Self { grid_cell_px: 8.0, exposure: 0.4, time_s: 0.0, sky_anisotropy: 1.0 }
+        Self { grid_cell_px: 8.0, exposure: 0.1, time_s: 0.0, sky_anisotropy: 1.0 }
     }
 }
 
