@@ -8,6 +8,7 @@ pub mod error;
 pub mod frame;
 pub mod output;
 pub mod passes;
+pub mod reference;
 pub mod renderer;
 pub mod report;
 pub mod resources;

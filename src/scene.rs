@@ -119,7 +119,7 @@ impl Scene {
     /// Parses and validates; `file` names the source in errors.
     pub fn parse(text: &str, file: &str) -> Result<Scene> {
         let scene: Scene = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
             let message = e.message().replace('\n', " ");
             let file = match line {
                 Some(line) => format!("{file} line {line}"),

@@ -1,0 +1,198 @@
+//! An independent f64 CPU evaluation of the shading at one pixel, from the same formulas as the
+//! shaders (paper sections 4-6): footprint, resolution weights, resolved normal, residual slope
+//! variance, reflected sun, mean Fresnel, refracted sea light and the analytic sky at the
+//! reflected direction. Tests compare the GPU against it on chosen pixels.
+//!
+//! Only valid where the grid is not displaced (no train resolved at the grid's scale): the
+//! visible point is then the ray's intersection with the rest plane.
+
+use crate::frame::{CameraFrame, NORMAL_STEPS, SEA_ALBEDO};
+use crate::sky::SkyModel;
+use crate::waves::{trochoid_slope_variance, WaveSet};
+use glam::{DVec2, DVec3};
+use std::f64::consts::{PI, TAU};
+
+/// Schlick's R0 for water (paper, section 5).
+const R0: f64 = 0.02;
+
+/// Per-term radiance (kcd/m^2, linear sRGB) at one pixel.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PixelRadiance {
+    pub sun: [f64; 3],
+    pub sky: [f64; 3],
+    pub sea: [f64; 3],
+    /// Resolved normal and residual slope variance, for diagnostics.
+    pub normal: [f64; 3],
+    pub sigma2: [f64; 2],
+}
+
+/// What the reference needs from the frame.
+pub struct ReferenceScene<'a> {
+    pub camera: &'a CameraFrame,
+    pub waves: &'a WaveSet,
+    pub sky: &'a SkyModel,
+    pub time_s: f64,
+    pub width: u32,
+    pub height: u32,
+}
+
+fn smoothstep01(t: f64) -> f64 {
+    let t = t.clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+impl ReferenceScene<'_> {
+    /// Camera ray through the centre of pixel (px, py), y down.
+    pub fn pixel_ray(&self, px: f64, py: f64) -> DVec3 {
+        let ndc = [(px + 0.5) / self.width as f64 * 2.0 - 1.0, (py + 0.5) / self.height as f64 * 2.0 - 1.0];
+        self.camera.ray(ndc)
+    }
+
+    /// Rest-plane position hit by `ray`, and its derivatives per pixel along screen u and v,
+    /// from differentiating x(s) = H r(s).xy / (-r(s).z) with r linear in pixels.
+    pub fn plane_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
+        let h = self.camera.plane_height;
+        let w = -ray.z;
+        if w <= 0.0 {
+            return None;
+        }
+        let dr_du = self.camera.right * self.camera.tan_half_x * (2.0 / self.width as f64);
+        let dr_dv = -self.camera.up * self.camera.tan_half_y * (2.0 / self.height as f64);
+        let x = |r: DVec3| DVec2::new(r.x, r.y) * (h / -r.z);
+        let derivative = |dr: DVec3| {
+            let r_xy = DVec2::new(ray.x, ray.y);
+            let dr_xy = DVec2::new(dr.x, dr.y);
+            (dr_xy * w + r_xy * dr.z) * (h / (w * w))
+        };
+        Some((x(ray), derivative(dr_du), derivative(dr_dv)))
+    }
+
+    /// Weight of a train resolved by the per-pixel normal (see glsl/waves.glsl).
+    pub fn normal_weight(&self, k_turns: DVec2, kh: f64, a_u: DVec2, a_v: DVec2, v_z: f64) -> f64 {
+        let [resolved, unresolved] = NORMAL_STEPS.map(|s| s as f64);
+        let nonlinearity = (kh * TAU / v_z).max(1.0);
+        let step = k_turns.dot(a_u).abs().max(k_turns.dot(a_v).abs()) * nonlinearity;
+        1.0 - smoothstep01((step - resolved) / (unresolved - resolved))
+    }
+
+    pub fn shade(&self, px: f64, py: f64) -> Option<PixelRadiance> {
+        let ray = self.pixel_ray(px, py);
+        let (x, a_u, a_v) = self.plane_hit(ray)?;
+        let v = -ray.normalize();
+        let wind = DVec2::from(self.waves.wind_direction);
+        let mut tx = DVec3::X;
+        let mut ty = DVec3::Y;
+        let mut sigma2 = [0.0; 2];
+        for t in &self.waves.trains {
+            let dir = DVec2::from(t.direction);
+            let k_turns = dir / t.wavelength;
+            let kh = t.k * t.amplitude;
+            let wn = if v.z > 0.0 { self.normal_weight(k_turns, kh, a_u, a_v, v.z) } else { 0.0 };
+            let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
+            let (s, c) = theta.sin_cos();
+            let (c, s) = (wn * kh * c, wn * kh * s);
+            tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
+            ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
+            let cos_wind = dir.dot(wind);
+            let residual = trochoid_slope_variance((1.0 - wn) * kh);
+            sigma2[0] += cos_wind * cos_wind * residual;
+            sigma2[1] += (1.0 - cos_wind * cos_wind) * residual;
+        }
+        let n = tx.cross(ty).normalize();
+        Some(self.brdf(n, v, sigma2))
+    }
+
+    /// The three terms for resolved normal `n`, view `v` and residual variance `sigma2`.
+    pub fn brdf(&self, n: DVec3, v: DVec3, sigma2: [f64; 2]) -> PixelRadiance {
+        let vn = v.dot(n);
+        let n = if vn < 0.0 { (n - vn * v).try_normalize().unwrap_or(DVec3::Z) } else { n };
+        let wind = DVec3::new(self.waves.wind_direction[0], self.waves.wind_direction[1], 0.0);
+        let t = wind - n * n.dot(wind);
+        let t_x = t.try_normalize().unwrap_or_else(|| DVec3::new(-wind.y, wind.x, 0.0).cross(n).normalize());
+        let t_y = n.cross(t_x);
+        let local = |d: DVec3| DVec3::new(d.dot(t_x), d.dot(t_y), d.dot(n));
+        let vl = local(v);
+        let cos_v = vl.z.clamp(0.0, 1.0);
+
+        let sun_dir = DVec3::from(self.sky.sun_dir);
+        let sun = if self.sky.sun_radiance.iter().any(|&l| l > 0.0) {
+            let value = reflected_sun(vl, local(sun_dir), sigma2, SkyModel::sun_slope_variance());
+            self.sky.sun_irradiance().map(|e| e * value)
+        } else {
+            [0.0; 3]
+        };
+        let spread2 = vl.x * vl.x + vl.y * vl.y;
+        let sigma_v2 = if spread2 > 0.0 {
+            (sigma2[0] * vl.x * vl.x + sigma2[1] * vl.y * vl.y) / spread2
+        } else {
+            0.5 * (sigma2[0] + sigma2[1])
+        };
+        let fresnel = mean_fresnel(cos_v, sigma_v2.sqrt());
+        // The sky straight along the mirror direction (the GPU filters the map over the 2-sigma footprint).
+        let r = 2.0 * v.dot(n) * n - v;
+        let sky_l = self.sky.radiance([r.x, r.y, r.z.abs()]);
+        let e_sky = self.sky.sky_irradiance();
+        PixelRadiance {
+            sun,
+            sky: sky_l.map(|l| fresnel * l),
+            sea: std::array::from_fn(|c| (1.0 - fresnel) * SEA_ALBEDO[c] * e_sky[c] / PI),
+            normal: n.to_array(),
+            sigma2,
+        }
+    }
+}
+
+/// erfc by the paper demo's rational approximation, as the shader uses it.
+pub fn erfc_approx(x: f64) -> f64 {
+    2.0 * (-x * x).exp() / (2.319 * x + (4.0 + 1.52 * x * x).sqrt())
+}
+
+/// Smith's Lambda for Gaussian slopes, Lambda(a) = (exp(-a^2) - a sqrt(pi) erfc(a)) / (2 a sqrt(pi)).
+pub fn smith_lambda(a: f64) -> f64 {
+    ((-a * a).exp() - a * PI.sqrt() * erfc_approx(a)) / (2.0 * a * PI.sqrt())
+}
+
+/// Paper's reflected sun per unit sun irradiance, directions in the local (t_x, t_y, n) frame:
+/// F(v.h) p(zeta_h) / (4 h_z^4 cos_v (1 + Lambda(a_v) + Lambda(a_l))).
+pub fn reflected_sun(v: DVec3, l: DVec3, sigma2: [f64; 2], sun_sigma2: f64) -> f64 {
+    if l.z <= 0.0 {
+        return 0.0;
+    }
+    let cos_v = v.z.max(0.0);
+    let h = (v + l).normalize();
+    let (sx, sy) = (sigma2[0] + sun_sigma2, sigma2[1] + sun_sigma2);
+    let zeta = DVec2::new(h.x / h.z, h.y / h.z);
+    let p = (-0.5 * (zeta.x * zeta.x / sx + zeta.y * zeta.y / sy)).exp() / (2.0 * PI * (sx * sy).sqrt());
+    let fresnel = R0 + (1.0 - R0) * (1.0 - v.dot(h)).clamp(0.0, 1.0).powi(5);
+    let lambda = |d: DVec3| {
+        let s2 = d.x * d.x + d.y * d.y;
+        if s2 == 0.0 {
+            return 0.0;
+        }
+        let sigma_phi2 = (sigma2[0] * d.x * d.x + sigma2[1] * d.y * d.y) / s2;
+        if sigma_phi2 == 0.0 {
+            return 0.0;
+        }
+        let tan = s2.sqrt() / d.z;
+        let a = 1.0 / (2.0 * sigma_phi2 * tan * tan).sqrt();
+        if a > 26.0 {
+            0.0
+        } else {
+            smith_lambda(a)
+        }
+    };
+    if cos_v == 0.0 {
+        // cos_v Lambda_v -> sin_v sqrt(2 sigma_v^2) / (2 sqrt(pi)) as cos_v -> 0.
+        let spread = (2.0 * (sigma2[0] * v.x * v.x + sigma2[1] * v.y * v.y)).sqrt();
+        if spread == 0.0 {
+            return 0.0;
+        }
+        return fresnel * p / (4.0 * h.z.powi(4) * spread / (2.0 * PI.sqrt()));
+    }
+    fresnel * p / (4.0 * h.z.powi(4) * cos_v * (1.0 + lambda(v) + lambda(l)))
+}
+
+/// Mean Fresnel over visible slopes (paper's fit).
+pub fn mean_fresnel(cos_v: f64, sigma_v: f64) -> f64 {
+    R0 + (1.0 - R0) * (1.0 - cos_v).powf(5.0 * (-2.69 * sigma_v).exp()) / (1.0 + 22.7 * sigma_v.powf(1.5))
+}

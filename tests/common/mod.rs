@@ -1,0 +1,48 @@
+//! Shared helpers for GPU tests: a validated context on the test device, renders with reports.
+#![allow(dead_code)]
+
+use ocean::app::{render_on, RenderRequest};
+use ocean::passes::ocean::Terms;
+use ocean::renderer::{RenderedFrame, Renderer};
+use ocean::report::Report;
+use ocean::scene::Scene;
+use ocean::vk::gpu::Gpu;
+
+/// A context with the validation layer and synchronization validation on. `OCEAN_TEST_DEVICE`
+/// picks a device by name (CI sets VK_DRIVER_FILES to lavapipe instead).
+pub fn gpu() -> Gpu {
+    let filter = std::env::var("OCEAN_TEST_DEVICE").ok();
+    Gpu::new(true, filter.as_deref()).unwrap_or_else(|e| panic!("GPU tests need Vulkan with validation: {e}"))
+}
+
+pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, RenderedFrame) {
+    let request = RenderRequest {
+        scene: scene.clone(),
+        width,
+        height,
+        png: None,
+        exr: None,
+        report: None,
+        validation: true,
+        device: None,
+        frames: 1,
+    };
+    render_on(gpu, &request).unwrap_or_else(|e| panic!("render failed: {e}"))
+}
+
+/// Renders with only some BRDF terms (specialization constants).
+pub fn render_terms(gpu: &Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> RenderedFrame {
+    let mut renderer = Renderer::new(gpu, scene, width, height, terms).unwrap();
+    renderer.render(scene).unwrap()
+}
+
+/// Fails on any validation error or non-finite pixel, naming the message ids.
+pub fn assert_clean(report: &Report, what: &str) {
+    assert_eq!(report.validation_errors, 0, "{what}: validation errors {:?}", report.validation_messages);
+    assert_eq!(report.nonfinite_pixels, 0, "{what}: non-finite pixels");
+}
+
+/// Rec. 709 luminance of a linear RGB pixel.
+pub fn luminance(p: [f32; 4]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+}

@@ -1,0 +1,112 @@
+//! Scene files: defaults, presets, and one clear line for every kind of bad input.
+
+use ocean::scene::Scene;
+use std::path::Path;
+use std::process::Command;
+
+fn parse_error(text: &str) -> String {
+    match Scene::parse(text, "test.toml") {
+        Ok(scene) => panic!("expected an error for {text:?}, parsed {scene:?}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn defaults_are_the_demo_values() {
+    let scene = Scene::parse("", "empty.toml").unwrap();
+    assert_eq!(scene, Scene::default());
+    assert_eq!(scene.camera.height_m, 6.0);
+    assert_eq!(scene.camera.pitch_deg, 0.0);
+    assert_eq!(scene.sun.elevation_deg, 3.0);
+    assert_eq!(scene.wind.speed_mps, 10.0);
+    assert_eq!(scene.waves.count, 60);
+    assert_eq!((scene.waves.lambda_min_m, scene.waves.lambda_max_m), (0.02, 30.0));
+    assert_eq!(scene.render.grid_cell_px, 8.0);
+}
+
+#[test]
+fn every_preset_parses() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            names.push(path.file_stem().unwrap().to_string_lossy().into_owned());
+        }
+    }
+    for wanted in ["default", "calm", "storm", "sunset", "noon", "high_altitude"] {
+        assert!(names.iter().any(|n| n == wanted), "missing preset {wanted}");
+    }
+    let default = Scene::load(&dir.join("default.toml")).unwrap();
+    assert_eq!(default, Scene::default(), "scenes/default.toml spells out the defaults");
+}
+
+#[test]
+fn unknown_keys_are_named() {
+    let e = parse_error("[camera]\nheight = 3.0\n");
+    assert!(e.contains("test.toml line 2") && e.contains("height"), "{e}");
+    let e = parse_error("[oceans]\nx = 1\n");
+    assert!(e.contains("oceans"), "{e}");
+}
+
+#[test]
+fn malformed_toml_names_the_line() {
+    let e = parse_error("[camera]\nheight_m = = 3\n");
+    assert!(e.contains("line 2"), "{e}");
+    let e = parse_error("[camera]\nheight_m = \"high\"\n");
+    assert!(e.contains("line 2"), "{e}");
+}
+
+#[test]
+fn out_of_range_values_name_key_and_range() {
+    let cases = [
+        ("[camera]\nheight_m = -1.0", "camera.height_m"),
+        ("[camera]\nfov_y_deg = 180.0", "camera.fov_y_deg"),
+        ("[camera]\npitch_deg = 91.0", "camera.pitch_deg"),
+        ("[waves]\ncount = 0", "waves.count"),
+        ("[waves]\ncount = 257", "waves.count"),
+        ("[waves]\nlambda_min_m = 40.0", "waves.lambda_min_m"),
+        ("[wind]\nspeed_mps = nan", "wind.speed_mps"),
+        ("[render]\nexposure = inf", "render.exposure"),
+        ("[render]\ngrid_cell_px = 0.5", "render.grid_cell_px"),
+        ("[sky]\nturbidity = 1.0", "sky.turbidity"),
+    ];
+    for (text, key) in cases {
+        let e = parse_error(text);
+        assert!(e.contains(key), "{text:?}: {e}");
+        assert!(e.contains("range") || e.contains("below"), "{text:?}: {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
+
+fn run_cli(args: &[&str]) -> (bool, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).output().unwrap();
+    (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+#[test]
+fn the_cli_reports_bad_input_in_one_line() {
+    let dir = std::env::temp_dir().join(format!("ocean-scene-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[waves]\ncount = 0\n").unwrap();
+    let out = dir.join("never.png");
+    let cases: Vec<Vec<String>> = vec![
+        vec!["--scene".into(), bad.display().to_string()],
+        vec!["--scene".into(), dir.join("missing.toml").display().to_string()],
+        vec!["--width".into(), "0".into()],
+    ];
+    for extra in cases {
+        let mut args = vec!["render".to_string(), "--out".into(), out.display().to_string()];
+        args.extend(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (ok, stderr) = run_cli(&args);
+        assert!(!ok, "{args:?} must fail");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: one line, got {stderr:?}");
+        assert!(stderr.starts_with("error: "), "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(!out.exists(), "no output file after a failure");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,93 @@
+//! Wave generation: slope variance against its formula, determinism, the k h <= 1 clamp, the
+//! Cox-Munk order of magnitude, and the phase reduction for large times.
+
+use ocean::scene::Scene;
+use ocean::waves::{cox_munk_total_variance, generate, G};
+use std::f64::consts::TAU;
+
+fn scene_with_wind(speed: f64) -> Scene {
+    let mut scene = Scene::default();
+    scene.wind.speed_mps = speed;
+    scene
+}
+
+#[test]
+fn slope_variance_matches_the_trochoid_formula() {
+    for speed in [2.0, 10.0, 25.0] {
+        let set = generate(&scene_with_wind(speed));
+        // Direct, cancellation-prone form in f64: sum cos^2(phi) (1 - sqrt(1 - (k h)^2)).
+        let (mut sx, mut sy) = (0.0, 0.0);
+        for t in &set.trains {
+            let v = 1.0 - (1.0 - (t.k * t.amplitude).powi(2)).sqrt();
+            sx += t.angle_from_wind.cos().powi(2) * v;
+            sy += t.angle_from_wind.sin().powi(2) * v;
+        }
+        assert!((set.sigma2[0] - sx).abs() <= 1e-9 * sx, "along wind: {} vs {sx}", set.sigma2[0]);
+        assert!((set.sigma2[1] - sy).abs() <= 1e-9 * sy.max(1e-12), "across wind: {} vs {sy}", set.sigma2[1]);
+        assert!(set.sigma2[0] > set.sigma2[1], "waves are spread around the wind, so most slope lies along it");
+    }
+}
+
+#[test]
+fn generation_is_deterministic_and_seeded() {
+    let a = generate(&Scene::default());
+    let b = generate(&Scene::default());
+    assert_eq!(a, b);
+    let mut other = Scene::default();
+    other.waves.seed = 2;
+    let c = generate(&other);
+    assert_ne!(a.trains, c.trains, "another seed draws other directions and phases");
+    assert_eq!(a.trains.len(), 60);
+}
+
+#[test]
+fn trains_never_loop_and_are_sorted() {
+    for speed in [0.0, 1.0, 10.0, 40.0, 60.0] {
+        let set = generate(&scene_with_wind(speed));
+        for t in &set.trains {
+            assert!(t.k * t.amplitude <= 1.0 + 1e-12, "k h = {} at {speed} m/s", t.k * t.amplitude);
+            assert!(t.amplitude.is_finite() && t.amplitude >= 0.0);
+            assert!((t.omega * t.omega - G * t.k).abs() < 1e-9 * G * t.k, "deep-water dispersion w^2 = g k");
+        }
+        assert!(set.trains.windows(2).all(|p| p[0].wavelength < p[1].wavelength));
+    }
+    let glassy = generate(&scene_with_wind(0.0));
+    assert!(glassy.trains.iter().all(|t| t.amplitude == 0.0), "no wind, no waves");
+    assert_eq!(glassy.sigma2, [0.0, 0.0]);
+}
+
+#[test]
+fn slope_variance_is_of_the_cox_munk_order() {
+    for speed in [5.0, 10.0, 15.0] {
+        let set = generate(&scene_with_wind(speed));
+        let total = set.sigma2[0] + set.sigma2[1];
+        let measured = cox_munk_total_variance(speed);
+        let ratio = total / measured;
+        assert!((0.3..3.0).contains(&ratio), "{speed} m/s: sigma^2 {total:.4} vs Cox-Munk {measured:.4}");
+    }
+    let calm = generate(&scene_with_wind(3.0));
+    let storm = generate(&scene_with_wind(20.0));
+    assert!(storm.sigma2[0] + storm.sigma2[1] > calm.sigma2[0] + calm.sigma2[1]);
+}
+
+#[test]
+fn mean_height_offset_is_the_trochoid_mean() {
+    let set = generate(&Scene::default());
+    let expected: f64 = set.trains.iter().map(|t| t.k * t.amplitude * t.amplitude / 2.0).sum();
+    assert!((set.mean_height_offset - expected).abs() < 1e-15);
+    assert!(set.mean_height_offset > 0.0);
+}
+
+#[test]
+fn phases_stay_precise_at_large_times() {
+    let set = generate(&Scene::default());
+    let t = 1.0e7;
+    for train in &set.trains {
+        let phase = train.phase_at(t);
+        assert!((0.0..TAU).contains(&phase));
+        // Against the phase advanced from t - 1 s by one second of omega: equal modulo 2 pi.
+        let earlier = train.phase_at(t - 1.0);
+        let step = (phase - earlier - train.omega).rem_euclid(TAU);
+        assert!(step < 1e-6 || TAU - step < 1e-6, "phase drift {step} at t = {t}");
+    }
+}
