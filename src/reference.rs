@@ -128,9 +128,7 @@ impl ReferenceScene<'_> {
             0.5 * (sigma2[0] + sigma2[1])
         };
         let fresnel = mean_fresnel(cos_v, sigma_v2.sqrt());
-        // The sky straight along the mirror direction (the GPU filters the map over the 2-sigma footprint).
-        let r = 2.0 * v.dot(n) * n - v;
-        let sky_l = self.sky.radiance([r.x, r.y, r.z.abs()]);
+        let sky_l = self.mean_sky_radiance([t_x, t_y, n], v, sigma2);
         let e_sky = self.sky.sky_irradiance();
         PixelRadiance {
             sun,
@@ -139,6 +137,34 @@ impl ReferenceScene<'_> {
             normal: n.to_array(),
             sigma2,
         }
+    }
+}
+
+impl ReferenceScene<'_> {
+    /// Sky radiance averaged over the Gaussian slope distribution (paper's L-bar), by a product
+    /// midpoint rule over +-4 sigma per axis. Directions reflected below the horizon see the sky
+    /// mirrored, as the sky map folds them.
+    pub fn mean_sky_radiance(&self, frame: [DVec3; 3], v: DVec3, sigma2: [f64; 2]) -> [f64; 3] {
+        const N: usize = 33;
+        let [t_x, t_y, n] = frame;
+        let (sx, sy) = (sigma2[0].sqrt(), sigma2[1].sqrt());
+        let mut sum = [0.0; 3];
+        let mut weight_sum = 0.0;
+        for i in 0..N {
+            let gx = (i as f64 + 0.5) / N as f64 * 8.0 - 4.0;
+            for j in 0..N {
+                let gy = (j as f64 + 0.5) / N as f64 * 8.0 - 4.0;
+                let weight = (-0.5 * (gx * gx + gy * gy)).exp();
+                let facet = (n - gx * sx * t_x - gy * sy * t_y).normalize();
+                let r = 2.0 * v.dot(facet) * facet - v;
+                let l = self.sky.radiance([r.x, r.y, r.z.abs()]);
+                for c in 0..3 {
+                    sum[c] += weight * l[c];
+                }
+                weight_sum += weight;
+            }
+        }
+        sum.map(|s| s / weight_sum)
     }
 }
 
