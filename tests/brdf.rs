@@ -85,7 +85,8 @@ fn gpu_shading_matches_the_f64_reference() {
             let e_sun = relative_error(sun[c] as f64, cpu.sun[c], 0.01 * sun_peak);
             let e_sky = relative_error(sky[c] as f64, cpu.sky[c], 1e-3);
             let e_sea = relative_error(sea[c] as f64, cpu.sea[c], 1e-4);
-
+            // Measured on lavapipe: sun 0.12%, sea 0.09%, sky 17% at worst (red, where the lobe
+            // reaches the circumsolar peak) and 4.7% on average.
             assert!(e_sun < 0.01, "sun at ({px}, {py}) channel {c}: GPU {} CPU {} ({cpu:?})", sun[c], cpu.sun[c]);
             // The GPU filters the sky map with one trilinear textureGrad lookup over the 2-sigma
             // footprint; the CPU integrates the Gaussian: the paper's approximation, allowed 20%
