@@ -154,17 +154,6 @@ impl GridLayout {
             if top_ndc_y < bottom_ndc_y { ((bottom_ndc_y - top_ndc_y) / cell_ndc_y).ceil() as u32 + 1 } else { 0 };
         GridLayout { columns, rows, top_ndc_y, margin_x, margin_y }
     }
-
-    /// Most rows any camera can need at this size: both margins at their cap plus the screen.
-    pub fn max_rows(cell_px: f64, height: u32) -> u32 {
-        let cell_ndc_y = 2.0 * cell_px / height as f64;
-        (((2.0 + 4.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / height as f64) / cell_ndc_y).ceil() as u32 + 2
-    }
-
-    pub fn max_columns(cell_px: f64, width: u32) -> u32 {
-        let cell_ndc_x = 2.0 * cell_px / width as f64;
-        (((2.0 + 2.0 * MAX_MARGIN_NDC) + 4.0 * cell_px / width as f64) / cell_ndc_x).ceil() as u32 + 2
-    }
 }
 
 /// Everything derived from a scene for one frame.

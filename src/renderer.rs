@@ -34,7 +34,6 @@ pub struct Renderer<'g> {
     gpu: &'g Gpu,
     width: u32,
     height: u32,
-    cell_px: f64,
     anisotropy: f64,
     // Declared in execution order.
     passes: Vec<Box<dyn Pass>>,
@@ -47,11 +46,10 @@ pub struct Renderer<'g> {
 }
 
 impl<'g> Renderer<'g> {
-    /// A renderer for `width` x `height` images of scenes with `scene`'s grid cell and anisotropy.
+    /// A renderer for `width` x `height` images of scenes with `scene`'s sky-map anisotropy.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> Result<Renderer<'g>> {
         let device = &gpu.device;
-        let resources =
-            Resources::new(gpu, width, height, scene.render.grid_cell_px, scene.render.sky_anisotropy as f32)?;
+        let resources = Resources::new(gpu, width, height, scene.render.sky_anisotropy as f32)?;
         let passes: Vec<Box<dyn Pass>> = vec![
             Box::new(SkyMapPass::new(device, &resources)?),
             Box::new(SkyMipsPass),
@@ -78,7 +76,6 @@ impl<'g> Renderer<'g> {
             gpu,
             width,
             height,
-            cell_px: scene.render.grid_cell_px,
             anisotropy: scene.render.sky_anisotropy,
             passes,
             resources: Some(resources),
@@ -95,10 +92,10 @@ impl<'g> Renderer<'g> {
     }
 
     pub fn render(&mut self, scene: &Scene) -> Result<RenderedFrame> {
-        if scene.render.grid_cell_px != self.cell_px || scene.render.sky_anisotropy != self.anisotropy {
+        if scene.render.sky_anisotropy != self.anisotropy {
             return Err(Error::Argument(format!(
-                "this renderer was built for grid_cell_px = {} and sky_anisotropy = {}",
-                self.cell_px, self.anisotropy
+                "this renderer's sky sampler was built for sky_anisotropy = {}, the scene asks {}",
+                self.anisotropy, scene.render.sky_anisotropy
             )));
         }
         let wave_set = waves::generate(scene);

@@ -1,9 +1,9 @@
 //! Every GPU resource of a frame, created once for an image size and torn down in reverse.
 
 use crate::error::{Error, Result, VkContext};
-use crate::frame::{FrameUniforms, GpuWaves, GridLayout};
+use crate::frame::{FrameUniforms, GpuWaves};
 use crate::vk::buffer::Buffer;
-use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT, LDR_FORMAT};
+use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT};
 use crate::vk::gpu::Gpu;
 use crate::vk::image::Image;
 use crate::vk::memory::Location;
@@ -15,22 +15,21 @@ pub const SKY_MAP_SIZE: u32 = 512;
 pub struct Resources {
     pub frame_uniforms: Buffer,
     pub waves: Buffer,
-    pub grid_indices: Buffer,
+    /// Triangle list of the current grid, grown when a larger grid is needed.
+    pub grid_indices: Option<Buffer>,
     pub sky_map: Image,
     pub sky_sampler: vk::Sampler,
     pub hdr: Image,
     pub depth: Image,
-    pub ldr: Image,
     pub hdr_readback: Buffer,
     pub ldr_readback: Buffer,
     /// Indices of the current grid layout (rewritten when the layout changes).
     pub grid_index_count: u32,
     pub grid_layout: Option<(u32, u32)>,
-    pub max_grid_nodes: u64,
 }
 
 impl Resources {
-    pub fn new(gpu: &Gpu, width: u32, height: u32, cell_px: f64, anisotropy: f32) -> Result<Resources> {
+    pub fn new(gpu: &Gpu, width: u32, height: u32, anisotropy: f32) -> Result<Resources> {
         let limit = gpu.device.properties.limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > limit || height > limit {
             return Err(Error::Argument(format!(
@@ -56,9 +55,6 @@ impl Resources {
             B::UNIFORM_BUFFER,
             Location::Upload,
         )?;
-        let cols = GridLayout::max_columns(cell_px, width) as u64;
-        let rows = GridLayout::max_rows(cell_px, height) as u64;
-        let grid_indices = Buffer::new(gpu, "grid indices", 6 * 4 * cols * rows, B::INDEX_BUFFER, Location::Upload)?;
         let sky_extent = vk::Extent2D { width: SKY_MAP_SIZE, height: SKY_MAP_SIZE };
         let sky_levels = SKY_MAP_SIZE.ilog2() + 1;
         let sky_map = Image::new(
@@ -72,9 +68,8 @@ impl Resources {
         let hdr =
             Image::new(gpu, "hdr radiance", HDR_FORMAT, extent, 1, I::COLOR_ATTACHMENT | I::STORAGE | I::TRANSFER_SRC)?;
         let depth = Image::new(gpu, "depth", DEPTH_FORMAT, extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
-        let ldr = Image::new(gpu, "ldr srgb", LDR_FORMAT, extent, 1, I::STORAGE | I::TRANSFER_SRC)?;
         let hdr_readback = Buffer::new(gpu, "hdr readback", pixels * 8, B::TRANSFER_DST, Location::Readback)?;
-        let ldr_readback = Buffer::new(gpu, "ldr readback", pixels * 4, B::TRANSFER_DST, Location::Readback)?;
+        let ldr_readback = Buffer::new(gpu, "ldr readback", pixels * 4, B::STORAGE_BUFFER, Location::Readback)?;
         let anisotropic = anisotropy > 1.0 && gpu.device.anisotropy;
         let sampler_info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
@@ -97,26 +92,24 @@ impl Resources {
         Ok(Resources {
             frame_uniforms,
             waves,
-            grid_indices,
+            grid_indices: None,
             sky_map,
             sky_sampler,
             hdr,
             depth,
-            ldr,
             hdr_readback,
             ldr_readback,
             grid_index_count: 0,
             grid_layout: None,
-            max_grid_nodes: cols * rows,
         })
     }
 
-    /// Writes the triangle list of a columns x rows grid (row-major nodes) if it changed.
+    /// Writes the triangle list of a columns x rows grid (row-major nodes) if it changed. Called
+    /// between frames (the previous frame's fence waited), so the buffer may be replaced.
     pub fn set_grid(&mut self, gpu: &Gpu, columns: u32, rows: u32) -> Result<()> {
         if self.grid_layout == Some((columns, rows)) {
             return Ok(());
         }
-        assert!((columns as u64) * (rows as u64) <= self.max_grid_nodes, "grid larger than its index buffer");
         let mut indices = Vec::with_capacity(6 * columns.saturating_sub(1) as usize * rows.saturating_sub(1) as usize);
         for row in 0..rows.saturating_sub(1) {
             for col in 0..columns.saturating_sub(1) {
@@ -125,7 +118,17 @@ impl Resources {
                 indices.extend_from_slice(&[a, c, b, b, c, d]);
             }
         }
-        self.grid_indices.write(gpu, &indices)?;
+        let bytes = std::mem::size_of_val(indices.as_slice()) as u64;
+        if self.grid_indices.as_ref().is_none_or(|b| b.size < bytes) {
+            if let Some(old) = self.grid_indices.take() {
+                old.destroy(gpu);
+            }
+            let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+            self.grid_indices = Some(Buffer::new(gpu, "grid indices", bytes, usage, Location::Upload)?);
+        }
+        if let Some(buffer) = &self.grid_indices {
+            buffer.write(gpu, &indices)?;
+        }
         self.grid_index_count = indices.len() as u32;
         self.grid_layout = Some((columns, rows));
         Ok(())
@@ -136,11 +139,12 @@ impl Resources {
         unsafe { gpu.raw().destroy_sampler(self.sky_sampler, None) };
         self.ldr_readback.destroy(gpu);
         self.hdr_readback.destroy(gpu);
-        self.ldr.destroy(gpu);
         self.depth.destroy(gpu);
         self.hdr.destroy(gpu);
         self.sky_map.destroy(gpu);
-        self.grid_indices.destroy(gpu);
+        if let Some(buffer) = self.grid_indices {
+            buffer.destroy(gpu);
+        }
         self.waves.destroy(gpu);
         self.frame_uniforms.destroy(gpu);
     }

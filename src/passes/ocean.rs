@@ -130,9 +130,9 @@ impl Pass for OceanPass {
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[area]);
             self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::GRAPHICS);
-            if r.grid_index_count > 0 {
+            if let (Some(indices), true) = (&r.grid_indices, r.grid_index_count > 0) {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean);
-                device.cmd_bind_index_buffer(cmd, r.grid_indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, r.grid_index_count, 1, 0, 0, 0);
             }
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.sky);

@@ -1,4 +1,5 @@
-//! Readback: copies the HDR radiance and the tone-mapped image into host-visible buffers.
+//! Readback: copies the HDR radiance into a host-visible buffer and makes both readback buffers
+//! (the tone-mapped one is written by the tonemap pass) visible to the host.
 
 use super::{Pass, Recorder};
 use crate::resources::Resources;
@@ -14,9 +15,7 @@ impl Pass for ReadbackPass {
 
     fn declare(&self, r: &Resources, t: &mut Tracker) {
         t.image(&r.hdr, 0, 1, Access::TransferRead, false);
-        t.image(&r.ldr, 0, 1, Access::TransferRead, false);
         t.buffer(&r.hdr_readback, Access::TransferWrite);
-        t.buffer(&r.ldr_readback, Access::TransferWrite);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
@@ -34,20 +33,13 @@ impl Pass for ReadbackPass {
             image_offset: vk::Offset3D::default(),
             image_extent: vk::Extent3D { width: r.hdr.extent.width, height: r.hdr.extent.height, depth: 1 },
         };
-        // SAFETY: images in TRANSFER_SRC_OPTIMAL (declared); buffers sized for the full images.
+        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (declared); the buffer holds the full image.
         unsafe {
             device.cmd_copy_image_to_buffer(
                 cmd,
                 r.hdr.raw,
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 r.hdr_readback.raw,
-                &[region],
-            );
-            device.cmd_copy_image_to_buffer(
-                cmd,
-                r.ldr.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                r.ldr_readback.raw,
                 &[region],
             );
         }

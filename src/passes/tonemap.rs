@@ -1,4 +1,5 @@
-//! Tone mapping: HDR radiance to 8-bit sRGB with the scene's exposure (compute).
+//! Tone mapping: HDR radiance to 8-bit sRGB with the scene's exposure (compute), written straight
+//! into the host-visible readback buffer.
 
 use super::{dispatch_size, Pass, Recorder};
 use crate::error::Result;
@@ -21,11 +22,11 @@ impl TonemapPass {
         let bindings = Bindings::new(
             device,
             "tonemap",
-            &[(0, D::UNIFORM_BUFFER, stages), (4, D::STORAGE_IMAGE, stages), (5, D::STORAGE_IMAGE, stages)],
+            &[(0, D::UNIFORM_BUFFER, stages), (4, D::STORAGE_IMAGE, stages), (5, D::STORAGE_BUFFER, stages)],
         )?;
         bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
         bindings.write_image(device, 4, D::STORAGE_IMAGE, r.hdr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        bindings.write_image(device, 5, D::STORAGE_IMAGE, r.ldr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
+        bindings.write_buffer(device, 5, D::STORAGE_BUFFER, r.ldr_readback.raw);
         let pipeline = compute_pipeline(device, bindings.pipeline_layout, shaders::TONEMAP_COMP, "tonemap")?;
         Ok(TonemapPass { bindings, pipeline })
     }
@@ -38,7 +39,7 @@ impl Pass for TonemapPass {
 
     fn declare(&self, r: &Resources, t: &mut Tracker) {
         t.image(&r.hdr, 0, 1, Access::ComputeStorageRead, false);
-        t.image(&r.ldr, 0, 1, Access::ComputeStorageWrite, true);
+        t.buffer(&r.ldr_readback, Access::ComputeStorageWrite);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {

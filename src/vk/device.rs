@@ -6,10 +6,9 @@ use ash::{ext, vk};
 
 /// Formats the renderer uses and the features each must offer with optimal tiling.
 pub const HDR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-pub const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static str); 3] {
+fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static str); 2] {
     use vk::FormatFeatureFlags as F;
     [
         (
@@ -22,7 +21,6 @@ fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static 
                 | F::TRANSFER_SRC,
             "R16G16B16A16_SFLOAT as colour attachment, storage, linear-filtered blit source and destination",
         ),
-        (LDR_FORMAT, F::STORAGE_IMAGE | F::TRANSFER_SRC, "R8G8B8A8_UNORM as storage image"),
         (DEPTH_FORMAT, F::DEPTH_STENCIL_ATTACHMENT, "D32_SFLOAT as depth attachment"),
     ]
 }

@@ -5,8 +5,11 @@ use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use std::collections::BTreeMap;
 
-/// Size of a regular block. Larger requests, and those the driver wants dedicated, get their own.
-pub const BLOCK_SIZE: u64 = 16 << 20;
+/// Size of a regular block. Requests over half of it, and those the driver wants dedicated, get a
+/// block of their own of exactly their size (a frame's few large images and buffers), so that
+/// reserved memory stays within a block of what is used.
+pub const BLOCK_SIZE: u64 = 8 << 20;
+const OWN_BLOCK_ABOVE: u64 = BLOCK_SIZE / 2;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Location {
@@ -36,7 +39,8 @@ struct Block {
     raw: vk::DeviceMemory,
     size: u64,
     memory_type: u32,
-    dedicated: bool,
+    /// Holds one resource (dedicated, or larger than half a block): freed with it.
+    own: bool,
     mapped: *mut u8,
     live: BTreeMap<u64, Placement>,
 }
@@ -169,10 +173,11 @@ impl Allocator {
             bytes: req.size,
         })?;
         let alignment = req.alignment.max(1);
-        if dedicated.is_none() && req.size <= BLOCK_SIZE {
+        let own_block = dedicated.is_some() || req.size > OWN_BLOCK_ABOVE;
+        if !own_block {
             for (index, block) in self.blocks.iter().enumerate() {
                 let Some(block) = block else { continue };
-                if block.memory_type != memory_type || block.dedicated {
+                if block.memory_type != memory_type || block.own {
                     continue;
                 }
                 if let Some(offset) = self.fit(block, req.size, alignment, kind) {
@@ -180,8 +185,8 @@ impl Allocator {
                 }
             }
         }
-        let size = if dedicated.is_some() || req.size > BLOCK_SIZE { req.size } else { BLOCK_SIZE };
-        let index = self.new_block(name, size, memory_type, dedicated)?;
+        let size = if own_block { req.size } else { BLOCK_SIZE };
+        let index = self.new_block(name, size, memory_type, dedicated, own_block)?;
         Ok(self.place(index, 0, req.size, kind, name))
     }
 
@@ -191,6 +196,7 @@ impl Allocator {
         size: u64,
         memory_type: u32,
         dedicated: Option<vk::MemoryDedicatedAllocateInfo<'_>>,
+        own: bool,
     ) -> Result<usize> {
         let mut info = vk::MemoryAllocateInfo::default().allocation_size(size).memory_type_index(memory_type);
         let mut dedicated_info = dedicated;
@@ -211,7 +217,7 @@ impl Allocator {
         } else {
             std::ptr::null_mut()
         };
-        let block = Block { raw, size, memory_type, dedicated: dedicated.is_some(), mapped, live: BTreeMap::new() };
+        let block = Block { raw, size, memory_type, own, mapped, live: BTreeMap::new() };
         if let Some(slot) = self.blocks.iter().position(Option::is_none) {
             self.blocks[slot] = Some(block);
             Ok(slot)
@@ -233,13 +239,13 @@ impl Allocator {
         Allocation { memory: block.raw, offset, size, block: index, mapped, coherent }
     }
 
-    /// Returns an allocation; a dedicated or emptied oversize block goes back to the driver.
+    /// Returns an allocation; a block of its own goes back to the driver with it.
     pub fn free(&mut self, allocation: Allocation) {
         let Some(block) = self.blocks[allocation.block].as_mut() else {
             return;
         };
         block.live.remove(&allocation.offset);
-        if block.live.is_empty() && (block.dedicated || block.size > BLOCK_SIZE) {
+        if block.live.is_empty() && block.own {
             let block = self.blocks[allocation.block].take().expect("checked above");
             // SAFETY: no live sub-allocation refers to this memory any more.
             unsafe { self.device.free_memory(block.raw, None) };
