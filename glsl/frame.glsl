@@ -28,14 +28,15 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 wave_extent;      // x: longest wavelength (m)
 } frame;
 
-// The wave trains, sorted by increasing wavelength. One vec4 per train keeps the per-pixel loop
+// The wave trains, sorted by increasing wavelength. One uvec4 per train keeps the per-pixel loop
 // to four reads (drivers that cannot prove a loop index uniform gather each component per lane):
-//   xy: wave vector in turns per metre (direction / wavelength), full f32 for phase precision
-//   z:  phase at time t (turns, in [0, 1)), reduced in f64 on the CPU
-//   w:  packHalf2x16(k h, cos^2 of the angle to the wind) as float bits
+//   xy: wave vector in turns per metre (direction / wavelength), f32 bits, for phase precision
+//   z:  phase at time t (turns, in [0, 1)), reduced in f64 on the CPU, f32 bits
+//   w:  k h (low 16 bits) and cos^2 of the angle to the wind (high 16 bits), both unorm16
+//       (both lie in [0, 1]; unorm16 is finer than f16 there and cheaper to unpack)
 // prefix[i].xy: slope variance (wind frame) of train i and all shorter ones.
 const uint MAX_WAVES = 256u;
-#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { vec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
+#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
 
 struct Wave {
     vec2 k;          // turns per metre
@@ -44,9 +45,9 @@ struct Wave {
     float cos2_wind; // cos^2 of the angle to the wind
 };
 
-Wave unpack_wave(vec4 d) {
-    vec2 steep = unpackHalf2x16(floatBitsToUint(d.w));
-    return Wave(d.xy, d.z, steep.x, steep.y);
+Wave unpack_wave(uvec4 d) {
+    const float UNORM16 = 1.0 / 65535.0;
+    return Wave(uintBitsToFloat(d.xy), uintBitsToFloat(d.z), float(d.w & 0xffffu) * UNORM16, float(d.w >> 16) * UNORM16);
 }
 
 #endif

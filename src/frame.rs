@@ -49,13 +49,13 @@ pub struct FrameUniforms {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GpuWaves {
-    pub data: [[f32; 4]; MAX_WAVES as usize],
+    pub data: [[u32; 4]; MAX_WAVES as usize],
     pub prefix: [[f32; 4]; MAX_WAVES as usize],
 }
 
 impl Default for GpuWaves {
     fn default() -> Self {
-        GpuWaves { data: [[0.0; 4]; MAX_WAVES as usize], prefix: [[0.0; 4]; MAX_WAVES as usize] }
+        GpuWaves { data: [[0; 4]; MAX_WAVES as usize], prefix: [[0.0; 4]; MAX_WAVES as usize] }
     }
 }
 
@@ -186,13 +186,12 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
         let v = t.slope_variance();
         prefix = [prefix[0] + v[0], prefix[1] + v[1]];
         let cos2 = t.angle_from_wind.cos().powi(2);
-        let steep = half::f16::from_f64(t.k * t.amplitude).to_bits() as u32
-            | (half::f16::from_f64(cos2).to_bits() as u32) << 16;
+        let unorm16 = |v: f64| (v.clamp(0.0, 1.0) * 65535.0).round() as u32;
         gpu_waves.data[i] = [
-            (t.direction[0] / t.wavelength) as f32,
-            (t.direction[1] / t.wavelength) as f32,
-            (t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32,
-            f32::from_bits(steep),
+            ((t.direction[0] / t.wavelength) as f32).to_bits(),
+            ((t.direction[1] / t.wavelength) as f32).to_bits(),
+            ((t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32).to_bits(),
+            unorm16(t.k * t.amplitude) | unorm16(cos2) << 16,
         ];
         gpu_waves.prefix[i] = [prefix[0] as f32, prefix[1] as f32, 0.0, 0.0];
     }
