@@ -32,8 +32,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 // to four reads (drivers that cannot prove a loop index uniform gather each component per lane):
 //   xy: wave vector in turns per metre (direction / wavelength), f32 bits, for phase precision
 //   z:  phase at time t (turns, in [0, 1)), reduced in f64 on the CPU, f32 bits
-//   w:  k h (low 16 bits) and cos^2 of the angle to the wind (high 16 bits), both unorm16
-//       (both lie in [0, 1]; unorm16 is finer than f16 there and cheaper to unpack)
+//   w:  k h (low 16 bits) and the smallest k h of this and all shorter trains (high 16 bits),
+//       both unorm16 (both lie in [0, 1]; unorm16 is finer than f16 there and cheap to unpack)
 // prefix[i].xy: slope variance (wind frame) of train i and all shorter ones.
 const uint MAX_WAVES = 256u;
 #define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
@@ -42,7 +42,7 @@ struct Wave {
     vec2 k;          // turns per metre
     float phase;     // turns
     float kh;        // steepness k h <= 1
-    float cos2_wind; // cos^2 of the angle to the wind
+    float kh_floor;  // min k h over this and all shorter trains
 };
 
 Wave unpack_wave(uvec4 d) {

@@ -13,6 +13,7 @@ struct SampleScale {
     vec2 a_v;            // same along screen v
     float lambda_cut;    // trains with wavelength <= this are unresolved in every direction
     float lambda_cut2;   // its square: the loop compares |k|^2 lambda_cut^2 >= 1 (lambda <= cut)
+                         // (for normals, times the grazing factor's lower bound squared)
     bool any;            // whether the longest train can be resolved at all
 };
 
@@ -23,12 +24,13 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     vec2 q_u = dr_du.xy * w + ray.xy * dr_du.z;
     vec2 q_v = dr_dv.xy * w + ray.xy * dr_dv.z;
     float w2 = w * w;
-    float lu = length(q_u), lv = length(q_v);
-    // For M = [q_u q_v] and unit k, max(|k.q_u|, |k.q_v|) >= |M^T k| / sqrt(2) >= sigma_min(M) / sqrt(2)
-    // >= |det M| / (sqrt(2) ||M||_F): the smallest phase step any direction can have.
+    // The smallest phase step any direction can have: min over unit k of max(|k.q_u|, |k.q_v|).
+    // Between the directions where |k.q_u| = |k.q_v| the max only grows, and there k is normal to
+    // q_u - q_v or q_u + q_v, where |k.q_u| = |det| / |q_u -+ q_v|: the minimum is |det| over the
+    // longer of the two.
     float det = abs(q_u.x * q_v.y - q_u.y * q_v.x);
-    float frobenius = sqrt(2.0 * (lu * lu + lv * lv));
-    float q_min = frobenius > 0.0 ? det / frobenius : 0.0;   // det <= frobenius^2 / 4: no overflow
+    float diagonal = max(length(q_u - q_v), length(q_u + q_v));
+    float q_min = diagonal > 0.0 ? det / diagonal : 0.0;   // det <= diagonal^2 / 2: no overflow
     float reach = frame.cam_forward.w * cells;                // H cells
     float longest = frame.wave_extent.x;
     SampleScale s;
@@ -104,11 +106,15 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     r.tangent_x = vec3(1.0, 0.0, 0.0);
     r.tangent_y = vec3(0.0, 1.0, 0.0);
     r.sigma2 = vec2(0.0);
+    vec2 wind = frame.wind.xy;
     int i = int(frame.grid_dims.z) - 1;
     for (; i >= 0; --i) {
         Wave wave = unpack_wave(wave_data[i]);
         float k2 = dot(wave.k, wave.k);
-        if (k2 * s.lambda_cut2 >= 1.0) break;
+        // No shorter train can be resolved: their |k| is larger and their k h no smaller than
+        // kh_floor, so their grazing factor is no smaller than this one.
+        float floor_factor = max(1.0, wave.kh_floor * grazing);
+        if (k2 * s.lambda_cut2 * floor_factor * floor_factor >= 1.0) break;
         float wn = resolution_weight(s, wave.k, steps, inv_ramp, max(1.0, wave.kh * grazing));
         vec2 dir = wave.k * inversesqrt(k2);
         vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
@@ -117,7 +123,8 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
         r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
         r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
         // The unresolved part (1 - wn) of the amplitude stays in the BRDF (0 when wn = 1).
-        vec2 wind2 = vec2(wave.cos2_wind, 1.0 - wave.cos2_wind);
+        float along = dot(dir, wind);
+        vec2 wind2 = vec2(along * along, 1.0 - along * along);
         r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
     }
     // Trains 0..i are unresolved at this pixel: their whole variance, summed on the CPU.
