@@ -11,6 +11,9 @@ pub struct Report {
     pub height: u32,
     /// GPU time per pass and in total (ms), from timestamp queries.
     pub gpu_ms: BTreeMap<String, f64>,
+    /// With several frames: the fastest frame's time per pass after the first frame (the least
+    /// disturbed by other work on a shared machine). Empty for a single frame.
+    pub gpu_ms_min: BTreeMap<String, f64>,
     pub validation: bool,
     pub validation_errors: u32,
     pub validation_warnings: u32,
