@@ -20,12 +20,14 @@ fn main() {
             // loop iterations: trains above the q_min-based cut, with and without the grazing bound
             let (qu, qv) = (au, av);
             let det = (qu.x * qv.y - qu.y * qv.x).abs();
-            let frob = (2.0 * (qu.length_squared() + qv.length_squared())).sqrt();
-            let cut = det / frob / 0.25;
+            let diag = (qu - qv).length().max((qu + qv).length());
+            let cut = det / diag / 0.25;
             let khmin = waves.trains.iter().map(|t| t.k * t.amplitude).fold(f64::MAX, f64::min);
             let g = (khmin * std::f64::consts::TAU / v.z).max(1.0);
             let iters = waves.trains.iter().filter(|t| t.wavelength > cut).count();
-            let iters_g = waves.trains.iter().filter(|t| t.wavelength > cut * g).count();
+            let mut floor = f64::INFINITY; let floors: Vec<f64> = waves.trains.iter().map(|t| { floor = floor.min(t.k*t.amplitude); floor }).collect();
+            let iters_g = waves.trains.iter().zip(&floors).rev().take_while(|(t, f)| t.wavelength > cut * (*f * std::f64::consts::TAU / v.z).max(1.0)).count();
+            let _ = g;
             if px == 512 && py % 64 == 0 { println!("  iterations {iters}, with grazing bound {iters_g}, khmin {khmin:.3}"); }
             for t in &waves.trains {
                 let k = DVec2::from(t.direction) / t.wavelength;

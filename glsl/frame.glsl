@@ -28,12 +28,14 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 wave_extent;      // x: longest wavelength (m)
 } frame;
 
-// The wave trains, sorted by increasing wavelength. One uvec4 per train keeps the per-pixel loop
-// to four reads (drivers that cannot prove a loop index uniform gather each component per lane):
-//   xy: wave vector in turns per metre (direction / wavelength), f32 bits, for phase precision
-//   z:  phase at time t (turns, in [0, 1)), reduced in f64 on the CPU, f32 bits
-//   w:  k h (low 16 bits) and the smallest k h of this and all shorter trains (high 16 bits),
-//       both unorm16 (both lie in [0, 1]; unorm16 is finer than f16 there and cheap to unpack)
+// The wave trains, sorted by increasing wavelength. Three words per train keep the per-pixel
+// loop to three reads (drivers that cannot prove a loop index uniform, lavapipe among them,
+// gather every component per lane, and those gathers are most of the loop's cost):
+//   xy: wave vector in turns per metre (direction / wavelength), f32 bits: phase precision
+//       needs the full mantissa (a phase error is k error times distance)
+//   z:  phase at time t in turns, reduced to [0, 1) in f64 on the CPU, as 16-bit fixed point
+//       (1.5e-5 turns), in the low half; k h in [0, 1] as unorm16 in the high half
+//   w:  unused (std140 strides arrays by 16 bytes anyway)
 // prefix[i].xy: slope variance (wind frame) of train i and all shorter ones.
 const uint MAX_WAVES = 256u;
 #define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
@@ -42,12 +44,10 @@ struct Wave {
     vec2 k;          // turns per metre
     float phase;     // turns
     float kh;        // steepness k h <= 1
-    float kh_floor;  // min k h over this and all shorter trains
 };
 
-Wave unpack_wave(uvec4 d) {
-    const float UNORM16 = 1.0 / 65535.0;
-    return Wave(uintBitsToFloat(d.xy), uintBitsToFloat(d.z), float(d.w & 0xffffu) * UNORM16, float(d.w >> 16) * UNORM16);
+Wave unpack_wave(uvec3 d) {
+    return Wave(uintBitsToFloat(d.xy), float(d.z & 0xffffu) * (1.0 / 65536.0), float(d.z >> 16) * (1.0 / 65535.0));
 }
 
 #endif

@@ -13,7 +13,6 @@ struct SampleScale {
     vec2 a_v;            // same along screen v
     float lambda_cut;    // trains with wavelength <= this are unresolved in every direction
     float lambda_cut2;   // its square: the loop compares |k|^2 lambda_cut^2 >= 1 (lambda <= cut)
-                         // (for normals, times the grazing factor's lower bound squared)
     bool any;            // whether the longest train can be resolved at all
 };
 
@@ -69,7 +68,7 @@ vec3 displacement(vec2 x, SampleScale s, vec2 steps) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
     vec3 d = vec3(0.0);
     for (int i = int(frame.grid_dims.z) - 1; i >= 0; --i) {
-        Wave wave = unpack_wave(wave_data[i]);
+        Wave wave = unpack_wave(wave_data[i].xyz);
         float k2 = dot(wave.k, wave.k);
         if (k2 * s.lambda_cut2 >= 1.0) break;
         // h = k h / k with k = 2 pi |k_turns|; the direction is k_turns / |k_turns|.
@@ -109,12 +108,9 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     vec2 wind = frame.wind.xy;
     int i = int(frame.grid_dims.z) - 1;
     for (; i >= 0; --i) {
-        Wave wave = unpack_wave(wave_data[i]);
+        Wave wave = unpack_wave(wave_data[i].xyz);
         float k2 = dot(wave.k, wave.k);
-        // No shorter train can be resolved: their |k| is larger and their k h no smaller than
-        // kh_floor, so their grazing factor is no smaller than this one.
-        float floor_factor = max(1.0, wave.kh_floor * grazing);
-        if (k2 * s.lambda_cut2 * floor_factor * floor_factor >= 1.0) break;
+        if (k2 * s.lambda_cut2 >= 1.0) break;
         float wn = resolution_weight(s, wave.k, steps, inv_ramp, max(1.0, wave.kh * grazing));
         vec2 dir = wave.k * inversesqrt(k2);
         vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));

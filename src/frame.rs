@@ -181,25 +181,18 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
     let view_proj = camera.view_proj(width as f64 / height as f64).as_mat4();
 
     let mut gpu_waves = Box::<GpuWaves>::default();
-    // Running minimum of k h from the shortest train up (trains are sorted by wavelength).
-    let kh_floor: Vec<f64> = waves
-        .trains
-        .iter()
-        .scan(f64::INFINITY, |floor, t| {
-            *floor = floor.min(t.k * t.amplitude);
-            Some(*floor)
-        })
-        .collect();
     let mut prefix = [0.0f64; 2];
     for (i, t) in waves.trains.iter().enumerate() {
         let v = t.slope_variance();
         prefix = [prefix[0] + v[0], prefix[1] + v[1]];
         let unorm16 = |v: f64| (v.clamp(0.0, 1.0) * 65535.0).round() as u32;
+        // Turns in [0, 1) as 16-bit fixed point; 65536 wraps to 0, the same phase.
+        let phase = ((t.phase_at(scene.render.time_s) / std::f64::consts::TAU) * 65536.0).round() as u32 & 0xffff;
         gpu_waves.data[i] = [
             ((t.direction[0] / t.wavelength) as f32).to_bits(),
             ((t.direction[1] / t.wavelength) as f32).to_bits(),
-            ((t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32).to_bits(),
-            unorm16(t.k * t.amplitude) | unorm16(kh_floor[i]) << 16,
+            phase | unorm16(t.k * t.amplitude) << 16,
+            0,
         ];
         gpu_waves.prefix[i] = [prefix[0] as f32, prefix[1] as f32, 0.0, 0.0];
     }
