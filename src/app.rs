@@ -107,7 +107,11 @@ pub fn pass_statistic(frames: &[Vec<(String, f64)>], pick: fn(&[f64]) -> f64) ->
 
 pub fn median(sorted: &[f64]) -> f64 {
     let mid = sorted.len() / 2;
-    if sorted.len() % 2 == 1 { sorted[mid] } else { 0.5 * (sorted[mid - 1] + sorted[mid]) }
+    if sorted.len() % 2 == 1 {
+        sorted[mid]
+    } else {
+        0.5 * (sorted[mid - 1] + sorted[mid])
+    }
 }
 
 pub fn minimum(sorted: &[f64]) -> f64 {

@@ -4,6 +4,7 @@
 #![warn(clippy::undocumented_unsafe_blocks)]
 
 pub mod app;
+pub mod bench;
 pub mod error;
 pub mod frame;
 pub mod output;

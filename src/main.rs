@@ -43,6 +43,27 @@ enum Command {
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
     },
+    /// Benchmarks that print their numbers and write them under --out.
+    Bench {
+        #[command(subcommand)]
+        bench: Bench,
+    },
+}
+
+#[derive(Subcommand)]
+enum Bench {
+    /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080.
+    Speed {
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        /// Timed frames per scene, after one warm-up frame.
+        #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+        #[arg(long)]
+        device: Option<String>,
+    },
 }
 
 fn run(cli: Cli) -> ocean::Result<()> {
@@ -65,6 +86,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 report.validation_errors,
                 report.nonfinite_pixels
             );
+            Ok(())
+        }
+        Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            ocean::bench::speed(&gpu, &scenes, frames, &out)?;
+            println!("wrote {}/speed.md and speed.json", out.display());
             Ok(())
         }
     }

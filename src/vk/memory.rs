@@ -239,13 +239,16 @@ impl Allocator {
         Allocation { memory: block.raw, offset, size, block: index, mapped, coherent }
     }
 
-    /// Returns an allocation; a block of its own goes back to the driver with it.
+    /// Returns an allocation. A block of its own goes back to the driver with it; an emptied
+    /// shared block too, unless it is the last of its memory type (kept to avoid churn).
     pub fn free(&mut self, allocation: Allocation) {
         let Some(block) = self.blocks[allocation.block].as_mut() else {
             return;
         };
         block.live.remove(&allocation.offset);
-        if block.live.is_empty() && block.own {
+        let (empty, own, memory_type) = (block.live.is_empty(), block.own, block.memory_type);
+        let shared_of_type = self.blocks.iter().flatten().filter(|b| !b.own && b.memory_type == memory_type).count();
+        if empty && (own || shared_of_type > 1) {
             let block = self.blocks[allocation.block].take().expect("checked above");
             // SAFETY: no live sub-allocation refers to this memory any more.
             unsafe { self.device.free_memory(block.raw, None) };

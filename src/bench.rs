@@ -1,0 +1,140 @@
+//! Benchmarks that print numbers and write them to files: GPU time per pass over the preset
+//! scenes, and device memory at 1920x1080. Timings are the median and the fastest of the frames
+//! after a warm-up frame, from timestamp queries; all in one run, so ratios between rows hold on
+//! a noisy machine.
+
+use crate::app::{median, minimum, pass_statistic};
+use crate::error::{Error, Result};
+use crate::output::write_text;
+use crate::passes::ocean::Terms;
+use crate::renderer::Renderer;
+use crate::scene::Scene;
+use crate::vk::gpu::Gpu;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The speed target: the default scene at 1024x768 within 118 ms of GPU time per frame.
+pub const TARGET_MS: f64 = 118.0;
+/// The memory target at 1920x1080.
+pub const TARGET_MIB: f64 = 64.0;
+
+#[derive(Debug, Serialize)]
+pub struct SpeedRow {
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub median_ms: BTreeMap<String, f64>,
+    pub fastest_ms: BTreeMap<String, f64>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct SpeedReport {
+    pub device: String,
+    pub frames: u32,
+    pub rows: Vec<SpeedRow>,
+    pub memory_1080p_used_mib: f64,
+    pub memory_1080p_reserved_mib: f64,
+}
+
+fn totals(passes: Vec<(String, f64)>) -> BTreeMap<String, f64> {
+    let total = passes.iter().map(|(_, ms)| ms).sum();
+    let mut map: BTreeMap<String, f64> = passes.into_iter().collect();
+    map.insert("total".into(), total);
+    map
+}
+
+/// Renders each scene `frames + 1` times at `width` x `height` and keeps per-pass statistics.
+pub fn time_scene(gpu: &Gpu, name: &str, scene: &Scene, width: u32, height: u32, frames: u32) -> Result<SpeedRow> {
+    let mut renderer = Renderer::new(gpu, scene, width, height, Terms::ALL)?;
+    renderer.render(scene)?; // warm-up: lazy shader compilation
+    let mut timings = Vec::new();
+    for _ in 0..frames {
+        let frame = renderer.render(scene)?;
+        if frame.pass_ms.is_empty() {
+            return Err(Error::Argument(format!("{} has no timestamp support", gpu.device.name)));
+        }
+        timings.push(frame.pass_ms);
+    }
+    Ok(SpeedRow {
+        scene: name.to_owned(),
+        width,
+        height,
+        median_ms: totals(pass_statistic(&timings, median)),
+        fastest_ms: totals(pass_statistic(&timings, minimum)),
+    })
+}
+
+pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Result<SpeedReport> {
+    let mut scenes = vec![("default".to_owned(), Scene::default())];
+    let mut paths: Vec<_> = std::fs::read_dir(scenes_dir)
+        .map_err(|e| Error::Io { path: scenes_dir.to_owned(), message: e.to_string() })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml") && p.file_stem().is_some_and(|s| s != "default"))
+        .collect();
+    paths.sort();
+    for path in paths {
+        let name = path.file_stem().unwrap_or_default().to_string_lossy().into_owned();
+        scenes.push((name, Scene::load(&path)?));
+    }
+    let mut rows = Vec::new();
+    for (name, scene) in &scenes {
+        let row = time_scene(gpu, name, scene, 1024, 768, frames)?;
+        println!(
+            "{:<14} {}x{}  median {:7.1} ms  fastest {:7.1} ms",
+            row.scene, row.width, row.height, row.median_ms["total"], row.fastest_ms["total"]
+        );
+        rows.push(row);
+    }
+    let (used, reserved) = {
+        let scene = Scene::default();
+        let mut renderer = Renderer::new(gpu, &scene, 1920, 1080, Terms::ALL)?;
+        renderer.render(&scene)?;
+        let m = renderer.memory();
+        (m.used_bytes as f64 / 1048576.0, m.reserved_bytes as f64 / 1048576.0)
+    };
+    println!("memory at 1920x1080: {used:.1} MiB used, {reserved:.1} MiB reserved (target < {TARGET_MIB} MiB)");
+    let report = SpeedReport {
+        device: gpu.device.name.clone(),
+        frames,
+        rows,
+        memory_1080p_used_mib: used,
+        memory_1080p_reserved_mib: reserved,
+    };
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
+    write_text(&out_dir.join("speed.json"), &serde_json::to_string_pretty(&report).expect("serializes"))?;
+    write_text(&out_dir.join("speed.md"), &markdown(&report))?;
+    Ok(report)
+}
+
+fn markdown(r: &SpeedReport) -> String {
+    let passes: Vec<&String> = r.rows[0].median_ms.keys().filter(|k| *k != "total").collect();
+    let mut s = format!(
+        "GPU time per frame on {}, median (fastest) of {} frames after a warm-up frame, ms.\n\n| scene | size |",
+        r.device, r.frames
+    );
+    for p in &passes {
+        s += &format!(" {p} |");
+    }
+    s += " total | total / target |\n|---|---|";
+    s += &"---|".repeat(passes.len() + 2);
+    s += "\n";
+    for row in &r.rows {
+        s += &format!("| {} | {}x{} |", row.scene, row.width, row.height);
+        for p in &passes {
+            s += &format!(" {:.1} ({:.1}) |", row.median_ms[*p], row.fastest_ms[*p]);
+        }
+        s += &format!(
+            " {:.1} ({:.1}) | {:.2} ({:.2}) |\n",
+            row.median_ms["total"],
+            row.fastest_ms["total"],
+            row.median_ms["total"] / TARGET_MS,
+            row.fastest_ms["total"] / TARGET_MS
+        );
+    }
+    s += &format!(
+        "\nTarget: the default scene within {TARGET_MS} ms. Device memory at 1920x1080: {:.1} MiB used, {:.1} MiB reserved in blocks (target < {TARGET_MIB} MiB).\n",
+        r.memory_1080p_used_mib, r.memory_1080p_reserved_mib
+    );
+    s
+}
