@@ -76,7 +76,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let request =
                 RenderRequest { scene, width, height, png: Some(out.clone()), exr, report, validation, device, frames };
             let (report, _) = app::render(&request)?;
-            let total = report.gpu_ms.get("total").map_or("n/a".to_owned(), |ms| format!("{ms:.1} ms"));
+            let total = match report.gpu_ms.get("total") {
+                None => "n/a".to_owned(),
+                Some(ms) if frames == 1 => format!("{ms:.1} ms (first frame, with the driver's shader compilation)"),
+                Some(ms) => format!("{ms:.1} ms (median of {} frames after the first)", frames - 1),
+            };
             println!(
                 "{}: {}x{} on {}, GPU {total}, {} validation errors, {} non-finite pixels",
                 out.display(),
