@@ -6,6 +6,9 @@ const float PI = 3.14159265358979;
 const float SQRT_PI = 1.77245385090552;
 // Largest finite binary16: the HDR target's range. Radiance above it is clamped, never Inf.
 const float HDR_MAX = 65504.0;
+// Farther than any visible sea point (m): the geometric horizon of a 100 km high eye on the Earth is
+// 1.13e6 m away. Rest positions beyond it are artefacts of interpolating towards the horizon line.
+const float FAR_LIMIT = 1.0e7;
 // exp(-x) underflows single precision (below FLT_MIN) once x exceeds ln(FLT_MAX) ~ 88.7;
 // 87 keeps the result a normal float. Past it the exact value is 0 to f32 precision.
 const float EXP_UNDERFLOW = 87.0;

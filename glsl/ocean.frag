@@ -23,10 +23,17 @@ void main() {
     vec2 sigma2 = frame.wind.zw;    // nothing resolved: all slopes in the BRDF
     // Only where some train is resolvable is the rest position used; there the pixel is at a finite
     // distance, so the interpolated w is positive.
-    // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit.
-    if (pixel.any && in_rest_h.z > 0.0 && v.z > 0.0) {
-        SurfaceSample s = surface_sample(in_rest_h.xy / in_rest_h.z, pixel, frame.filter_steps.zw, 2.0 * PI / v.z);
-        n = normalize(cross(s.tangent_x, s.tangent_y));
+    // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. The interpolated
+    // rest position can only run off to infinity on the horizon row, where nothing is resolved;
+    // FAR_LIMIT also rejects an overflowed (Inf) or undefined quotient.
+    vec2 x = in_rest_h.z > 0.0 ? in_rest_h.xy / in_rest_h.z : vec2(FAR_LIMIT);
+    if (pixel.any && v.z > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)))) {
+        SurfaceSample s = surface_sample(x, pixel, frame.filter_steps.zw, 2.0 * PI / v.z);
+        // A fully steep train (k h = 1) has a cusp at its crest, where the tangents are parallel:
+        // the two sides' normals average to the vertical there.
+        vec3 c = cross(s.tangent_x, s.tangent_y);
+        float len2 = dot(c, c);
+        n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
         sigma2 = s.sigma2;
     }
     out_radiance = vec4(store_radiance(sea_radiance(n, v, sigma2)), 1.0);

@@ -119,8 +119,9 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
         r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
         r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
         // The unresolved part (1 - wn) of the amplitude stays in the BRDF (0 when wn = 1).
-        float along = dot(dir, wind);
-        vec2 wind2 = vec2(along * along, 1.0 - along * along);
+        // cos^2 and sin^2 of the angle to the wind, each a square (1 - cos^2 could round below 0).
+        float along = dot(dir, wind), across = dir.x * wind.y - dir.y * wind.x;
+        vec2 wind2 = vec2(along * along, across * across);
         r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
     }
     // Trains 0..i are unresolved at this pixel: their whole variance, summed on the CPU.

@@ -13,6 +13,7 @@ use crate::scene::Scene;
 use crate::vk::barrier::Tracker;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
+use crate::vk::owned::Owned;
 use crate::vk::profiler::Profiler;
 use crate::waves;
 use ash::vk;
@@ -35,14 +36,17 @@ pub struct Renderer<'g> {
     width: u32,
     height: u32,
     anisotropy: f64,
-    // Declared in execution order.
-    passes: Vec<Box<dyn Pass>>,
-    resources: Option<Resources>,
-    profiler: Profiler,
-    tracker: Tracker,
-    command_pool: vk::CommandPool,
+    // Field order is drop order (after Drop::drop waits for the device): the fence and command
+    // pool, the passes, then the resources they refer to.
+    fence: Owned<'g, vk::Fence>,
+    /// Owns `cmd`.
+    _command_pool: Owned<'g, vk::CommandPool>,
     cmd: vk::CommandBuffer,
-    fence: vk::Fence,
+    profiler: Profiler<'g>,
+    /// In execution order.
+    passes: Vec<Box<dyn Pass + 'g>>,
+    resources: Resources<'g>,
+    tracker: Tracker,
 }
 
 impl<'g> Renderer<'g> {
@@ -50,7 +54,7 @@ impl<'g> Renderer<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> Result<Renderer<'g>> {
         let device = &gpu.device;
         let resources = Resources::new(gpu, width, height, scene.render.sky_anisotropy as f32)?;
-        let passes: Vec<Box<dyn Pass>> = vec![
+        let passes: Vec<Box<dyn Pass + 'g>> = vec![
             Box::new(SkyMapPass::new(device, &resources)?),
             Box::new(SkyMipsPass),
             Box::new(OceanPass::new(device, &resources, terms)?),
@@ -62,28 +66,29 @@ impl<'g> Renderer<'g> {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: valid create infos; destroyed in Drop after the device idles.
+        // SAFETY (this and the calls below): valid create infos on a live device.
         let command_pool = unsafe { raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
+        let command_pool = Owned::new(device, command_pool, "frame commands");
         let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(command_pool)
+            .command_pool(command_pool.raw)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         let cmd = unsafe { raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
-        let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
         device.set_name(cmd, "frame");
-        device.set_name(fence, "frame done");
+        let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
+        let fence = Owned::new(device, fence, "frame done");
         Ok(Renderer {
             gpu,
             width,
             height,
             anisotropy: scene.render.sky_anisotropy,
-            passes,
-            resources: Some(resources),
-            profiler,
-            tracker: Tracker::default(),
-            command_pool,
-            cmd,
             fence,
+            _command_pool: command_pool,
+            cmd,
+            profiler,
+            passes,
+            resources,
+            tracker: Tracker::default(),
         })
     }
 
@@ -100,22 +105,20 @@ impl<'g> Renderer<'g> {
         }
         let wave_set = waves::generate(scene);
         let data = frame::build(scene, &wave_set, self.width, self.height);
-        let gpu = self.gpu;
-        let resources = self.resources.as_mut().expect("live renderer");
-        resources.set_grid(gpu, data.grid.columns, data.grid.rows)?;
-        resources.frame_uniforms.write(gpu, std::slice::from_ref(&data.uniforms))?;
-        resources.waves.write(gpu, std::slice::from_ref(data.waves.as_ref()))?;
+        let resources = &mut self.resources;
+        resources.set_grid(data.grid.columns, data.grid.rows)?;
+        resources.frame_uniforms.write(std::slice::from_ref(&data.uniforms))?;
+        resources.waves.write(std::slice::from_ref(data.waves.as_ref()))?;
         self.submit_frame()?;
 
-        let resources = self.resources.as_ref().expect("live renderer");
         let pixels = self.width as usize * self.height as usize;
-        let hdr_bits: Vec<u16> = resources.hdr_readback.read(gpu, 4 * pixels)?;
+        let hdr_bits: Vec<u16> = self.resources.hdr_readback.read(4 * pixels)?;
         let hdr =
             hdr_bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
-        let ldr = resources.ldr_readback.read(gpu, 4 * pixels)?;
+        let ldr = self.resources.ldr_readback.read(4 * pixels)?;
         let pass_ms = self
             .profiler
-            .read(&gpu.device.raw)?
+            .read(&self.gpu.device.raw)?
             .unwrap_or_default()
             .into_iter()
             .map(|(n, ms)| (n.to_owned(), ms))
@@ -126,50 +129,34 @@ impl<'g> Renderer<'g> {
     fn submit_frame(&mut self) -> Result<()> {
         let device = &self.gpu.device;
         let raw = &device.raw;
-        let resources = self.resources.as_ref().expect("live renderer");
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: the previous submission's fence was waited on, so the buffer is not pending.
         unsafe { raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")?;
         self.profiler.reset(raw, self.cmd);
         for pass in &self.passes {
             self.profiler.begin(device, self.cmd, pass.name());
-            pass.declare(resources, &mut self.tracker);
+            pass.declare(&self.resources, &mut self.tracker);
             self.tracker.flush(raw, self.cmd);
-            pass.record(&mut Recorder { device, cmd: self.cmd, tracker: &mut self.tracker }, resources);
+            pass.record(&mut Recorder { device, cmd: self.cmd, tracker: &mut self.tracker }, &self.resources);
             self.profiler.end(device, self.cmd);
         }
         // SAFETY: recording began above.
         unsafe { raw.end_command_buffer(self.cmd) }.during("vkEndCommandBuffer")?;
         let cmds = [self.cmd];
         let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-        // SAFETY: the fence is unsignalled; host writes to mapped buffers happen before submit,
-        // which makes them visible to the device (host write ordering guarantee of vkQueueSubmit).
-        unsafe { raw.queue_submit(device.queue, &[submit], self.fence) }.map_err(|result| match result {
-            vk::Result::ERROR_DEVICE_LOST => Error::Vulkan { call: "vkQueueSubmit (device lost)", result },
-            result => Error::Vulkan { call: "vkQueueSubmit", result },
-        })?;
-        unsafe { raw.wait_for_fences(&[self.fence], true, u64::MAX) }.during("vkWaitForFences")?;
-        unsafe { raw.reset_fences(&[self.fence]) }.during("vkResetFences")?;
+        // SAFETY: the fence is unsignalled; host writes to mapped memory made before the submit
+        // are visible to the device (vkQueueSubmit's implicit host-write ordering).
+        unsafe { raw.queue_submit(device.queue, &[submit], self.fence.raw) }.during("vkQueueSubmit")?;
+        // SAFETY: waits on and resets our own fence.
+        unsafe { raw.wait_for_fences(&[self.fence.raw], true, u64::MAX) }.during("vkWaitForFences")?;
+        unsafe { raw.reset_fences(&[self.fence.raw]) }.during("vkResetFences")?;
         Ok(())
     }
 }
 
 impl Drop for Renderer<'_> {
     fn drop(&mut self) {
-        let raw = &self.gpu.device.raw;
+        // Nothing may be destroyed while the GPU still uses it; the fields then drop in order.
         let _ = self.gpu.device.wait_idle();
-        // Reverse creation order.
-        // SAFETY: the device is idle; nothing below is in use.
-        unsafe {
-            raw.destroy_fence(self.fence, None);
-            raw.destroy_command_pool(self.command_pool, None);
-        }
-        self.profiler.destroy(raw);
-        for pass in self.passes.iter().rev() {
-            pass.destroy(raw);
-        }
-        if let Some(resources) = self.resources.take() {
-            resources.destroy(self.gpu);
-        }
     }
 }

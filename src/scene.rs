@@ -136,7 +136,8 @@ impl Scene {
         in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(100_000.0))?;
         in_range("camera.pitch_deg", c.pitch_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
         in_range("camera.yaw_deg", c.yaw_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
-        in_range("camera.fov_y_deg", c.fov_y_deg, Bound::Open(0.0), Bound::Open(180.0))?;
+        // Beyond these the projection loses single precision (tan overflows or 1/tan does).
+        in_range("camera.fov_y_deg", c.fov_y_deg, Bound::Closed(0.01), Bound::Closed(179.0))?;
         in_range("sun.elevation_deg", self.sun.elevation_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
         in_range("sun.azimuth_deg", self.sun.azimuth_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
         // Preetham's fit covers turbidities 2 to 10; below 1.7 its zenith chromaticity leaves the gamut.

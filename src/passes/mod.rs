@@ -23,7 +23,6 @@ pub trait Pass {
     /// Declares every resource access of the pass (queued as barriers on the tracker).
     fn declare(&self, resources: &Resources, tracker: &mut Tracker);
     fn record(&self, rec: &mut Recorder, resources: &Resources);
-    fn destroy(&self, device: &ash::Device);
 }
 
 pub fn dispatch_size(extent: vk::Extent2D, local: u32) -> (u32, u32) {

@@ -7,6 +7,7 @@ use crate::resources::Resources;
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::{Device, DEPTH_FORMAT, HDR_FORMAT};
+use crate::vk::owned::Owned;
 use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc, Specialization};
 use ash::vk;
 
@@ -22,14 +23,14 @@ impl Terms {
     pub const ALL: Terms = Terms { sun: true, sky: true, sea: true };
 }
 
-pub struct OceanPass {
-    bindings: Bindings,
-    ocean: vk::Pipeline,
-    sky: vk::Pipeline,
+pub struct OceanPass<'g> {
+    bindings: Bindings<'g>,
+    ocean: Owned<'g, vk::Pipeline>,
+    sky: Owned<'g, vk::Pipeline>,
 }
 
-impl OceanPass {
-    pub fn new(device: &Device, r: &Resources, terms: Terms) -> Result<OceanPass> {
+impl<'g> OceanPass<'g> {
+    pub fn new(device: &'g Device, r: &Resources, terms: Terms) -> Result<Self> {
         use vk::DescriptorType as D;
         let both = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = Bindings::new(
@@ -41,20 +42,19 @@ impl OceanPass {
                 (2, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
             ],
         )?;
-        bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
-        bindings.write_buffer(device, 1, D::UNIFORM_BUFFER, r.waves.raw);
+        bindings.write_buffer(0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
+        bindings.write_buffer(1, D::UNIFORM_BUFFER, r.waves.raw);
         bindings.write_image(
-            device,
             2,
             D::COMBINED_IMAGE_SAMPLER,
             r.sky_map.view,
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            r.sky_sampler,
+            r.sky_sampler.raw,
         );
         let spec = Specialization::bools(&[terms.sun, terms.sky, terms.sea]);
         let ocean = graphics_pipeline(
             device,
-            bindings.pipeline_layout,
+            bindings.layout(),
             &GraphicsDesc {
                 name: "ocean",
                 vertex: shaders::OCEAN_VERT,
@@ -68,7 +68,7 @@ impl OceanPass {
         )?;
         let sky = graphics_pipeline(
             device,
-            bindings.pipeline_layout,
+            bindings.layout(),
             &GraphicsDesc {
                 name: "sky",
                 vertex: shaders::FULLSCREEN_VERT,
@@ -84,7 +84,7 @@ impl OceanPass {
     }
 }
 
-impl Pass for OceanPass {
+impl Pass for OceanPass<'_> {
     fn name(&self) -> &'static str {
         "ocean"
     }
@@ -105,7 +105,7 @@ impl Pass for OceanPass {
             .store_op(vk::AttachmentStoreOp::STORE)];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(r.depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
@@ -129,24 +129,15 @@ impl Pass for OceanPass {
             device.cmd_begin_rendering(cmd, &info);
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[area]);
-            self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::GRAPHICS);
+            self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS);
             if let (Some(indices), true) = (&r.grid_indices, r.grid_index_count > 0) {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean.raw);
                 device.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, r.grid_index_count, 1, 0, 0, 0);
             }
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.sky);
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.sky.raw);
             device.cmd_draw(cmd, 3, 1, 0, 0);
             device.cmd_end_rendering(cmd);
         }
-    }
-
-    fn destroy(&self, device: &ash::Device) {
-        // SAFETY: the device is idle.
-        unsafe {
-            device.destroy_pipeline(self.ocean, None);
-            device.destroy_pipeline(self.sky, None);
-        }
-        self.bindings.destroy(device);
     }
 }

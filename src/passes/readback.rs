@@ -48,6 +48,4 @@ impl Pass for ReadbackPass {
         rec.tracker.buffer(&r.ldr_readback, Access::HostRead);
         rec.tracker.flush(device, cmd);
     }
-
-    fn destroy(&self, _device: &ash::Device) {}
 }

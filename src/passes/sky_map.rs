@@ -7,36 +7,30 @@ use crate::resources::Resources;
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
+use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
 use ash::vk;
 
-pub struct SkyMapPass {
-    bindings: Bindings,
-    pipeline: vk::Pipeline,
+pub struct SkyMapPass<'g> {
+    bindings: Bindings<'g>,
+    pipeline: Owned<'g, vk::Pipeline>,
 }
 
-impl SkyMapPass {
-    pub fn new(device: &Device, resources: &Resources) -> Result<SkyMapPass> {
+impl<'g> SkyMapPass<'g> {
+    pub fn new(device: &'g Device, resources: &Resources) -> Result<Self> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
         let bindings =
             Bindings::new(device, "sky map", &[(0, D::UNIFORM_BUFFER, stages), (3, D::STORAGE_IMAGE, stages)])?;
-        bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, resources.frame_uniforms.raw);
+        bindings.write_buffer(0, D::UNIFORM_BUFFER, resources.frame_uniforms.raw);
         let sky = &resources.sky_map;
-        bindings.write_image(
-            device,
-            3,
-            D::STORAGE_IMAGE,
-            sky.level0_view,
-            vk::ImageLayout::GENERAL,
-            vk::Sampler::null(),
-        );
-        let pipeline = compute_pipeline(device, bindings.pipeline_layout, shaders::SKY_MAP_COMP, "sky map")?;
+        bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
+        let pipeline = compute_pipeline(device, bindings.layout(), shaders::SKY_MAP_COMP, "sky map")?;
         Ok(SkyMapPass { bindings, pipeline })
     }
 }
 
-impl Pass for SkyMapPass {
+impl Pass for SkyMapPass<'_> {
     fn name(&self) -> &'static str {
         "sky_map"
     }
@@ -50,15 +44,9 @@ impl Pass for SkyMapPass {
         let sky = &r.sky_map;
         let (gx, gy) = dispatch_size(sky.extent, 8);
         // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
-        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
-        self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
+        self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
         unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
-    }
-
-    fn destroy(&self, device: &ash::Device) {
-        // SAFETY: the device is idle.
-        unsafe { device.destroy_pipeline(self.pipeline, None) };
-        self.bindings.destroy(device);
     }
 }
 
@@ -114,6 +102,4 @@ impl Pass for SkyMipsPass {
             };
         }
     }
-
-    fn destroy(&self, _device: &ash::Device) {}
 }

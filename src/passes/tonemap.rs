@@ -7,16 +7,17 @@ use crate::resources::Resources;
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
+use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
 use ash::vk;
 
-pub struct TonemapPass {
-    bindings: Bindings,
-    pipeline: vk::Pipeline,
+pub struct TonemapPass<'g> {
+    bindings: Bindings<'g>,
+    pipeline: Owned<'g, vk::Pipeline>,
 }
 
-impl TonemapPass {
-    pub fn new(device: &Device, r: &Resources) -> Result<TonemapPass> {
+impl<'g> TonemapPass<'g> {
+    pub fn new(device: &'g Device, r: &Resources) -> Result<Self> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
         let bindings = Bindings::new(
@@ -24,15 +25,15 @@ impl TonemapPass {
             "tonemap",
             &[(0, D::UNIFORM_BUFFER, stages), (4, D::STORAGE_IMAGE, stages), (5, D::STORAGE_BUFFER, stages)],
         )?;
-        bindings.write_buffer(device, 0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
-        bindings.write_image(device, 4, D::STORAGE_IMAGE, r.hdr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        bindings.write_buffer(device, 5, D::STORAGE_BUFFER, r.ldr_readback.raw);
-        let pipeline = compute_pipeline(device, bindings.pipeline_layout, shaders::TONEMAP_COMP, "tonemap")?;
+        bindings.write_buffer(0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
+        bindings.write_image(4, D::STORAGE_IMAGE, r.hdr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
+        bindings.write_buffer(5, D::STORAGE_BUFFER, r.ldr_readback.raw);
+        let pipeline = compute_pipeline(device, bindings.layout(), shaders::TONEMAP_COMP, "tonemap")?;
         Ok(TonemapPass { bindings, pipeline })
     }
 }
 
-impl Pass for TonemapPass {
+impl Pass for TonemapPass<'_> {
     fn name(&self) -> &'static str {
         "tonemap"
     }
@@ -46,14 +47,8 @@ impl Pass for TonemapPass {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         let (gx, gy) = dispatch_size(r.hdr.extent, 8);
         // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
-        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
-        self.bindings.bind(rec.device, cmd, vk::PipelineBindPoint::COMPUTE);
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
+        self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
         unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
-    }
-
-    fn destroy(&self, device: &ash::Device) {
-        // SAFETY: the device is idle.
-        unsafe { device.destroy_pipeline(self.pipeline, None) };
-        self.bindings.destroy(device);
     }
 }

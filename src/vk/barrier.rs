@@ -1,6 +1,8 @@
-//! Synchronization from declared accesses. Every image level and buffer remembers its last
-//! access; a pass declares what it reads and writes next, and the tracker emits exactly the
-//! pipeline barrier (stages, access masks, layout) that the pair needs, batched in one call.
+//! Synchronization from declared accesses. Every image level and buffer remembers its last write
+//! and who has read since; a pass declares what it reads and writes next, and the tracker emits
+//! exactly the pipeline barriers (stages, access masks, layouts) that need, batched in one call:
+//! a write or layout change waits for the previous write and every read since (RAW, WAR, WAW);
+//! a read waits for the last write only if that write is not yet visible to its stage.
 
 use super::buffer::Buffer;
 use super::image::Image;
@@ -60,8 +62,9 @@ impl Access {
             Access::TransferWrite => L::TRANSFER_DST_OPTIMAL,
             Access::FragmentSampled => L::SHADER_READ_ONLY_OPTIMAL,
             Access::ColorAttachmentWrite => L::COLOR_ATTACHMENT_OPTIMAL,
-            Access::DepthAttachmentReadWrite => L::DEPTH_ATTACHMENT_OPTIMAL,
-            Access::HostRead => L::UNDEFINED,
+            // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
+            Access::DepthAttachmentReadWrite => L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            Access::HostRead => L::GENERAL,
         }
     }
 
@@ -74,18 +77,98 @@ impl Access {
                 | Access::DepthAttachmentReadWrite
         )
     }
+}
 
-    /// Whether moving from `self` to `next` needs a barrier: any write on either side (RAW, WAR,
-    /// WAW), or a layout change. Read after read in one layout needs none.
-    fn needs_barrier_to(self, next: Access, is_image: bool) -> bool {
-        self.writes() || next.writes() || (is_image && self.layout() != next.layout())
+/// What a resource (an image level or a buffer) has seen since its last write.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct State {
+    layout: vk::ImageLayout,
+    /// Stage and access of the last write (NONE before any).
+    write_stage: vk::PipelineStageFlags2,
+    write_access: vk::AccessFlags2,
+    /// Stages that read since that write: a later write must wait for them.
+    read_stages: vk::PipelineStageFlags2,
+    /// Stages and accesses the last write is already visible to.
+    visible_stages: vk::PipelineStageFlags2,
+    visible_access: vk::AccessFlags2,
+}
+
+impl State {
+    const NEW: State = State {
+        layout: vk::ImageLayout::UNDEFINED,
+        write_stage: vk::PipelineStageFlags2::NONE,
+        write_access: vk::AccessFlags2::NONE,
+        read_stages: vk::PipelineStageFlags2::NONE,
+        visible_stages: vk::PipelineStageFlags2::NONE,
+        visible_access: vk::AccessFlags2::NONE,
+    };
+}
+
+/// The dependency one access needs: (src stage, src access, dst stage, dst access, old, new layout).
+struct Dependency {
+    src_stage: vk::PipelineStageFlags2,
+    src_access: vk::AccessFlags2,
+    dst_stage: vk::PipelineStageFlags2,
+    dst_access: vk::AccessFlags2,
+    old_layout: vk::ImageLayout,
+    new_layout: vk::ImageLayout,
+}
+
+/// Moves `state` to `next` and returns the barrier the move needs, if any.
+/// `is_image`: layouts matter; `discard`: the old contents are not needed.
+fn advance(state: &mut State, next: Access, is_image: bool, discard: bool) -> Option<Dependency> {
+    let new_layout = if is_image { next.layout() } else { vk::ImageLayout::UNDEFINED };
+    let layout_change = is_image && state.layout != new_layout;
+    let old_layout = if discard { vk::ImageLayout::UNDEFINED } else { state.layout };
+    if next.writes() || layout_change {
+        // Wait for the last write (made available) and every read since; a layout change is
+        // itself a write, so it gets the same treatment.
+        let dep = Dependency {
+            src_stage: state.write_stage | state.read_stages,
+            src_access: state.write_access,
+            dst_stage: next.stage(),
+            dst_access: next.access(),
+            old_layout,
+            new_layout,
+        };
+        let needed = layout_change || !dep.src_stage.is_empty();
+        *state = if next.writes() {
+            State { layout: new_layout, write_stage: next.stage(), write_access: next.access(), ..State::NEW }
+        } else {
+            // A read behind a layout transition: the transition is visible to exactly this read.
+            State {
+                layout: new_layout,
+                write_stage: dep.src_stage | dep.dst_stage,
+                write_access: vk::AccessFlags2::NONE,
+                read_stages: next.stage(),
+                visible_stages: next.stage(),
+                visible_access: next.access(),
+            }
+        };
+        return needed.then_some(dep);
     }
+    // A read in the same layout: it needs the last write to be visible to its stage and access.
+    let visible = state.visible_stages.contains(next.stage()) && state.visible_access.contains(next.access());
+    let dep = (!state.write_stage.is_empty() && !visible).then(|| Dependency {
+        src_stage: state.write_stage,
+        src_access: state.write_access,
+        dst_stage: next.stage(),
+        dst_access: next.access(),
+        old_layout: state.layout,
+        new_layout: state.layout,
+    });
+    if dep.is_some() {
+        state.visible_stages |= next.stage();
+        state.visible_access |= next.access();
+    }
+    state.read_stages |= next.stage();
+    dep
 }
 
 #[derive(Default)]
 pub struct Tracker {
-    images: HashMap<vk::Image, Vec<Access>>,
-    buffers: HashMap<vk::Buffer, Access>,
+    images: HashMap<vk::Image, Vec<State>>,
+    buffers: HashMap<vk::Buffer, State>,
     image_barriers: Vec<vk::ImageMemoryBarrier2<'static>>,
     buffer_barriers: Vec<vk::BufferMemoryBarrier2<'static>>,
 }
@@ -94,25 +177,26 @@ impl Tracker {
     /// Declares that levels [base, base + count) of `image` are next accessed as `next`.
     /// `discard`: the previous contents are not needed (the layout may start from UNDEFINED).
     pub fn image(&mut self, image: &Image, base: u32, count: u32, next: Access, discard: bool) {
-        let levels = self.images.entry(image.raw).or_insert_with(|| vec![Access::Undefined; image.mip_levels as usize]);
+        debug_assert!(next != Access::HostRead, "the host reads buffers, not images");
+        let levels = self.images.entry(image.raw).or_insert_with(|| vec![State::NEW; image.mip_levels as usize]);
         let mut level = base;
         while level < base + count {
-            // Batch consecutive levels that share their previous access into one barrier.
+            // Batch consecutive levels that share their state into one barrier.
             let prev = levels[level as usize];
             let mut end = level + 1;
             while end < base + count && levels[end as usize] == prev {
                 end += 1;
             }
-            if prev.needs_barrier_to(next, true) {
-                let old_layout = if discard { vk::ImageLayout::UNDEFINED } else { prev.layout() };
+            let mut state = prev;
+            if let Some(dep) = advance(&mut state, next, true, discard) {
                 self.image_barriers.push(
                     vk::ImageMemoryBarrier2::default()
-                        .src_stage_mask(prev.stage())
-                        .src_access_mask(prev.access())
-                        .dst_stage_mask(next.stage())
-                        .dst_access_mask(next.access())
-                        .old_layout(old_layout)
-                        .new_layout(next.layout())
+                        .src_stage_mask(dep.src_stage)
+                        .src_access_mask(dep.src_access)
+                        .dst_stage_mask(dep.dst_stage)
+                        .dst_access_mask(dep.dst_access)
+                        .old_layout(dep.old_layout)
+                        .new_layout(dep.new_layout)
                         .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                         .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                         .image(image.raw)
@@ -120,7 +204,7 @@ impl Tracker {
                 );
             }
             for l in level..end {
-                levels[l as usize] = next;
+                levels[l as usize] = state;
             }
             level = end;
         }
@@ -128,14 +212,14 @@ impl Tracker {
 
     /// Declares that `buffer` is next accessed as `next`.
     pub fn buffer(&mut self, buffer: &Buffer, next: Access) {
-        let prev = self.buffers.insert(buffer.raw, next).unwrap_or(Access::Undefined);
-        if prev != Access::Undefined && prev.needs_barrier_to(next, false) {
+        let state = self.buffers.entry(buffer.raw).or_insert(State::NEW);
+        if let Some(dep) = advance(state, next, false, false) {
             self.buffer_barriers.push(
                 vk::BufferMemoryBarrier2::default()
-                    .src_stage_mask(prev.stage())
-                    .src_access_mask(prev.access())
-                    .dst_stage_mask(next.stage())
-                    .dst_access_mask(next.access())
+                    .src_stage_mask(dep.src_stage)
+                    .src_access_mask(dep.src_access)
+                    .dst_stage_mask(dep.dst_stage)
+                    .dst_access_mask(dep.dst_access)
                     .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                     .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                     .buffer(buffer.raw)
@@ -157,10 +241,5 @@ impl Tracker {
         unsafe { device.cmd_pipeline_barrier2(cmd, &info) };
         self.image_barriers.clear();
         self.buffer_barriers.clear();
-    }
-
-    /// Forgets a destroyed resource.
-    pub fn forget_image(&mut self, image: vk::Image) {
-        self.images.remove(&image);
     }
 }

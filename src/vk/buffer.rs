@@ -5,18 +5,27 @@ use super::memory::{Allocation, Location, ResourceKind};
 use crate::error::{Result, VkContext};
 use ash::vk;
 
-pub struct Buffer {
+/// Plain data that any byte pattern of its size is a valid value of (what a readback can hold).
+pub trait Pod: Copy + Default + 'static {}
+impl Pod for u8 {}
+impl Pod for u16 {}
+impl Pod for u32 {}
+impl Pod for f32 {}
+
+/// A buffer and its memory, both released when dropped.
+pub struct Buffer<'g> {
+    gpu: &'g Gpu,
     pub raw: vk::Buffer,
     pub size: u64,
     allocation: Option<Allocation>,
 }
 
-impl Buffer {
-    pub fn new(gpu: &Gpu, name: &str, size: u64, usage: vk::BufferUsageFlags, location: Location) -> Result<Buffer> {
+impl<'g> Buffer<'g> {
+    pub fn new(gpu: &'g Gpu, name: &str, size: u64, usage: vk::BufferUsageFlags, location: Location) -> Result<Self> {
         let device = gpu.raw();
         let info =
             vk::BufferCreateInfo::default().size(size.max(4)).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
-        // SAFETY: valid create info; the buffer is destroyed in `destroy`.
+        // SAFETY: valid create info; the buffer is destroyed in Drop (or below on failure).
         let raw = unsafe { device.create_buffer(&info, None) }.during("vkCreateBuffer")?;
         gpu.device.set_name(raw, name);
         let mut dedicated = vk::MemoryDedicatedRequirements::default();
@@ -37,13 +46,15 @@ impl Buffer {
                 return Err(e);
             }
         };
+        let buffer = Buffer { gpu, raw, size, allocation: Some(allocation) };
+        let memory = buffer.allocation.as_ref().map(|a| (a.memory, a.offset)).expect("just placed");
         // SAFETY: the allocation satisfies `req` (type, size, alignment).
-        unsafe { device.bind_buffer_memory(raw, allocation.memory, allocation.offset) }.during("vkBindBufferMemory")?;
-        Ok(Buffer { raw, size, allocation: Some(allocation) })
+        unsafe { device.bind_buffer_memory(raw, memory.0, memory.1) }.during("vkBindBufferMemory")?;
+        Ok(buffer)
     }
 
     /// Copies `data` to the start of a mapped buffer.
-    pub fn write<T: Copy>(&self, gpu: &Gpu, data: &[T]) -> Result<()> {
+    pub fn write<T: Copy>(&self, data: &[T]) -> Result<()> {
         let allocation = self.allocation.as_ref().expect("live buffer");
         let bytes = std::mem::size_of_val(data);
         assert!(bytes as u64 <= self.size, "write of {bytes} bytes into a {}-byte buffer", self.size);
@@ -51,26 +62,28 @@ impl Buffer {
         // SAFETY: the mapping covers `size` >= `bytes` bytes, and the GPU is not reading it (the
         // previous frame's fence was waited on).
         unsafe { std::ptr::copy_nonoverlapping(data.as_ptr() as *const u8, ptr, bytes) };
-        gpu.allocator.borrow().flush(allocation)
+        self.gpu.allocator.borrow().flush(allocation)
     }
 
     /// Reads `count` values of T from the start of a mapped readback buffer.
-    pub fn read<T: Copy + Default>(&self, gpu: &Gpu, count: usize) -> Result<Vec<T>> {
+    pub fn read<T: Pod>(&self, count: usize) -> Result<Vec<T>> {
         let allocation = self.allocation.as_ref().expect("live buffer");
         assert!((count * std::mem::size_of::<T>()) as u64 <= self.size);
-        gpu.allocator.borrow().invalidate(allocation)?;
+        self.gpu.allocator.borrow().invalidate(allocation)?;
         let ptr = allocation.mapped().expect("read from an unmapped buffer");
         let mut out = vec![T::default(); count];
         // SAFETY: the mapping covers the bytes read; the GPU finished writing (fence waited).
         unsafe { std::ptr::copy_nonoverlapping(ptr, out.as_mut_ptr() as *mut u8, count * std::mem::size_of::<T>()) };
         Ok(out)
     }
+}
 
-    pub fn destroy(mut self, gpu: &Gpu) {
-        // SAFETY: the device is idle; nothing refers to the buffer any more.
-        unsafe { gpu.raw().destroy_buffer(self.raw, None) };
+impl Drop for Buffer<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the device is idle (Renderer's Drop waits) or the buffer was never used.
+        unsafe { self.gpu.raw().destroy_buffer(self.raw, None) };
         if let Some(a) = self.allocation.take() {
-            gpu.allocator.borrow_mut().free(a);
+            self.gpu.allocator.borrow_mut().free(a);
         }
     }
 }

@@ -5,7 +5,9 @@ use super::memory::{Allocation, Location, ResourceKind};
 use crate::error::{Result, VkContext};
 use ash::vk;
 
-pub struct Image {
+/// An image, its views and its memory, all released when dropped.
+pub struct Image<'g> {
+    gpu: &'g Gpu,
     pub raw: vk::Image,
     /// View of every mip level.
     pub view: vk::ImageView,
@@ -18,15 +20,15 @@ pub struct Image {
     allocation: Option<Allocation>,
 }
 
-impl Image {
+impl<'g> Image<'g> {
     pub fn new(
-        gpu: &Gpu,
+        gpu: &'g Gpu,
         name: &str,
         format: vk::Format,
         extent: vk::Extent2D,
         mip_levels: u32,
         usage: vk::ImageUsageFlags,
-    ) -> Result<Image> {
+    ) -> Result<Self> {
         let device = gpu.raw();
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -39,7 +41,7 @@ impl Image {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
-        // SAFETY: valid create info (formats checked at device choice); destroyed in `destroy`.
+        // SAFETY: valid create info (formats checked at device choice); destroyed in Drop.
         let raw = unsafe { device.create_image(&info, None) }.during("vkCreateImage")?;
         gpu.device.set_name(raw, name);
         let mut dedicated = vk::MemoryDedicatedRequirements::default();
@@ -61,10 +63,23 @@ impl Image {
                 return Err(e);
             }
         };
-        // SAFETY: the allocation satisfies the image's requirements.
-        unsafe { device.bind_image_memory(raw, allocation.memory, allocation.offset) }.during("vkBindImageMemory")?;
         let aspect =
             if format == vk::Format::D32_SFLOAT { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
+        // From here on Drop releases whatever exists (null views are skipped by Vulkan).
+        let mut image = Image {
+            gpu,
+            raw,
+            view: vk::ImageView::null(),
+            level0_view: vk::ImageView::null(),
+            format,
+            extent,
+            mip_levels,
+            aspect,
+            allocation: Some(allocation),
+        };
+        let (memory, offset) = image.allocation.as_ref().map(|a| (a.memory, a.offset)).expect("just placed");
+        // SAFETY: the allocation satisfies the image's requirements.
+        unsafe { device.bind_image_memory(raw, memory, offset) }.during("vkBindImageMemory")?;
         let make_view = |base: u32, count: u32, label: &str| -> Result<vk::ImageView> {
             let info = vk::ImageViewCreateInfo::default()
                 .image(raw)
@@ -77,14 +92,14 @@ impl Image {
                     base_array_layer: 0,
                     layer_count: 1,
                 });
-            // SAFETY: the range lies inside the image.
+            // SAFETY: the range lies inside the image, which is bound to memory.
             let view = unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
             gpu.device.set_name(view, &format!("{name} {label}"));
             Ok(view)
         };
-        let view = make_view(0, mip_levels, "all levels")?;
-        let level0_view = if mip_levels > 1 { make_view(0, 1, "level 0")? } else { view };
-        Ok(Image { raw, view, level0_view, format, extent, mip_levels, aspect, allocation: Some(allocation) })
+        image.view = make_view(0, mip_levels, "all levels")?;
+        image.level0_view = if mip_levels > 1 { make_view(0, 1, "level 0")? } else { image.view };
+        Ok(image)
     }
 
     pub fn full_range(&self) -> vk::ImageSubresourceRange {
@@ -100,10 +115,12 @@ impl Image {
             layer_count: 1,
         }
     }
+}
 
-    pub fn destroy(mut self, gpu: &Gpu) {
-        let device = gpu.raw();
-        // SAFETY: the device is idle; no command buffer or descriptor in use refers to these.
+impl Drop for Image<'_> {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        // SAFETY: the device is idle (Renderer's Drop waits) or the image was never used.
         unsafe {
             if self.level0_view != self.view {
                 device.destroy_image_view(self.level0_view, None);
@@ -112,7 +129,7 @@ impl Image {
             device.destroy_image(self.raw, None);
         }
         if let Some(a) = self.allocation.take() {
-            gpu.allocator.borrow_mut().free(a);
+            self.gpu.allocator.borrow_mut().free(a);
         }
     }
 }

@@ -172,7 +172,16 @@ impl Allocator {
             name: format!("{name}: no memory type for {location:?}"),
             bytes: req.size,
         })?;
-        let alignment = req.alignment.max(1);
+        // Non-coherent host memory is flushed and invalidated in whole atoms: keep every
+        // allocation on atom boundaries so that a flush never touches a neighbour's bytes.
+        let flags = self.flags(memory_type);
+        let non_coherent = flags.contains(vk::MemoryPropertyFlags::HOST_VISIBLE)
+            && !flags.contains(vk::MemoryPropertyFlags::HOST_COHERENT);
+        let alignment = if non_coherent { req.alignment.max(self.non_coherent_atom) } else { req.alignment.max(1) };
+        let req = vk::MemoryRequirements {
+            size: if non_coherent { align_up(req.size, self.non_coherent_atom) } else { req.size },
+            ..req
+        };
         let own_block = dedicated.is_some() || req.size > OWN_BLOCK_ABOVE;
         if !own_block {
             for (index, block) in self.blocks.iter().enumerate() {

@@ -8,6 +8,7 @@ pub mod gpu;
 pub mod image;
 pub mod instance;
 pub mod memory;
+pub mod owned;
 pub mod pipeline;
 pub mod profiler;
 pub mod validation;

@@ -1,16 +1,16 @@
 //! Shader modules, descriptor layouts and pipelines (compute, and graphics with dynamic rendering).
 
 use super::device::Device;
+use super::owned::Owned;
 use crate::error::{Result, VkContext};
 use ash::vk;
 
-pub fn shader_module(device: &Device, spirv: &[u8], name: &str) -> Result<vk::ShaderModule> {
+pub fn shader_module<'g>(device: &'g Device, spirv: &[u8], name: &str) -> Result<Owned<'g, vk::ShaderModule>> {
     let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).expect("build.rs embeds whole SPIR-V words");
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V produced by shaderc at build time.
     let module = unsafe { device.raw.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
-    device.set_name(module, name);
-    Ok(module)
+    Ok(Owned::new(device, module, name))
 }
 
 /// Boolean specialization constants 0..n (VkBool32 each).
@@ -28,26 +28,28 @@ impl Specialization {
     }
 
     pub fn info(&self) -> vk::SpecializationInfo<'_> {
-        // SAFETY of the cast: u32 has no padding; the slice's bytes are exactly the constants.
+        // SAFETY: u32 has no padding; the slice's bytes are exactly the constants.
         let bytes = unsafe { std::slice::from_raw_parts(self.data.as_ptr() as *const u8, 4 * self.data.len()) };
         vk::SpecializationInfo::default().map_entries(&self.entries).data(bytes)
     }
 }
 
 /// A descriptor set layout, its pipeline layout, and one set allocated from its own pool.
-pub struct Bindings {
-    pub set_layout: vk::DescriptorSetLayout,
-    pub pipeline_layout: vk::PipelineLayout,
-    pub pool: vk::DescriptorPool,
+pub struct Bindings<'g> {
+    device: &'g Device,
     pub set: vk::DescriptorSet,
+    // Declared so that they drop in reverse creation order; the set goes with its pool.
+    _pool: Owned<'g, vk::DescriptorPool>,
+    pipeline_layout: Owned<'g, vk::PipelineLayout>,
+    _set_layout: Owned<'g, vk::DescriptorSetLayout>,
 }
 
-impl Bindings {
+impl<'g> Bindings<'g> {
     pub fn new(
-        device: &Device,
+        device: &'g Device,
         name: &str,
         bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
-    ) -> Result<Bindings> {
+    ) -> Result<Self> {
         let raw = &device.raw;
         let layout_bindings: Vec<_> = bindings
             .iter()
@@ -59,38 +61,31 @@ impl Bindings {
                     .stage_flags(stages)
             })
             .collect();
-        // SAFETY: valid create infos; all objects are destroyed in `destroy`.
-        let set_layout = unsafe {
-            raw.create_descriptor_set_layout(
-                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
-                None,
-            )
-        }
-        .during("vkCreateDescriptorSetLayout")?;
-        let set_layouts = [set_layout];
-        let pipeline_layout = unsafe {
-            raw.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts), None)
-        }
-        .during("vkCreatePipelineLayout")?;
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
+        // SAFETY (this and the calls below): valid create infos built from locals.
+        let set_layout =
+            unsafe { raw.create_descriptor_set_layout(&info, None) }.during("vkCreateDescriptorSetLayout")?;
+        let set_layout = Owned::new(device, set_layout, name);
+        let set_layouts = [set_layout.raw];
+        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        let pipeline_layout = unsafe { raw.create_pipeline_layout(&info, None) }.during("vkCreatePipelineLayout")?;
+        let pipeline_layout = Owned::new(device, pipeline_layout, name);
         let sizes: Vec<_> =
             bindings.iter().map(|&(_, ty, _)| vk::DescriptorPoolSize { ty, descriptor_count: 1 }).collect();
-        let pool = unsafe {
-            raw.create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
-        }
-        .during("vkCreateDescriptorPool")?;
-        let set = unsafe {
-            raw.allocate_descriptor_sets(
-                &vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&set_layouts),
-            )
-        }
-        .during("vkAllocateDescriptorSets")?[0];
-        device.set_name(set_layout, name);
-        device.set_name(pipeline_layout, name);
+        let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        let pool = unsafe { raw.create_descriptor_pool(&info, None) }.during("vkCreateDescriptorPool")?;
+        let pool = Owned::new(device, pool, name);
+        let info = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool.raw).set_layouts(&set_layouts);
+        let set = unsafe { raw.allocate_descriptor_sets(&info) }.during("vkAllocateDescriptorSets")?[0];
         device.set_name(set, name);
-        Ok(Bindings { set_layout, pipeline_layout, pool, set })
+        Ok(Bindings { device, set, _pool: pool, pipeline_layout, _set_layout: set_layout })
     }
 
-    pub fn write_buffer(&self, device: &Device, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
+    pub fn layout(&self) -> vk::PipelineLayout {
+        self.pipeline_layout.raw
+    }
+
+    pub fn write_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
         let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
@@ -98,12 +93,11 @@ impl Bindings {
             .descriptor_type(ty)
             .buffer_info(&info);
         // SAFETY: the set is not in use by any pending command buffer when written.
-        unsafe { device.raw.update_descriptor_sets(&[write], &[]) };
+        unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
     }
 
     pub fn write_image(
         &self,
-        device: &Device,
         binding: u32,
         ty: vk::DescriptorType,
         view: vk::ImageView,
@@ -117,35 +111,32 @@ impl Bindings {
             .descriptor_type(ty)
             .image_info(&info);
         // SAFETY: as above.
-        unsafe { device.raw.update_descriptor_sets(&[write], &[]) };
+        unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
     }
 
-    pub fn bind(&self, device: &Device, cmd: vk::CommandBuffer, point: vk::PipelineBindPoint) {
+    pub fn bind(&self, cmd: vk::CommandBuffer, point: vk::PipelineBindPoint) {
         // SAFETY: `cmd` is recording with a pipeline made from this layout.
-        unsafe { device.raw.cmd_bind_descriptor_sets(cmd, point, self.pipeline_layout, 0, &[self.set], &[]) };
-    }
-
-    pub fn destroy(&self, device: &ash::Device) {
-        // SAFETY: the device is idle.
-        unsafe {
-            device.destroy_descriptor_pool(self.pool, None);
-            device.destroy_pipeline_layout(self.pipeline_layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
+        unsafe { self.device.raw.cmd_bind_descriptor_sets(cmd, point, self.pipeline_layout.raw, 0, &[self.set], &[]) };
     }
 }
 
-pub fn compute_pipeline(device: &Device, layout: vk::PipelineLayout, spirv: &[u8], name: &str) -> Result<vk::Pipeline> {
+pub fn compute_pipeline<'g>(
+    device: &'g Device,
+    layout: vk::PipelineLayout,
+    spirv: &[u8],
+    name: &str,
+) -> Result<Owned<'g, vk::Pipeline>> {
     let module = shader_module(device, spirv, name)?;
-    let stage =
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::COMPUTE).module(module).name(c"main");
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module.raw)
+        .name(c"main");
     let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
-    // SAFETY: valid create info; the module may be destroyed once the pipeline exists.
-    let result = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
-    unsafe { device.raw.destroy_shader_module(module, None) };
-    let pipeline = result.map_err(|(_, e)| e).during("vkCreateComputePipelines")?[0];
-    device.set_name(pipeline, name);
-    Ok(pipeline)
+    // SAFETY: valid create info; the module outlives the call.
+    let pipelines = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+        .map_err(|(_, e)| e)
+        .during("vkCreateComputePipelines")?;
+    Ok(Owned::new(device, pipelines[0], name))
 }
 
 /// What differs between our graphics pipelines.
@@ -160,24 +151,21 @@ pub struct GraphicsDesc<'a> {
     pub depth_compare: vk::CompareOp,
 }
 
-pub fn graphics_pipeline(device: &Device, layout: vk::PipelineLayout, desc: &GraphicsDesc) -> Result<vk::Pipeline> {
+pub fn graphics_pipeline<'g>(
+    device: &'g Device,
+    layout: vk::PipelineLayout,
+    desc: &GraphicsDesc,
+) -> Result<Owned<'g, vk::Pipeline>> {
     let vs = shader_module(device, desc.vertex, &format!("{} vs", desc.name))?;
-    let fs = match shader_module(device, desc.fragment, &format!("{} fs", desc.name)) {
-        Ok(fs) => fs,
-        Err(e) => {
-            // SAFETY: unused module.
-            unsafe { device.raw.destroy_shader_module(vs, None) };
-            return Err(e);
-        }
-    };
+    let fs = shader_module(device, desc.fragment, &format!("{} fs", desc.name))?;
     let spec_info = desc.fragment_specialization.map(|s| s.info());
     let mut fs_stage =
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs).name(c"main");
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs.raw).name(c"main");
     if let Some(info) = spec_info.as_ref() {
         fs_stage = fs_stage.specialization_info(info);
     }
     let stages = [
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs).name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs.raw).name(c"main"),
         fs_stage,
     ];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
@@ -216,13 +204,9 @@ pub fn graphics_pipeline(device: &Device, layout: vk::PipelineLayout, desc: &Gra
         .dynamic_state(&dynamic)
         .layout(layout)
         .push_next(&mut rendering);
-    // SAFETY: valid create info built from locals; modules destroyed after creation.
-    let result = unsafe { device.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
-    unsafe {
-        device.raw.destroy_shader_module(vs, None);
-        device.raw.destroy_shader_module(fs, None);
-    }
-    let pipeline = result.map_err(|(_, e)| e).during("vkCreateGraphicsPipelines")?[0];
-    device.set_name(pipeline, desc.name);
-    Ok(pipeline)
+    // SAFETY: valid create info built from locals; the modules outlive the call.
+    let pipelines = unsafe { device.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+        .map_err(|(_, e)| e)
+        .during("vkCreateGraphicsPipelines")?;
+    Ok(Owned::new(device, pipelines[0], desc.name))
 }

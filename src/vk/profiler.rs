@@ -2,23 +2,24 @@
 //! each pass so RenderDoc, Nsight and our reports show the same names.
 
 use super::device::Device;
+use super::owned::Owned;
 use crate::error::{Result, VkContext};
 use ash::vk;
 
-pub struct Profiler {
-    pool: vk::QueryPool,
+pub struct Profiler<'g> {
+    pool: Owned<'g, vk::QueryPool>,
     capacity: u32,
     names: Vec<&'static str>,
     period_ns: f64,
     valid_bits: u32,
 }
 
-impl Profiler {
-    pub fn new(device: &Device, max_scopes: u32) -> Result<Profiler> {
+impl<'g> Profiler<'g> {
+    pub fn new(device: &'g Device, max_scopes: u32) -> Result<Self> {
         let info = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(2 * max_scopes);
-        // SAFETY: valid create info; destroyed in `destroy`.
+        // SAFETY: valid create info.
         let pool = unsafe { device.raw.create_query_pool(&info, None) }.during("vkCreateQueryPool")?;
-        device.set_name(pool, "pass timestamps");
+        let pool = Owned::new(device, pool, "pass timestamps");
         Ok(Profiler {
             pool,
             capacity: max_scopes,
@@ -32,7 +33,7 @@ impl Profiler {
     pub fn reset(&mut self, device: &ash::Device, cmd: vk::CommandBuffer) {
         self.names.clear();
         // SAFETY: `cmd` is recording and the pool's queries are not in use by a pending submission.
-        unsafe { device.cmd_reset_query_pool(cmd, self.pool, 0, 2 * self.capacity) };
+        unsafe { device.cmd_reset_query_pool(cmd, self.pool.raw, 0, 2 * self.capacity) };
     }
 
     pub fn begin(&mut self, device: &Device, cmd: vk::CommandBuffer, name: &'static str) {
@@ -47,7 +48,7 @@ impl Profiler {
         if self.valid_bits > 0 {
             // SAFETY: query 2*index was reset this frame.
             unsafe {
-                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, 2 * index)
+                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool.raw, 2 * index)
             };
         }
     }
@@ -57,7 +58,12 @@ impl Profiler {
         if self.valid_bits > 0 {
             // SAFETY: query 2*index+1 was reset this frame.
             unsafe {
-                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool, 2 * index + 1)
+                device.raw.cmd_write_timestamp2(
+                    cmd,
+                    vk::PipelineStageFlags2::ALL_COMMANDS,
+                    self.pool.raw,
+                    2 * index + 1,
+                )
             };
         }
         if let Some(du) = &device.debug_utils {
@@ -76,7 +82,7 @@ impl Profiler {
         // SAFETY: the frame's fence was waited on; the queries were written.
         unsafe {
             device.get_query_pool_results(
-                self.pool,
+                self.pool.raw,
                 0,
                 &mut data,
                 vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
@@ -94,10 +100,5 @@ impl Profiler {
                 })
                 .collect(),
         ))
-    }
-
-    pub fn destroy(&self, device: &ash::Device) {
-        // SAFETY: the device is idle.
-        unsafe { device.destroy_query_pool(self.pool, None) };
     }
 }
