@@ -243,3 +243,57 @@ impl Tracker {
         self.buffer_barriers.clear();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vk::PipelineStageFlags2 as S;
+
+    #[test]
+    fn read_after_write_waits_once_per_stage() {
+        let mut state = State::NEW;
+        assert!(
+            advance(&mut state, Access::ComputeStorageWrite, false, false).is_none(),
+            "first use waits for nothing"
+        );
+        let dep = advance(&mut state, Access::FragmentSampled, false, false).expect("RAW");
+        assert_eq!((dep.src_stage, dep.dst_stage), (S::COMPUTE_SHADER, S::FRAGMENT_SHADER));
+        assert_eq!(dep.src_access, vk::AccessFlags2::SHADER_STORAGE_WRITE);
+        assert!(advance(&mut state, Access::FragmentSampled, false, false).is_none(), "already visible");
+        let dep = advance(&mut state, Access::TransferRead, false, false).expect("visible to another stage");
+        assert_eq!(dep.dst_stage, S::BLIT | S::COPY);
+    }
+
+    #[test]
+    fn write_after_reads_waits_for_every_reader() {
+        let mut state = State::NEW;
+        advance(&mut state, Access::TransferWrite, false, false);
+        advance(&mut state, Access::ComputeStorageRead, false, false);
+        advance(&mut state, Access::FragmentSampled, false, false);
+        let dep = advance(&mut state, Access::ComputeStorageWrite, false, false).expect("WAR");
+        assert!(
+            dep.src_stage.contains(S::COMPUTE_SHADER | S::FRAGMENT_SHADER | S::BLIT | S::COPY),
+            "{:?}",
+            dep.src_stage
+        );
+        let dep = advance(&mut state, Access::ComputeStorageWrite, false, false).expect("WAW");
+        assert_eq!(dep.src_stage, S::COMPUTE_SHADER);
+    }
+
+    #[test]
+    fn image_layout_changes_always_barrier() {
+        let mut state = State::NEW;
+        let dep = advance(&mut state, Access::ColorAttachmentWrite, true, true).expect("initial layout");
+        assert_eq!(
+            (dep.old_layout, dep.new_layout),
+            (vk::ImageLayout::UNDEFINED, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        );
+        let dep = advance(&mut state, Access::ComputeStorageRead, true, false).expect("layout change");
+        assert_eq!(dep.new_layout, vk::ImageLayout::GENERAL);
+        assert_eq!(dep.src_access, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE);
+        let dep = advance(&mut state, Access::TransferRead, true, false).expect("layout change after a read");
+        assert!(dep.src_stage.contains(S::COMPUTE_SHADER), "waits for the reader before changing the layout");
+        let dep = advance(&mut state, Access::ColorAttachmentWrite, true, true).expect("next frame");
+        assert_eq!(dep.old_layout, vk::ImageLayout::UNDEFINED, "discarded contents");
+    }
+}
