@@ -4,6 +4,13 @@
 
 const float PI = 3.14159265358979;
 const float SQRT_PI = 1.77245385090552;
+// How the waves are split between geometry, normals and BRDF (specialization constant 3,
+// `Method` in src/passes/ocean.rs).
+layout(constant_id = 3) const int METHOD = 0;
+const int METHOD_FULL = 0;           // the paper
+const int METHOD_CONSTANT_BRDF = 1;  // baseline: unresolved slopes dropped, a constant roughness
+const int METHOD_NO_FILTER = 2;      // every train in geometry and normals, unfiltered; mirror BRDF
+
 // Largest finite binary16: the HDR target's range. Radiance above it is clamped, never Inf.
 const float HDR_MAX = 65504.0;
 // Farther than any visible sea point (m): the geometric horizon of a 100 km high eye on the Earth is

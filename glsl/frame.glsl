@@ -26,6 +26,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 sky_zenith;       // (Y, x, y) zenith values, Y already divided by F(0, theta_s); w: sky scale
     vec4 tone;             // x: exposure; y: sky map extent R (map spans [-R, R]^2 in stereographic u)
     vec4 wave_extent;      // x: longest wavelength (m)
+    vec4 baseline_sigma2;  // xy: the constant-BRDF baseline's slope variance (wind frame)
 } frame;
 
 // The wave trains, sorted by increasing wavelength. Three words per train keep the per-pixel

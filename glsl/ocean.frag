@@ -20,7 +20,8 @@ void main() {
     vec3 v = -normalize(ray);
     SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
     vec3 n = vec3(0.0, 0.0, 1.0);
-    vec2 sigma2 = frame.wind.zw;    // nothing resolved: all slopes in the BRDF
+    // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror).
+    vec2 sigma2 = METHOD == METHOD_NO_FILTER ? vec2(0.0) : frame.wind.zw;
     // Only where some train is resolvable is the rest position used; there the pixel is at a finite
     // distance, so the interpolated w is positive.
     // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. The interpolated
@@ -36,5 +37,7 @@ void main() {
         n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
         sigma2 = s.sigma2;
     }
+    // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
+    if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
     out_radiance = vec4(store_radiance(sea_radiance(n, v, sigma2)), 1.0);
 }

@@ -33,6 +33,13 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     float reach = frame.cam_forward.w * cells;                // H cells
     float longest = frame.wave_extent.x;
     SampleScale s;
+    if (METHOD == METHOD_NO_FILTER) {
+        // Every train at full weight wherever the ray meets the plane: no loop exit.
+        s.any = w > 0.0;
+        s.a_u = s.a_v = vec2(0.0);
+        s.lambda_cut = s.lambda_cut2 = 0.0;
+        return s;
+    }
     // Train lambda is unresolved everywhere when q_min reach / (lambda w^2) >= steps.y.
     s.any = longest * w2 * steps.y > q_min * reach;
     if (s.any) {
@@ -54,6 +61,7 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
 // steps.y on, a smoothstep between. The step is the phase advance per sample (turns), times
 // `nonlinearity` >= 1 where the shading is steeper than the phase (see surface_sample).
 float resolution_weight(SampleScale s, vec2 k_turns, vec2 steps, float inv_ramp, float nonlinearity) {
+    if (METHOD == METHOD_NO_FILTER) return 1.0;
     float step = max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v))) * nonlinearity;
     float t = clamp((step - steps.x) * inv_ramp, 0.0, 1.0);
     return 1.0 - t * t * (3.0 - 2.0 * t);

@@ -2,8 +2,7 @@
 
 use crate::error::Result;
 use crate::output;
-use crate::passes::ocean::Terms;
-use crate::renderer::{RenderedFrame, Renderer};
+use crate::renderer::{Options, RenderedFrame, Renderer};
 use crate::report::{GridReport, Report, WaveReport};
 use crate::scene::Scene;
 use crate::vk::gpu::Gpu;
@@ -22,6 +21,7 @@ pub struct RenderRequest {
     /// Frames to render; with more than one, `gpu_ms` is the per-pass median of all frames after
     /// the first (which pays the driver's lazy shader compilation), `gpu_ms_min` the fastest.
     pub frames: u32,
+    pub options: Options,
 }
 
 /// Renders on a new GPU context and writes the requested files.
@@ -36,7 +36,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     let scene = &request.scene;
     let before = gpu.validation_counts();
     let (frame, memory, fastest) = {
-        let mut renderer = Renderer::new(gpu, scene, request.width, request.height, Terms::ALL)?;
+        let mut renderer = Renderer::new(gpu, scene, request.width, request.height, request.options)?;
         let mut frame = renderer.render(scene)?;
         let mut timings = Vec::new();
         for _ in 1..request.frames {
@@ -58,6 +58,8 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         device: gpu.device.name.clone(),
         width: request.width,
         height: request.height,
+        method: request.options.shader.method,
+        ssaa: request.options.ssaa,
         gpu_ms: Report::gpu_total_ms(&frame.pass_ms),
         gpu_ms_min: Report::gpu_total_ms(&fastest),
         validation: request.validation,

@@ -6,8 +6,7 @@
 use crate::app::{median, minimum, pass_statistic};
 use crate::error::{Error, Result};
 use crate::output::write_text;
-use crate::passes::ocean::Terms;
-use crate::renderer::Renderer;
+use crate::renderer::{Options, Renderer};
 use crate::scene::Scene;
 use crate::vk::gpu::Gpu;
 use serde::Serialize;
@@ -46,7 +45,7 @@ fn totals(passes: Vec<(String, f64)>) -> BTreeMap<String, f64> {
 
 /// Renders each scene `frames + 1` times at `width` x `height` and keeps per-pass statistics.
 pub fn time_scene(gpu: &Gpu, name: &str, scene: &Scene, width: u32, height: u32, frames: u32) -> Result<SpeedRow> {
-    let mut renderer = Renderer::new(gpu, scene, width, height, Terms::ALL)?;
+    let mut renderer = Renderer::new(gpu, scene, width, height, Options::default())?;
     renderer.render(scene)?; // warm-up: lazy shader compilation
     let mut timings = Vec::new();
     for _ in 0..frames {
@@ -88,7 +87,7 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
     }
     let (used, reserved) = {
         let scene = Scene::default();
-        let mut renderer = Renderer::new(gpu, &scene, 1920, 1080, Terms::ALL)?;
+        let mut renderer = Renderer::new(gpu, &scene, 1920, 1080, Options::default())?;
         renderer.render(&scene)?;
         let m = renderer.memory();
         (m.used_bytes as f64 / 1048576.0, m.reserved_bytes as f64 / 1048576.0)

@@ -43,6 +43,7 @@ pub struct FrameUniforms {
     pub sky_zenith: [f32; 4],
     pub tone: [f32; 4],
     pub wave_extent: [f32; 4],
+    pub baseline_sigma2: [f32; 4],
 }
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
@@ -156,6 +157,21 @@ impl GridLayout {
     }
 }
 
+/// The constant-BRDF baseline's roughness: the residual slope variance of the nearest visible sea
+/// (the bottom centre pixel), as a renderer tuned for the foreground would fix it; the waves' total
+/// where no sea is in view.
+pub fn baseline_slope_variance(
+    camera: &CameraFrame,
+    waves: &WaveSet,
+    sky: &SkyModel,
+    time_s: f64,
+    width: u32,
+    height: u32,
+) -> [f64; 2] {
+    let reference = crate::reference::ReferenceScene { camera, waves, sky, time_s, width, height };
+    reference.resolved_surface(width as f64 / 2.0, height as f64 - 1.0).map_or(waves.sigma2, |(_, _, sigma2)| sigma2)
+}
+
 /// Everything derived from a scene for one frame.
 pub struct FrameData {
     pub uniforms: FrameUniforms,
@@ -173,9 +189,10 @@ fn mat(m: Mat4) -> [[f32; 4]; 4] {
     m.to_cols_array_2d()
 }
 
-pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameData {
+/// Frame data for rendering at `width` x `height` (with supersampling, the sample grid's size, and
+/// `cell_px` the grid cell in those samples).
+pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f64) -> FrameData {
     let camera = CameraFrame::new(scene, waves, width, height);
-    let cell_px = scene.render.grid_cell_px;
     let grid = GridLayout::new(&camera, waves, cell_px, width, height);
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
     let view_proj = camera.view_proj(width as f64 / height as f64).as_mat4();
@@ -223,6 +240,10 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> FrameDa
         sky_zenith: v4(sky.zenith_over_f0, sky.sky_scale),
         tone: [scene.render.exposure as f32, SKY_MAP_EXTENT, 0.0, 0.0],
         wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, 0.0, 0.0, 0.0],
+        baseline_sigma2: {
+            let b = baseline_slope_variance(&camera, waves, &sky, scene.render.time_s, width, height);
+            [b[0] as f32, b[1] as f32, 0.0, 0.0]
+        },
     };
     FrameData { uniforms, waves: gpu_waves, grid, camera, sky }
 }

@@ -2,6 +2,8 @@
 
 use clap::{Parser, Subcommand};
 use ocean::app::{self, RenderRequest};
+use ocean::passes::ocean::{Method, ShaderConfig};
+use ocean::renderer::Options;
 use ocean::scene::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,6 +41,12 @@ enum Command {
         /// Use the first device whose name contains this text.
         #[arg(long)]
         device: Option<String>,
+        /// How waves are split between geometry, normals and BRDF.
+        #[arg(long, value_enum, default_value_t = Method::Full)]
+        method: Method,
+        /// Supersampling: K x K samples per pixel, box-filtered in linear radiance.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
+        ssaa: u32,
         /// Render this many frames; timings are then the median after the first (warm-up).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
@@ -68,13 +76,24 @@ enum Bench {
 
 fn run(cli: Cli) -> ocean::Result<()> {
     match cli.command {
-        Command::Render { scene, width, height, out, exr, report, validation, device, frames } => {
+        Command::Render { scene, width, height, out, exr, report, validation, device, method, ssaa, frames } => {
             let scene = match scene {
                 Some(path) => Scene::load(&path)?,
                 None => Scene::default(),
             };
-            let request =
-                RenderRequest { scene, width, height, png: Some(out.clone()), exr, report, validation, device, frames };
+            let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa };
+            let request = RenderRequest {
+                scene,
+                width,
+                height,
+                png: Some(out.clone()),
+                exr,
+                report,
+                validation,
+                device,
+                frames,
+                options,
+            };
             let (report, _) = app::render(&request)?;
             let total = match report.gpu_ms.get("total") {
                 None => "n/a".to_owned(),

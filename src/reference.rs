@@ -76,6 +76,13 @@ impl ReferenceScene<'_> {
     }
 
     pub fn shade(&self, px: f64, py: f64) -> Option<PixelRadiance> {
+        let (n, v, sigma2) = self.resolved_surface(px, py)?;
+        Some(self.brdf(n, v, sigma2))
+    }
+
+    /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
+    /// where the pixel sees no sea.
+    pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
         let ray = self.pixel_ray(px, py);
         let (x, a_u, a_v) = self.plane_hit(ray)?;
         let v = -ray.normalize();
@@ -93,13 +100,13 @@ impl ReferenceScene<'_> {
             let (c, s) = (wn * kh * c, wn * kh * s);
             tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
             ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
-            let cos_wind = dir.dot(wind);
+            let (along, across) = (dir.dot(wind), dir.perp_dot(wind));
             let residual = trochoid_slope_variance((1.0 - wn) * kh);
-            sigma2[0] += cos_wind * cos_wind * residual;
-            sigma2[1] += (1.0 - cos_wind * cos_wind) * residual;
+            sigma2[0] += along * along * residual;
+            sigma2[1] += across * across * residual;
         }
-        let n = tx.cross(ty).normalize();
-        Some(self.brdf(n, v, sigma2))
+        let n = tx.cross(ty).try_normalize().unwrap_or(DVec3::Z);
+        Some((n, v, sigma2))
     }
 
     /// The three terms for resolved normal `n`, view `v` and residual variance `sigma2`.

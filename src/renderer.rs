@@ -3,8 +3,9 @@
 
 use crate::error::{Error, Result, VkContext};
 use crate::frame::{self, FrameData};
-use crate::passes::ocean::{OceanPass, Terms};
+use crate::passes::ocean::{OceanPass, ShaderConfig};
 use crate::passes::readback::ReadbackPass;
+use crate::passes::resolve::ResolvePass;
 use crate::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::passes::tonemap::TonemapPass;
 use crate::passes::{Pass, Recorder};
@@ -31,10 +32,25 @@ pub struct RenderedFrame {
     pub frame: FrameData,
 }
 
+/// How a renderer renders: the ocean shaders' specialization and the supersampling factor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    pub shader: ShaderConfig,
+    /// Samples per pixel along each axis (1: none).
+    pub ssaa: u32,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { shader: ShaderConfig::default(), ssaa: 1 }
+    }
+}
+
 pub struct Renderer<'g> {
     gpu: &'g Gpu,
     width: u32,
     height: u32,
+    ssaa: u32,
     anisotropy: f64,
     // Field order is drop order (after Drop::drop waits for the device): the fence and command
     // pool, the passes, then the resources they refer to.
@@ -51,16 +67,20 @@ pub struct Renderer<'g> {
 
 impl<'g> Renderer<'g> {
     /// A renderer for `width` x `height` images of scenes with `scene`'s sky-map anisotropy.
-    pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> Result<Renderer<'g>> {
+    /// With supersampling the grid keeps its cell size in output pixels.
+    pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         let device = &gpu.device;
-        let resources = Resources::new(gpu, width, height, scene.render.sky_anisotropy as f32)?;
-        let passes: Vec<Box<dyn Pass + 'g>> = vec![
+        let resources = Resources::new(gpu, width, height, options.ssaa, scene.render.sky_anisotropy as f32)?;
+        let mut passes: Vec<Box<dyn Pass + 'g>> = vec![
             Box::new(SkyMapPass::new(device, &resources)?),
             Box::new(SkyMipsPass),
-            Box::new(OceanPass::new(device, &resources, terms)?),
-            Box::new(TonemapPass::new(device, &resources)?),
-            Box::new(ReadbackPass),
+            Box::new(OceanPass::new(device, &resources, options.shader)?),
         ];
+        if let Some(resolved) = &resources.resolved {
+            passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
+        }
+        passes.push(Box::new(TonemapPass::new(device, &resources)?));
+        passes.push(Box::new(ReadbackPass));
         let profiler = Profiler::new(device, passes.len() as u32)?;
         let raw = &device.raw;
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -81,6 +101,7 @@ impl<'g> Renderer<'g> {
             gpu,
             width,
             height,
+            ssaa: options.ssaa,
             anisotropy: scene.render.sky_anisotropy,
             fence,
             _command_pool: command_pool,
@@ -104,7 +125,9 @@ impl<'g> Renderer<'g> {
             )));
         }
         let wave_set = waves::generate(scene);
-        let data = frame::build(scene, &wave_set, self.width, self.height);
+        let k = self.ssaa;
+        let data =
+            frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         let resources = &mut self.resources;
         resources.set_grid(data.grid.columns, data.grid.rows)?;
         resources.frame_uniforms.write(std::slice::from_ref(&data.uniforms))?;

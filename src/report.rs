@@ -9,6 +9,9 @@ pub struct Report {
     pub device: String,
     pub width: u32,
     pub height: u32,
+    pub method: crate::passes::ocean::Method,
+    /// Supersampling: samples per pixel along each axis.
+    pub ssaa: u32,
     /// GPU time per pass and in total (ms), from timestamp queries.
     pub gpu_ms: BTreeMap<String, f64>,
     /// With several frames: the fastest frame's time per pass after the first frame (the least

@@ -24,8 +24,11 @@ pub struct Resources<'g> {
     pub grid_indices: Option<Buffer<'g>>,
     pub sky_map: Image<'g>,
     pub sky_sampler: Owned<'g, vk::Sampler>,
+    /// HDR radiance at the rendering size (the output size times the supersampling factor).
     pub hdr: Image<'g>,
     pub depth: Image<'g>,
+    /// With supersampling, the resolved HDR radiance at the output size.
+    pub resolved: Option<Image<'g>>,
     pub hdr_readback: Buffer<'g>,
     pub ldr_readback: Buffer<'g>,
     /// Indices of the current grid layout (rewritten when the layout changes).
@@ -34,7 +37,8 @@ pub struct Resources<'g> {
 }
 
 impl<'g> Resources<'g> {
-    pub fn new(gpu: &'g Gpu, width: u32, height: u32, anisotropy: f32) -> Result<Self> {
+    /// Resources for `width` x `height` output images rendered with `ssaa` x `ssaa` samples per pixel.
+    pub fn new(gpu: &'g Gpu, width: u32, height: u32, ssaa: u32, anisotropy: f32) -> Result<Self> {
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > side || height > side {
@@ -43,6 +47,14 @@ impl<'g> Resources<'g> {
                 gpu.device.name
             )));
         }
+        let (render_w, render_h) = (width as u64 * ssaa as u64, height as u64 * ssaa as u64);
+        if ssaa == 0 || render_w > side as u64 || render_h > side as u64 {
+            return Err(Error::Argument(format!(
+                "supersampling {ssaa}x{ssaa} of {width}x{height} needs {render_w}x{render_h}; {} allows {side} per side",
+                gpu.device.name
+            )));
+        }
+        let render_extent = vk::Extent2D { width: render_w as u32, height: render_h as u32 };
         let pixels = width as u64 * height as u64;
         // The tone-mapped pixels are one storage buffer.
         if 4 * pixels > limits.max_storage_buffer_range as u64 {
@@ -64,8 +76,13 @@ impl<'g> Resources<'g> {
         let sky_usage = I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, SKY_MAP_SIZE.ilog2() + 1, sky_usage)?;
         let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::TRANSFER_SRC;
-        let hdr = Image::new(gpu, "hdr radiance", HDR_FORMAT, extent, 1, hdr_usage)?;
-        let depth = Image::new(gpu, "depth", DEPTH_FORMAT, extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
+        let hdr = Image::new(gpu, "hdr radiance", HDR_FORMAT, render_extent, 1, hdr_usage)?;
+        let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
+        let resolved = if ssaa > 1 {
+            Some(Image::new(gpu, "hdr resolved", HDR_FORMAT, extent, 1, I::STORAGE | I::TRANSFER_SRC)?)
+        } else {
+            None
+        };
         let hdr_readback = Buffer::new(gpu, "hdr readback", pixels * 8, B::TRANSFER_DST, Location::Readback)?;
         let ldr_readback = Buffer::new(gpu, "ldr readback", pixels * 4, B::STORAGE_BUFFER, Location::Readback)?;
         let anisotropic = anisotropy > 1.0 && gpu.device.anisotropy;
@@ -92,11 +109,17 @@ impl<'g> Resources<'g> {
             sky_sampler: Owned::new(&gpu.device, sky_sampler, "sky map sampler"),
             hdr,
             depth,
+            resolved,
             hdr_readback,
             ldr_readback,
             grid_index_count: 0,
             grid_layout: None,
         })
+    }
+
+    /// The HDR radiance at the output size: the resolved image with supersampling, else `hdr`.
+    pub fn output(&self) -> &Image<'g> {
+        self.resolved.as_ref().unwrap_or(&self.hdr)
     }
 
     /// Writes the triangle list of a columns x rows grid (row-major nodes) if it changed. Called

@@ -4,6 +4,7 @@
 
 pub mod ocean;
 pub mod readback;
+pub mod resolve;
 pub mod sky_map;
 pub mod tonemap;
 

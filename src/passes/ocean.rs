@@ -23,6 +23,42 @@ impl Terms {
     pub const ALL: Terms = Terms { sun: true, sky: true, sea: true };
 }
 
+/// How the waves are split between geometry, normals and BRDF (specialization constant 3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// The paper: filtered geometry and normals, the unresolved slopes in the BRDF.
+    Full,
+    /// The paper's baseline: the same geometry and normals, unresolved waves dropped, a constant
+    /// roughness (the residual slope variance of the nearest visible sea).
+    ConstantBrdf,
+    /// Every train in geometry and normals, unfiltered, with a mirror BRDF (aliased).
+    NoFilter,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Full => "full",
+            Method::ConstantBrdf => "constant-brdf",
+            Method::NoFilter => "no-filter",
+        }
+    }
+}
+
+/// The ocean shaders' specialization.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaderConfig {
+    pub terms: Terms,
+    pub method: Method,
+}
+
+impl Default for ShaderConfig {
+    fn default() -> Self {
+        ShaderConfig { terms: Terms::ALL, method: Method::Full }
+    }
+}
+
 pub struct OceanPass<'g> {
     bindings: Bindings<'g>,
     ocean: Owned<'g, vk::Pipeline>,
@@ -30,7 +66,7 @@ pub struct OceanPass<'g> {
 }
 
 impl<'g> OceanPass<'g> {
-    pub fn new(device: &'g Device, r: &Resources, terms: Terms) -> Result<Self> {
+    pub fn new(device: &'g Device, r: &Resources, config: ShaderConfig) -> Result<Self> {
         use vk::DescriptorType as D;
         let both = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = Bindings::new(
@@ -51,7 +87,8 @@ impl<'g> OceanPass<'g> {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             r.sky_sampler.raw,
         );
-        let spec = Specialization::bools(&[terms.sun, terms.sky, terms.sea]);
+        let terms = config.terms;
+        let spec = Specialization::words(&[terms.sun as u32, terms.sky as u32, terms.sea as u32, config.method as u32]);
         let ocean = graphics_pipeline(
             device,
             bindings.layout(),
@@ -59,7 +96,7 @@ impl<'g> OceanPass<'g> {
                 name: "ocean",
                 vertex: shaders::OCEAN_VERT,
                 fragment: shaders::OCEAN_FRAG,
-                fragment_specialization: Some(&spec),
+                specialization: Some(&spec),
                 color_format: HDR_FORMAT,
                 depth_format: DEPTH_FORMAT,
                 depth_write: true,
@@ -73,7 +110,7 @@ impl<'g> OceanPass<'g> {
                 name: "sky",
                 vertex: shaders::FULLSCREEN_VERT,
                 fragment: shaders::SKY_FRAG,
-                fragment_specialization: None,
+                specialization: None,
                 color_format: HDR_FORMAT,
                 depth_format: DEPTH_FORMAT,
                 depth_write: false,

@@ -14,7 +14,7 @@ impl Pass for ReadbackPass {
     }
 
     fn declare(&self, r: &Resources, t: &mut Tracker) {
-        t.image(&r.hdr, 0, 1, Access::TransferRead, false);
+        t.image(r.output(), 0, 1, Access::TransferRead, false);
         t.buffer(&r.hdr_readback, Access::TransferWrite);
     }
 
@@ -31,13 +31,13 @@ impl Pass for ReadbackPass {
                 layer_count: 1,
             },
             image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D { width: r.hdr.extent.width, height: r.hdr.extent.height, depth: 1 },
+            image_extent: vk::Extent3D { width: r.output().extent.width, height: r.output().extent.height, depth: 1 },
         };
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (declared); the buffer holds the full image.
         unsafe {
             device.cmd_copy_image_to_buffer(
                 cmd,
-                r.hdr.raw,
+                r.output().raw,
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 r.hdr_readback.raw,
                 &[region],

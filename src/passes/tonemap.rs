@@ -26,7 +26,7 @@ impl<'g> TonemapPass<'g> {
             &[(0, D::UNIFORM_BUFFER, stages), (4, D::STORAGE_IMAGE, stages), (5, D::STORAGE_BUFFER, stages)],
         )?;
         bindings.write_buffer(0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
-        bindings.write_image(4, D::STORAGE_IMAGE, r.hdr.view, vk::ImageLayout::GENERAL, vk::Sampler::null());
+        bindings.write_image(4, D::STORAGE_IMAGE, r.output().view, vk::ImageLayout::GENERAL, vk::Sampler::null());
         bindings.write_buffer(5, D::STORAGE_BUFFER, r.ldr_readback.raw);
         let pipeline = compute_pipeline(device, bindings.layout(), shaders::TONEMAP_COMP, "tonemap")?;
         Ok(TonemapPass { bindings, pipeline })
@@ -39,13 +39,13 @@ impl Pass for TonemapPass<'_> {
     }
 
     fn declare(&self, r: &Resources, t: &mut Tracker) {
-        t.image(&r.hdr, 0, 1, Access::ComputeStorageRead, false);
+        t.image(r.output(), 0, 1, Access::ComputeStorageRead, false);
         t.buffer(&r.ldr_readback, Access::ComputeStorageWrite);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
-        let (gx, gy) = dispatch_size(r.hdr.extent, 8);
+        let (gx, gy) = dispatch_size(r.output().extent, 8);
         // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);

@@ -13,18 +13,18 @@ pub fn shader_module<'g>(device: &'g Device, spirv: &[u8], name: &str) -> Result
     Ok(Owned::new(device, module, name))
 }
 
-/// Boolean specialization constants 0..n (VkBool32 each).
+/// 32-bit specialization constants 0..n (bool as VkBool32, int as its bits).
 pub struct Specialization {
     entries: Vec<vk::SpecializationMapEntry>,
     data: Vec<u32>,
 }
 
 impl Specialization {
-    pub fn bools(values: &[bool]) -> Specialization {
+    pub fn words(values: &[u32]) -> Specialization {
         let entries = (0..values.len() as u32)
             .map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 })
             .collect();
-        Specialization { entries, data: values.iter().map(|&b| b as u32).collect() }
+        Specialization { entries, data: values.to_vec() }
     }
 
     pub fn info(&self) -> vk::SpecializationInfo<'_> {
@@ -144,7 +144,8 @@ pub struct GraphicsDesc<'a> {
     pub name: &'a str,
     pub vertex: &'a [u8],
     pub fragment: &'a [u8],
-    pub fragment_specialization: Option<&'a Specialization>,
+    /// Applied to both stages.
+    pub specialization: Option<&'a Specialization>,
     pub color_format: vk::Format,
     pub depth_format: vk::Format,
     pub depth_write: bool,
@@ -158,16 +159,15 @@ pub fn graphics_pipeline<'g>(
 ) -> Result<Owned<'g, vk::Pipeline>> {
     let vs = shader_module(device, desc.vertex, &format!("{} vs", desc.name))?;
     let fs = shader_module(device, desc.fragment, &format!("{} fs", desc.name))?;
-    let spec_info = desc.fragment_specialization.map(|s| s.info());
-    let mut fs_stage =
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs.raw).name(c"main");
-    if let Some(info) = spec_info.as_ref() {
-        fs_stage = fs_stage.specialization_info(info);
-    }
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs.raw).name(c"main"),
-        fs_stage,
-    ];
+    let spec_info = desc.specialization.map(|s| s.info());
+    let stage = |stage, module| {
+        let info = vk::PipelineShaderStageCreateInfo::default().stage(stage).module(module).name(c"main");
+        match spec_info.as_ref() {
+            Some(spec) => info.specialization_info(spec),
+            None => info,
+        }
+    };
+    let stages = [stage(vk::ShaderStageFlags::VERTEX, vs.raw), stage(vk::ShaderStageFlags::FRAGMENT, fs.raw)];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let input_assembly =
         vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);

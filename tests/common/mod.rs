@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use ocean::app::{render_on, RenderRequest};
-use ocean::passes::ocean::Terms;
-use ocean::renderer::{RenderedFrame, Renderer};
+use ocean::passes::ocean::{ShaderConfig, Terms};
+use ocean::renderer::{Options, RenderedFrame, Renderer};
 use ocean::report::Report;
 use ocean::scene::Scene;
 use ocean::vk::gpu::Gpu;
@@ -26,13 +26,15 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, Ren
         validation: true,
         device: None,
         frames: 1,
+        options: Options::default(),
     };
     render_on(gpu, &request).unwrap_or_else(|e| panic!("render failed: {e}"))
 }
 
 /// Renders with only some BRDF terms (specialization constants).
 pub fn render_terms(gpu: &Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> RenderedFrame {
-    let mut renderer = Renderer::new(gpu, scene, width, height, terms).unwrap();
+    let options = Options { shader: ShaderConfig { terms, ..ShaderConfig::default() }, ssaa: 1 };
+    let mut renderer = Renderer::new(gpu, scene, width, height, options).unwrap();
     renderer.render(scene).unwrap()
 }
 
