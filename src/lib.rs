@@ -7,6 +7,7 @@ pub mod app;
 pub mod bench;
 pub mod error;
 pub mod frame;
+pub mod groundtruth;
 pub mod output;
 pub mod passes;
 pub mod reference;

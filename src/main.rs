@@ -5,6 +5,7 @@ use ocean::app::{self, RenderRequest};
 use ocean::passes::ocean::{Method, ShaderConfig};
 use ocean::renderer::Options;
 use ocean::scene::Scene;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -50,6 +51,30 @@ enum Command {
         /// Render this many frames; timings are then the median after the first (warm-up).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
+    },
+    /// Ground truth: N x N stratified samples per pixel, every wave as exact geometry, to linear EXR
+    /// (alpha 0 marks pixels whose samples cannot resolve the shortest wave).
+    Reference {
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        #[arg(long, default_value_t = 1024)]
+        width: u32,
+        #[arg(long, default_value_t = 768)]
+        height: u32,
+        /// Samples per pixel along each axis (N x N per pixel).
+        #[arg(long, default_value_t = 8)]
+        samples: u32,
+        #[arg(long, default_value = "reference.exr")]
+        out: PathBuf,
+        /// Also write a tone-mapped PNG (the scene's exposure).
+        #[arg(long)]
+        png: Option<PathBuf>,
+        #[arg(long)]
+        report: Option<PathBuf>,
+        #[arg(long)]
+        validation: bool,
+        #[arg(long)]
+        device: Option<String>,
     },
     /// Benchmarks that print their numbers and write them under --out.
     Bench {
@@ -108,6 +133,47 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 report.device,
                 report.validation_errors,
                 report.nonfinite_pixels
+            );
+            Ok(())
+        }
+        Command::Reference { scene, width, height, samples, out, png, report, validation, device } => {
+            let scene = match scene {
+                Some(path) => Scene::load(&path)?,
+                None => Scene::default(),
+            };
+            let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
+            let interactive = std::io::stderr().is_terminal();
+            let truth = ocean::groundtruth::render(&gpu, &scene, width, height, samples, |done, total| {
+                if interactive {
+                    let bar = "#".repeat((40 * done / total) as usize);
+                    eprint!("\rground truth [{bar:<40}] {done}/{total} tiles");
+                    if done == total {
+                        eprintln!();
+                    }
+                }
+            })?;
+            ocean::output::write_exr_rgba(&out, width, height, &truth.radiance)?;
+            if let Some(path) = png {
+                let rgba = ocean::output::tonemap(&truth.radiance, scene.render.exposure);
+                ocean::output::write_png(&path, width, height, &rgba)?;
+            }
+            if let Some(path) = report {
+                let json = serde_json::to_string_pretty(&truth.report).expect("report serializes");
+                ocean::output::write_text(&path, &json)?;
+            }
+            let r = &truth.report;
+            let convergence = r.convergence_rms_relative.map_or("n/a".into(), |c| format!("{:.2}%", 100.0 * c));
+            println!(
+                "{}: {}x{} with {}x{} samples per pixel in {:.1} s; convergence {convergence}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
+                out.display(),
+                width,
+                height,
+                samples,
+                samples,
+                r.gpu_seconds,
+                r.unresolved_pixels,
+                r.validation_errors,
+                r.nonfinite_pixels
             );
             Ok(())
         }

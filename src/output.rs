@@ -45,6 +45,21 @@ fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
     std::fs::rename(partial, path).map_err(|e| io_error(path, e))
 }
 
+/// The tone mapping of glsl/tonemap.comp on the CPU: 1 - exp(-exposure L), then sRGB, as RGBA8.
+pub fn tonemap(hdr: &[[f32; 4]], exposure: f64) -> Vec<u8> {
+    let encode = |c: f64| {
+        let c = c.clamp(0.0, 1.0);
+        let s = if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+        (s * 255.0).round() as u8
+    };
+    hdr.iter()
+        .flat_map(|p| {
+            let m = |c: f32| encode(1.0 - (-exposure * (c.max(0.0) as f64)).exp());
+            [m(p[0]), m(p[1]), m(p[2]), 255]
+        })
+        .collect()
+}
+
 pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
     let rgb: Vec<u8> = rgba8.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
     write_atomically(path, |tmp| {
@@ -58,6 +73,24 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<(
         )
         .map_err(|e| io_error(path, e))
     })
+}
+
+/// Linear RGBA as OpenEXR (f32), alpha carried as given (the ground truth's resolved mask).
+pub fn write_exr_rgba(path: &Path, width: u32, height: u32, rgba: &[[f32; 4]]) -> Result<()> {
+    let data: Vec<f32> = rgba.iter().flatten().copied().collect();
+    let buffer = image::Rgba32FImage::from_raw(width, height, data).expect("width * height pixels");
+    write_atomically(path, |tmp| {
+        image::DynamicImage::ImageRgba32F(buffer)
+            .save_with_format(tmp, image::ImageFormat::OpenExr)
+            .map_err(|e| io_error(path, e))
+    })
+}
+
+/// Reads an OpenEXR written by `write_exr` or `write_exr_rgba` (alpha 1 when absent).
+pub fn read_exr(path: &Path) -> Result<(u32, u32, Vec<[f32; 4]>)> {
+    let image = image::open(path).map_err(|e| io_error(path, e))?.into_rgba32f();
+    let (w, h) = image.dimensions();
+    Ok((w, h, image.pixels().map(|p| p.0).collect()))
 }
 
 pub fn write_exr(path: &Path, width: u32, height: u32, hdr: &[[f32; 4]]) -> Result<()> {

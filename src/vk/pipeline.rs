@@ -50,6 +50,16 @@ impl<'g> Bindings<'g> {
         name: &str,
         bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
     ) -> Result<Self> {
+        Self::with_push_constants(device, name, bindings, 0)
+    }
+
+    /// As `new`, with `push_bytes` of push constants for every stage the bindings name.
+    pub fn with_push_constants(
+        device: &'g Device,
+        name: &str,
+        bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
+        push_bytes: u32,
+    ) -> Result<Self> {
         let raw = &device.raw;
         let layout_bindings: Vec<_> = bindings
             .iter()
@@ -67,7 +77,11 @@ impl<'g> Bindings<'g> {
             unsafe { raw.create_descriptor_set_layout(&info, None) }.during("vkCreateDescriptorSetLayout")?;
         let set_layout = Owned::new(device, set_layout, name);
         let set_layouts = [set_layout.raw];
-        let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        let push_stages = bindings.iter().fold(vk::ShaderStageFlags::empty(), |all, &(_, _, stages)| all | stages);
+        let push = [vk::PushConstantRange { stage_flags: push_stages, offset: 0, size: push_bytes }];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(if push_bytes > 0 { &push } else { &[] });
         let pipeline_layout = unsafe { raw.create_pipeline_layout(&info, None) }.during("vkCreatePipelineLayout")?;
         let pipeline_layout = Owned::new(device, pipeline_layout, name);
         let sizes: Vec<_> =

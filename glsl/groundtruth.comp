@@ -1,0 +1,215 @@
+#version 450
+// Ground truth: N x N stratified samples per pixel, every wave train as exact surface geometry
+// (first hit of each sample ray with the displaced trochoid surface) and exact normals, no
+// slope-variance BRDF. Exact Fresnel for water, the sky from the analytic model in the exact
+// reflected direction, the sun as a disc of its true solid angle, occluded by the waves.
+#include "frame.glsl"
+#include "common.glsl"
+#include "sky.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+// Per train: xy wave vector (turns per metre), z phase at time t (turns), w amplitude h (m).
+layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_waves[]; };
+// Per pixel: the sum over samples so far (rgb) with a = 1 where sub-samples resolve the shortest
+// train, 0 where not; then the sum over the even strata, the (N/2) x (N/2) subset, for a
+// convergence estimate. Each dispatch adds one sample (stratum) to every pixel of a tile: a
+// dispatch per sample keeps each invocation's loop iterations bounded (lavapipe 22.3 stops every
+// loop of an invocation after 65535 iterations in total, silently).
+layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
+
+layout(push_constant) uniform Tile {
+    uvec2 origin;       // first pixel of this tile
+    uint samples;       // N per axis
+    uint stratum;       // which of the N x N samples this dispatch adds
+    uint wave_count;
+    float slab;         // sum of amplitudes: the surface lies within +-slab of the rest plane
+    float lipschitz;    // bound on the surface's height slope, for safe marching steps
+    float ior;          // refractive index of sea water
+    uint seed;
+    uint max_march;     // marching steps per ray, within the per-invocation loop budget
+} tile;
+
+const int NEWTON_STEPS = 2;
+
+struct Surface {
+    vec3 d;        // displacement
+    mat2 j;        // d(displacement.xy) / d(rest x)
+    vec2 grad_z;   // d(displacement.z) / d(rest x)
+};
+
+Surface surface(vec2 x) {
+    Surface s;
+    s.d = vec3(0.0);
+    s.j = mat2(0.0);
+    s.grad_z = vec2(0.0);
+    for (uint i = 0u; i < tile.wave_count; ++i) {
+        vec4 w = exact_waves[i];
+        vec2 sc = sincos_turns(w.z - dot(w.xy, x));
+        vec2 k = 2.0 * PI * w.xy;
+        vec2 dir = k * inversesqrt(dot(k, k));
+        float h = w.w;
+        s.d += vec3(dir * (h * sc.x), h * sc.y);
+        // d theta / dx = -k: d(dir h sin)/dx = -h cos dir k^T, d(h cos)/dx = h sin k.
+        s.j -= outerProduct(dir, k) * (h * sc.y);
+        s.grad_z += k * (h * sc.x);
+    }
+    return s;
+}
+
+// Rest position whose displaced point lies above horizontal position y (Newton on x + D(x) = y,
+// from `x`); also returns the surface there.
+vec2 invert(vec2 y, vec2 x, out Surface s) {
+    for (int n = 0; n < NEWTON_STEPS; ++n) {
+        s = surface(x);
+        vec2 f = x + s.d.xy - y;
+        mat2 jac = mat2(1.0) + s.j;
+        float det = determinant(jac);
+        // Where the surface folds (det <= 0) Newton has no direction: fall back to a fixed-point step.
+        x -= det > 0.0 ? inverse(jac) * f : f;
+    }
+    s = surface(x);
+    return x;
+}
+
+const int BISECTION_STEPS = 16;
+
+// Vertical gap between the ray point o + t r and the surface below or above it (positive above).
+float gap(vec3 o, vec3 r, float t, inout vec2 x, out Surface s) {
+    vec3 p = o + t * r;
+    x = invert(p.xy, x, s);
+    return p.z - (-frame.cam_forward.w + s.d.z);
+}
+
+// First hit of o + t r (t > t0) with the surface: returns t, or -1 where the ray misses. Sphere-
+// traces the vertical gap g with the slope bound L: g shrinks by at most dt (L |r.xy| - r.z) per
+// step dt, so dt = g / (L |r.xy| - r.z) does not cross the surface when L holds; should a step
+// still land below it (or below every trough, or run out of steps going down), bisection on the
+// bracket finds the crossing. (Results travel as floats, control flow has one exit.)
+float intersect(vec3 o, vec3 r, float t0, out Surface s_hit) {
+    float height = frame.cam_forward.w;
+    float closing = tile.lipschitz * length(r.xy) - r.z;
+    float top = -height + tile.slab;
+    float bottom = -height - tile.slab;
+    float t = t0;
+    float result = -1.0;
+    float searching = 1.0;
+    // Skip to the top of the slab when starting above it; a ray rising from above never hits.
+    if (o.z > top) {
+        searching = r.z < 0.0 ? 1.0 : 0.0;
+        t = r.z < 0.0 ? max(t, (top - o.z) / r.z) : t;
+    }
+    vec2 x = (o + t * r).xy;
+    Surface s = surface(x);
+    float t_above = t;        // last point known above the surface
+    float t_below = -1.0;     // first point known below it, once bracketed
+    for (uint it = 0u; it < tile.max_march && searching > 0.0; ++it) {
+        vec3 p = o + t * r;
+        if (r.z >= 0.0 && (p.z > top + 1e-3 || closing <= 0.0)) {
+            searching = 0.0;   // left the slab upwards, or rising faster than any slope: a miss
+        } else if (p.z < bottom) {
+            t_below = t;       // below every trough
+            searching = 0.0;
+        } else {
+            float g = gap(o, r, t, x, s);
+            if (abs(g) <= 1e-4 + 1e-6 * t) {
+                result = t;
+                searching = 0.0;
+            } else if (g < 0.0) {
+                t_below = t;
+                searching = 0.0;
+            } else {
+                t_above = t;
+                t += g / closing;
+            }
+        }
+    }
+    // Going down and out of steps: the point below every trough brackets the crossing.
+    if (searching > 0.0 && r.z < 0.0) t_below = (bottom - o.z) / r.z;
+    if (result < 0.0 && t_below >= 0.0) {
+        vec2 xb = x;
+        for (int b = 0; b < BISECTION_STEPS; ++b) {
+            float mid = 0.5 * (t_above + t_below);
+            if (gap(o, r, mid, xb, s) > 0.0) t_above = mid; else t_below = mid;
+        }
+        result = t_above;
+        gap(o, r, result, xb, s);
+    }
+    s_hit = s;
+    return result;
+}
+
+// Unpolarized Fresnel reflectance from air into water at cos(incidence) = c.
+float fresnel_exact(float c, float eta) {
+    float sin_t2 = (1.0 - c * c) / (eta * eta);
+    float cos_t = sqrt(max(1.0 - sin_t2, 0.0));
+    float rs = (c - eta * cos_t) / (c + eta * cos_t);     // c + eta cos_t >= eta cos_t > 0
+    float rp = (eta * c - cos_t) / (eta * c + cos_t);     // eta c + cos_t >= cos_t > 0
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+uint hash(uint x) {
+    // A 32-bit integer hash (Chris Wellons' "lowbias32" constants).
+    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+    return x;
+}
+
+vec3 shade_hit(vec3 r, float t, Surface s) {
+    vec3 tx = vec3(1.0 + s.j[0][0], s.j[0][1], s.grad_z.x);
+    vec3 ty = vec3(s.j[1][0], 1.0 + s.j[1][1], s.grad_z.y);
+    vec3 c = cross(tx, ty);
+    float len2 = dot(c, c);
+    vec3 n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+    vec3 v = -r;
+    float cos_v = clamp(dot(n, v), 0.0, 1.0);
+    float fresnel = fresnel_exact(cos_v, tile.ior);
+    vec3 refl = reflect(r, n);
+    vec3 color = fresnel * sky_radiance(vec3(refl.xy, abs(refl.z)));
+    if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= frame.sun_dir.w) {
+        Surface s2;
+        // Start a little off the surface; a wave in the way shadows the sun.
+        if (intersect(t * r, refl, 1e-3 + 1e-5 * t, s2) < 0.0) color += fresnel * frame.sun_radiance.rgb;
+    }
+    color += (1.0 - fresnel) * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
+    return color;
+}
+
+vec3 shade_sample(vec3 ray) {
+    vec3 r = normalize(ray);
+    Surface s;
+    float t = intersect(vec3(0.0), r, 0.0, s);
+    return t >= 0.0 ? shade_hit(r, t, s) : sky_radiance(r) + sun_disc(r);
+}
+
+void main() {
+    uvec2 pixel = tile.origin + gl_GlobalInvocationID.xy;
+    uvec2 size = uvec2(frame.viewport.xy);
+    if (any(greaterThanEqual(pixel, size))) return;
+    uint n = tile.samples;
+    uint i = tile.stratum % n, j = tile.stratum / n;
+    uint h = hash(tile.seed ^ hash(pixel.x + 65536u * pixel.y) ^ hash(i + 4096u * j));
+    vec2 jitter = vec2(h & 0xffffu, h >> 16) * (1.0 / 65536.0);
+    vec3 L = shade_sample(camera_ray(pixel_to_ndc(vec2(pixel) + (vec2(i, j) + jitter) / float(n))));
+    bool in_subset = (i & 1u) == 0u && (j & 1u) == 0u;
+    uint index = 2u * (pixel.y * size.x + pixel.x);
+    if (tile.stratum == 0u) {
+        // Does the sub-sample spacing resolve the shortest train (at most half a turn per step)?
+        vec3 ray = camera_ray(pixel_to_ndc(vec2(pixel) + 0.5));
+        float w = -ray.z;
+        float resolved = 1.0;   // a pixel of sky has nothing to resolve
+        if (w > 0.0) {
+            vec3 dr_du = frame.cam_right.xyz * (2.0 * frame.viewport.z);
+            vec3 dr_dv = frame.cam_down.xyz * (2.0 * frame.viewport.w);
+            float scale = frame.cam_forward.w / (w * w * float(n));
+            vec2 a_u = (dr_du.xy * w + ray.xy * dr_du.z) * scale;
+            vec2 a_v = (dr_dv.xy * w + ray.xy * dr_dv.z) * scale;
+            vec2 k = exact_waves[0].xy;   // trains are sorted: the first is the shortest
+            resolved = max(abs(dot(k, a_u)), abs(dot(k, a_v))) <= 0.5 ? 1.0 : 0.0;
+        }
+        pixels[index] = vec4(L, resolved);
+        pixels[index + 1u] = vec4(L, 0.0);
+    } else {
+        pixels[index].rgb += L;
+        if (in_subset) pixels[index + 1u].rgb += L;
+    }
+}

@@ -1,0 +1,286 @@
+//! Ground truth for measuring the renderer: every wave as exact geometry, N x N stratified samples
+//! per pixel (glsl/groundtruth.comp), dispatched in tiles so that any size works and no single
+//! submission runs long. Reports its own convergence and the pixels whose sub-samples still
+//! cannot resolve the shortest wave.
+
+use crate::error::{Error, Result, VkContext};
+use crate::frame;
+use crate::scene::Scene;
+use crate::shaders;
+use crate::vk::buffer::Buffer;
+use crate::vk::gpu::Gpu;
+use crate::vk::memory::Location;
+use crate::vk::owned::Owned;
+use crate::vk::pipeline::{compute_pipeline, Bindings};
+use crate::waves;
+use ash::vk;
+use std::time::Instant;
+
+/// Refractive index of sea water for visible light (about 1.34; 1.333 for pure water at 20 C).
+pub const SEA_WATER_IOR: f32 = 1.34;
+/// Pixels per tile side: one dispatch and one fence per tile.
+const TILE: u32 = 32;
+/// Largest samples per pixel per axis: 64 x 64 = 4096 samples.
+pub const MAX_SAMPLES: u32 = 64;
+
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct TilePush {
+    origin: [u32; 2],
+    samples: u32,
+    stratum: u32,
+    wave_count: u32,
+    slab: f32,
+    lipschitz: f32,
+    ior: f32,
+    seed: u32,
+    max_march: u32,
+}
+
+/// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
+/// LP_MAX_TGSI_LOOP_ITERATIONS), past which every loop silently stops.
+const LOOP_BUDGET: u32 = 65535;
+/// Marching steps per ray where the budget allows.
+const MAX_MARCH: u32 = 160;
+
+/// Bisection steps after a bracketed crossing (glsl/groundtruth.comp).
+const BISECTION_STEPS: u32 = 16;
+
+/// Marching steps that keep one sample within the loop budget: a camera ray and a sun ray, each
+/// step (and each bisection step) evaluating the surface three times (two Newton steps and the
+/// result) over every train.
+fn march_budget(wave_count: u32) -> u32 {
+    let per_step = 2 * (3 * wave_count + 1);
+    let fixed = 2 * (BISECTION_STEPS + 2) * (3 * wave_count + 1) + 4 * wave_count + 64;
+    (LOOP_BUDGET.saturating_sub(fixed) / per_step).clamp(8, MAX_MARCH)
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct GroundTruthReport {
+    pub device: String,
+    pub width: u32,
+    pub height: u32,
+    pub samples_per_axis: u32,
+    pub gpu_seconds: f64,
+    /// RMS over resolved pixels of |L_N - L_(N/2)| / mean L: the N x N estimate against its
+    /// (N/2) x (N/2) subset of strata, a measure of how far the estimate still moves.
+    pub convergence_rms_relative: Option<f64>,
+    /// Pixels whose sub-samples step more than half a turn of the shortest wave.
+    pub unresolved_pixels: u64,
+    pub nonfinite_pixels: u64,
+    pub mean_radiance: [f64; 3],
+    pub validation_errors: u32,
+}
+
+pub struct GroundTruth {
+    pub width: u32,
+    pub height: u32,
+    /// Mean radiance per pixel (rgb) and 1 where resolved, 0 where not (a).
+    pub radiance: Vec<[f32; 4]>,
+    /// The (N/2) x (N/2) subset estimate (rgb, a unused).
+    pub subset: Vec<[f32; 4]>,
+    pub report: GroundTruthReport,
+}
+
+/// Renders the ground truth of `scene`; `progress(done, total)` is called after every tile.
+pub fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    samples: u32,
+    mut progress: impl FnMut(u32, u32),
+) -> Result<GroundTruth> {
+    if samples == 0 || samples > MAX_SAMPLES {
+        return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
+    }
+    let device = &gpu.device;
+    let pixels = width as u64 * height as u64;
+    let limits = &device.properties.limits;
+    if width == 0 || height == 0 || 32 * pixels > limits.max_storage_buffer_range as u64 {
+        return Err(Error::Argument(format!(
+            "ground-truth size {width}x{height} is out of range on {} (at most {} pixels)",
+            device.name,
+            limits.max_storage_buffer_range / 32
+        )));
+    }
+    let before = gpu.validation_counts().error_total();
+    let wave_set = waves::generate(scene);
+    let data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
+
+    use vk::BufferUsageFlags as B;
+    let uniforms = Buffer::new(
+        gpu,
+        "ground truth frame",
+        std::mem::size_of_val(&data.uniforms) as u64,
+        B::UNIFORM_BUFFER,
+        Location::Upload,
+    )?;
+    uniforms.write(std::slice::from_ref(&data.uniforms))?;
+    let exact: Vec<[f32; 4]> = wave_set
+        .trains
+        .iter()
+        .map(|t| {
+            [
+                (t.direction[0] / t.wavelength) as f32,
+                (t.direction[1] / t.wavelength) as f32,
+                (t.phase_at(scene.render.time_s) / std::f64::consts::TAU) as f32,
+                t.amplitude as f32,
+            ]
+        })
+        .collect();
+    let waves_buffer = Buffer::new(gpu, "exact waves", (16 * exact.len()) as u64, B::STORAGE_BUFFER, Location::Upload)?;
+    waves_buffer.write(&exact)?;
+    let output = Buffer::new(gpu, "ground truth pixels", 32 * pixels, B::STORAGE_BUFFER, Location::Readback)?;
+
+    use vk::DescriptorType as D;
+    let stages = vk::ShaderStageFlags::COMPUTE;
+    let bindings = Bindings::with_push_constants(
+        device,
+        "ground truth",
+        &[(0, D::UNIFORM_BUFFER, stages), (1, D::STORAGE_BUFFER, stages), (8, D::STORAGE_BUFFER, stages)],
+        std::mem::size_of::<TilePush>() as u32,
+    )?;
+    bindings.write_buffer(0, D::UNIFORM_BUFFER, uniforms.raw);
+    bindings.write_buffer(1, D::STORAGE_BUFFER, waves_buffer.raw);
+    bindings.write_buffer(8, D::STORAGE_BUFFER, output.raw);
+    let pipeline = compute_pipeline(device, bindings.layout(), shaders::GROUNDTRUTH_COMP, "ground truth")?;
+
+    let pool_info = vk::CommandPoolCreateInfo::default()
+        .queue_family_index(device.queue_family)
+        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+    // SAFETY (this and the two calls below): valid create infos on a live device.
+    let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
+    let pool = Owned::new(device, pool, "ground truth commands");
+    let alloc = vk::CommandBufferAllocateInfo::default()
+        .command_pool(pool.raw)
+        .level(vk::CommandBufferLevel::PRIMARY)
+        .command_buffer_count(1);
+    let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
+    let fence = unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
+    let fence = Owned::new(device, fence, "ground truth tile done");
+
+    let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
+    let push = TilePush {
+        origin: [0, 0],
+        samples,
+        stratum: 0,
+        max_march: march_budget(exact.len() as u32),
+        wave_count: exact.len() as u32,
+        slab: wave_set.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
+        // Height slope of the displaced surface: sum k h over 1 - sum k h where the trains cannot
+        // fold; where they can, a bound of 10 (84 degrees) keeps steps finite.
+        lipschitz: if kh_sum < 0.9 { (kh_sum / (1.0 - kh_sum)) as f32 } else { 10.0 },
+        ior: SEA_WATER_IOR,
+        seed: scene.waves.seed as u32,
+    };
+    let tiles_x = width.div_ceil(TILE);
+    let tiles_y = height.div_ceil(TILE);
+    let total = tiles_x * tiles_y;
+    let started = Instant::now();
+    for ty in 0..tiles_y {
+        for tx in 0..tiles_x {
+            let origin = [tx * TILE, ty * TILE];
+            // SAFETY: the previous tile's fence was waited on, so `cmd` is not pending; every
+            // binding refers to live buffers; the push range matches the layout.
+            unsafe {
+                let raw = &device.raw;
+                raw.begin_command_buffer(
+                    cmd,
+                    &vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+                )
+                .during("vkBeginCommandBuffer")?;
+                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
+                raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    bindings.layout(),
+                    0,
+                    &[bindings.set],
+                    &[],
+                );
+                // One dispatch per stratum, each adding to the pixels the previous one wrote.
+                let accumulate = vk::MemoryBarrier2::default()
+                    .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                    .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                    .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                    .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE);
+                for stratum in 0..samples * samples {
+                    if stratum > 0 {
+                        raw.cmd_pipeline_barrier2(
+                            cmd,
+                            &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&accumulate)),
+                        );
+                    }
+                    let push = TilePush { origin, stratum, ..push };
+                    let bytes = std::slice::from_raw_parts(
+                        &push as *const TilePush as *const u8,
+                        std::mem::size_of::<TilePush>(),
+                    );
+                    raw.cmd_push_constants(cmd, bindings.layout(), stages, 0, bytes);
+                    raw.cmd_dispatch(cmd, TILE.div_ceil(8), TILE.div_ceil(8), 1);
+                }
+                // The host reads the pixels after the last tile's fence.
+                let barrier = vk::MemoryBarrier2::default()
+                    .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                    .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                    .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                    .dst_access_mask(vk::AccessFlags2::HOST_READ);
+                raw.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&barrier)),
+                );
+                raw.end_command_buffer(cmd).during("vkEndCommandBuffer")?;
+                let cmds = [cmd];
+                raw.queue_submit(device.queue, &[vk::SubmitInfo::default().command_buffers(&cmds)], fence.raw)
+                    .during("vkQueueSubmit")?;
+                raw.wait_for_fences(&[fence.raw], true, u64::MAX).during("vkWaitForFences")?;
+                raw.reset_fences(&[fence.raw]).during("vkResetFences")?;
+            }
+            progress(ty * tiles_x + tx + 1, total);
+        }
+    }
+    let gpu_seconds = started.elapsed().as_secs_f64();
+    let words: Vec<f32> = output.read(8 * pixels as usize)?;
+    // Sums to means: N x N samples, and the strata with even indices on both axes.
+    let all = (samples * samples) as f32;
+    let even = samples.div_ceil(2).pow(2) as f32;
+    let radiance: Vec<[f32; 4]> = words.chunks_exact(8).map(|p| [p[0] / all, p[1] / all, p[2] / all, p[3]]).collect();
+    let subset: Vec<[f32; 4]> = words.chunks_exact(8).map(|p| [p[4] / even, p[5] / even, p[6] / even, 0.0]).collect();
+    let stats = crate::output::stats(&radiance);
+    let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
+    let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
+    let report = GroundTruthReport {
+        device: device.name.clone(),
+        width,
+        height,
+        samples_per_axis: samples,
+        gpu_seconds,
+        convergence_rms_relative,
+        unresolved_pixels,
+        nonfinite_pixels: stats.nonfinite_pixels,
+        mean_radiance: stats.mean_radiance,
+        validation_errors: gpu.validation_counts().error_total() - before,
+    };
+    Ok(GroundTruth { width, height, radiance, subset, report })
+}
+
+fn convergence(full: &[[f32; 4]], subset: &[[f32; 4]], mean: [f64; 3]) -> f64 {
+    let mean_l = (mean[0] + mean[1] + mean[2]) / 3.0;
+    let (mut sum, mut n) = (0.0, 0.0);
+    for (a, b) in full.iter().zip(subset) {
+        if a[3] == 0.0 {
+            continue;
+        }
+        for c in 0..3 {
+            let d = (a[c] - b[c]) as f64;
+            sum += d * d;
+        }
+        n += 3.0;
+    }
+    if n == 0.0 || mean_l <= 0.0 {
+        0.0
+    } else {
+        (sum / n).sqrt() / mean_l
+    }
+}
