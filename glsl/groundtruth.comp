@@ -11,9 +11,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 // Per train: xy wave vector (turns per metre), z phase at time t (turns), w amplitude h (m).
 layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_waves[]; };
-// Per pixel: the sum over samples so far (rgb) with a = 1 where sub-samples resolve the shortest
-// train, 0 where not; then the sum over the even strata, the (N/2) x (N/2) subset, for a
-// convergence estimate. Each dispatch adds one sample (stratum) to every pixel of a tile: a
+// Per pixel, four vec4: the sum over samples so far (rgb) with a = 1 where sub-samples resolve
+// the shortest train, 0 where not; the sum over the even strata, the (N/2) x (N/2) subset, for a
+// convergence estimate, with the sum of 1 - F (the refracted light's weight) in a; the reflected
+// sun's sum; the reflected sky's sum. Each dispatch adds one sample (stratum) to every pixel of a tile: a
 // dispatch per sample keeps each invocation's loop iterations bounded (lavapipe 22.3 stops every
 // loop of an invocation after 65535 iterations in total, silently).
 layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
@@ -154,31 +155,52 @@ uint hash(uint x) {
     return x;
 }
 
-vec3 shade_hit(vec3 r, float t, Surface s) {
+// What one sample sees: the reflected sun, the reflected sky and the refracted sea light where it
+// meets the sea, or the sky (and sun disc) straight on where it does not.
+struct Sample {
+    vec3 sun;
+    vec3 sky;
+    vec3 sea;
+    vec3 total;
+    float transmitted;   // 1 - F where the sample meets the sea, else 0
+};
+
+Sample shade_hit(vec3 r, float t, Surface s) {
     vec3 tx = vec3(1.0 + s.j[0][0], s.j[0][1], s.grad_z.x);
     vec3 ty = vec3(s.j[1][0], 1.0 + s.j[1][1], s.grad_z.y);
     vec3 c = cross(tx, ty);
     float len2 = dot(c, c);
     vec3 n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
-    vec3 v = -r;
-    float cos_v = clamp(dot(n, v), 0.0, 1.0);
+    float cos_v = clamp(dot(n, -r), 0.0, 1.0);
     float fresnel = fresnel_exact(cos_v, tile.ior);
     vec3 refl = reflect(r, n);
-    vec3 color = fresnel * sky_radiance(vec3(refl.xy, abs(refl.z)));
+    Sample o;
+    o.sky = fresnel * sky_radiance(vec3(refl.xy, abs(refl.z)));
+    o.sun = vec3(0.0);
     if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= frame.sun_dir.w) {
         Surface s2;
         // Start a little off the surface; a wave in the way shadows the sun.
-        if (intersect(t * r, refl, 1e-3 + 1e-5 * t, s2) < 0.0) color += fresnel * frame.sun_radiance.rgb;
+        if (intersect(t * r, refl, 1e-3 + 1e-5 * t, s2) < 0.0) o.sun = fresnel * frame.sun_radiance.rgb;
     }
-    color += (1.0 - fresnel) * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
-    return color;
+    o.transmitted = 1.0 - fresnel;
+    o.sea = o.transmitted * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
+    o.total = o.sun + o.sky + o.sea;
+    return o;
 }
 
-vec3 shade_sample(vec3 ray) {
+Sample shade_sample(vec3 ray) {
     vec3 r = normalize(ray);
     Surface s;
     float t = intersect(vec3(0.0), r, 0.0, s);
-    return t >= 0.0 ? shade_hit(r, t, s) : sky_radiance(r) + sun_disc(r);
+    Sample o;
+    if (t >= 0.0) {
+        o = shade_hit(r, t, s);
+    } else {
+        o.sun = o.sky = o.sea = vec3(0.0);
+        o.transmitted = 0.0;
+        o.total = sky_radiance(r) + sun_disc(r);
+    }
+    return o;
 }
 
 void main() {
@@ -189,9 +211,10 @@ void main() {
     uint i = tile.stratum % n, j = tile.stratum / n;
     uint h = hash(tile.seed ^ hash(pixel.x + 65536u * pixel.y) ^ hash(i + 4096u * j));
     vec2 jitter = vec2(h & 0xffffu, h >> 16) * (1.0 / 65536.0);
-    vec3 L = shade_sample(camera_ray(pixel_to_ndc(vec2(pixel) + (vec2(i, j) + jitter) / float(n))));
+    Sample o = shade_sample(camera_ray(pixel_to_ndc(vec2(pixel) + (vec2(i, j) + jitter) / float(n))));
+    vec3 L = o.total;
     bool in_subset = (i & 1u) == 0u && (j & 1u) == 0u;
-    uint index = 2u * (pixel.y * size.x + pixel.x);
+    uint index = 4u * (pixel.y * size.x + pixel.x);
     if (tile.stratum == 0u) {
         // Does the sub-sample spacing resolve the shortest train (at most half a turn per step)?
         vec3 ray = camera_ray(pixel_to_ndc(vec2(pixel) + 0.5));
@@ -207,9 +230,14 @@ void main() {
             resolved = max(abs(dot(k, a_u)), abs(dot(k, a_v))) <= 0.5 ? 1.0 : 0.0;
         }
         pixels[index] = vec4(L, resolved);
-        pixels[index + 1u] = vec4(L, 0.0);
+        pixels[index + 1u] = vec4(in_subset ? L : vec3(0.0), o.transmitted);
+        pixels[index + 2u] = vec4(o.sun, 0.0);
+        pixels[index + 3u] = vec4(o.sky, 0.0);
     } else {
         pixels[index].rgb += L;
         if (in_subset) pixels[index + 1u].rgb += L;
+        pixels[index + 1u].a += o.transmitted;
+        pixels[index + 2u].rgb += o.sun;
+        pixels[index + 3u].rgb += o.sky;
     }
 }

@@ -92,6 +92,14 @@ impl CameraFrame {
         self.forward + ndc[0] * self.tan_half_x * self.right - ndc[1] * self.tan_half_y * self.up
     }
 
+    /// Distance from the eye to where the ray through pixel (px, py) (centre) of a width x height
+    /// image meets the rest plane; None above the horizon.
+    pub fn pixel_distance(&self, px: u32, py: u32, width: u32, height: u32) -> Option<f64> {
+        let ndc = [(px as f64 + 0.5) / width as f64 * 2.0 - 1.0, (py as f64 + 0.5) / height as f64 * 2.0 - 1.0];
+        let r = self.ray(ndc);
+        (r.z < 0.0).then(|| self.plane_height / -r.z * r.length())
+    }
+
     pub fn view_proj(&self, aspect: f64) -> DMat4 {
         let view = DMat4::look_to_rh(DVec3::ZERO, self.forward, self.up);
         let proj = DMat4::perspective_infinite_reverse_rh(2.0 * self.tan_half_y.atan(), aspect, Z_NEAR);

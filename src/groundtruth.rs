@@ -18,6 +18,8 @@ use std::time::Instant;
 
 /// Refractive index of sea water for visible light (about 1.34; 1.333 for pure water at 20 C).
 pub const SEA_WATER_IOR: f32 = 1.34;
+/// Four vec4 per pixel: total and mask, subset, sun, sky (glsl/groundtruth.comp).
+const BYTES_PER_PIXEL: u64 = 64;
 /// Pixels per tile side: one dispatch and one fence per tile.
 const TILE: u32 = 32;
 /// Largest samples per pixel per axis: 64 x 64 = 4096 samples.
@@ -79,6 +81,10 @@ pub struct GroundTruth {
     pub radiance: Vec<[f32; 4]>,
     /// The (N/2) x (N/2) subset estimate (rgb, a unused).
     pub subset: Vec<[f32; 4]>,
+    /// The reflected sun, the reflected sky and the refracted sea light (rgb; a = 1).
+    pub sun: Vec<[f32; 4]>,
+    pub sky: Vec<[f32; 4]>,
+    pub sea: Vec<[f32; 4]>,
     pub report: GroundTruthReport,
 }
 
@@ -97,11 +103,11 @@ pub fn render(
     let device = &gpu.device;
     let pixels = width as u64 * height as u64;
     let limits = &device.properties.limits;
-    if width == 0 || height == 0 || 32 * pixels > limits.max_storage_buffer_range as u64 {
+    if width == 0 || height == 0 || BYTES_PER_PIXEL * pixels > limits.max_storage_buffer_range as u64 {
         return Err(Error::Argument(format!(
             "ground-truth size {width}x{height} is out of range on {} (at most {} pixels)",
             device.name,
-            limits.max_storage_buffer_range / 32
+            limits.max_storage_buffer_range as u64 / BYTES_PER_PIXEL
         )));
     }
     let before = gpu.validation_counts().error_total();
@@ -131,7 +137,8 @@ pub fn render(
         .collect();
     let waves_buffer = Buffer::new(gpu, "exact waves", (16 * exact.len()) as u64, B::STORAGE_BUFFER, Location::Upload)?;
     waves_buffer.write(&exact)?;
-    let output = Buffer::new(gpu, "ground truth pixels", 32 * pixels, B::STORAGE_BUFFER, Location::Readback)?;
+    let output =
+        Buffer::new(gpu, "ground truth pixels", BYTES_PER_PIXEL * pixels, B::STORAGE_BUFFER, Location::Readback)?;
 
     use vk::DescriptorType as D;
     let stages = vk::ShaderStageFlags::COMPUTE;
@@ -241,12 +248,25 @@ pub fn render(
         }
     }
     let gpu_seconds = started.elapsed().as_secs_f64();
-    let words: Vec<f32> = output.read(8 * pixels as usize)?;
+    let words: Vec<f32> = output.read(16 * pixels as usize)?;
     // Sums to means: N x N samples, and the strata with even indices on both axes.
     let all = (samples * samples) as f32;
     let even = samples.div_ceil(2).pow(2) as f32;
-    let radiance: Vec<[f32; 4]> = words.chunks_exact(8).map(|p| [p[0] / all, p[1] / all, p[2] / all, p[3]]).collect();
-    let subset: Vec<[f32; 4]> = words.chunks_exact(8).map(|p| [p[4] / even, p[5] / even, p[6] / even, 0.0]).collect();
+    let mean = |p: &[f32], count: f32, a: f32| [p[0] / count, p[1] / count, p[2] / count, a];
+    let radiance: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[0..4], all, p[3])).collect();
+    let subset: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[4..8], even, 0.0)).collect();
+    let sun: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[8..12], all, 1.0)).collect();
+    let sky: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[12..16], all, 1.0)).collect();
+    // The refracted light: the mean of 1 - F times the deep water's (constant) radiance.
+    let u = &data.uniforms;
+    let sea_radiance: [f32; 3] = std::array::from_fn(|c| u.sea_albedo[c] * u.sky_irradiance[c] / std::f32::consts::PI);
+    let sea: Vec<[f32; 4]> = words
+        .chunks_exact(16)
+        .map(|p| {
+            let weight = p[7] / all;
+            [weight * sea_radiance[0], weight * sea_radiance[1], weight * sea_radiance[2], 1.0]
+        })
+        .collect();
     let stats = crate::output::stats(&radiance);
     let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
     let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
@@ -262,7 +282,7 @@ pub fn render(
         mean_radiance: stats.mean_radiance,
         validation_errors: gpu.validation_counts().error_total() - before,
     };
-    Ok(GroundTruth { width, height, radiance, subset, report })
+    Ok(GroundTruth { width, height, radiance, subset, sun, sky, sea, report })
 }
 
 fn convergence(full: &[[f32; 4]], subset: &[[f32; 4]], mean: [f64; 3]) -> f64 {
@@ -282,5 +302,80 @@ fn convergence(full: &[[f32; 4]], subset: &[[f32; 4]], mean: [f64; 3]) -> f64 {
         0.0
     } else {
         (sum / n).sqrt() / mean_l
+    }
+}
+
+/// What a saved ground truth carries besides its images: enough to refuse comparing it with
+/// another scene or size.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct GroundTruthMeta {
+    pub scene: Scene,
+    pub width: u32,
+    pub height: u32,
+    pub samples_per_axis: u32,
+}
+
+/// The four images of a ground truth on disk: `ref.exr` (total, alpha = resolved), and
+/// `ref.sun.exr`, `ref.sky.exr`, `ref.sea.exr` beside it, plus `ref.exr.json` (GroundTruthMeta).
+pub struct GroundTruthFiles {
+    pub meta: GroundTruthMeta,
+    pub total: Vec<[f32; 4]>,
+    pub sun: Vec<[f32; 4]>,
+    pub sky: Vec<[f32; 4]>,
+    pub sea: Vec<[f32; 4]>,
+}
+
+fn sibling(path: &std::path::Path, suffix: &str) -> std::path::PathBuf {
+    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+    path.with_file_name(format!("{stem}.{suffix}"))
+}
+
+fn meta_path(path: &std::path::Path) -> std::path::PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".json");
+    path.with_file_name(name)
+}
+
+impl GroundTruth {
+    pub fn save(&self, scene: &Scene, path: &std::path::Path) -> Result<()> {
+        use crate::output::{write_exr_rgba, write_text};
+        write_exr_rgba(path, self.width, self.height, &self.radiance)?;
+        write_exr_rgba(&sibling(path, "sun.exr"), self.width, self.height, &self.sun)?;
+        write_exr_rgba(&sibling(path, "sky.exr"), self.width, self.height, &self.sky)?;
+        write_exr_rgba(&sibling(path, "sea.exr"), self.width, self.height, &self.sea)?;
+        let meta = GroundTruthMeta {
+            scene: scene.clone(),
+            width: self.width,
+            height: self.height,
+            samples_per_axis: self.report.samples_per_axis,
+        };
+        write_text(&meta_path(path), &serde_json::to_string_pretty(&meta).expect("serializes"))
+    }
+}
+
+impl GroundTruthFiles {
+    pub fn load(path: &std::path::Path) -> Result<GroundTruthFiles> {
+        let meta_file = meta_path(path);
+        let text = std::fs::read_to_string(&meta_file)
+            .map_err(|e| Error::Io { path: meta_file.clone(), message: format!("ground truth metadata: {e}") })?;
+        let meta: GroundTruthMeta = serde_json::from_str(&text)
+            .map_err(|e| Error::Io { path: meta_file.clone(), message: format!("not ground truth metadata: {e}") })?;
+        let read = |p: &std::path::Path| -> Result<Vec<[f32; 4]>> {
+            let (w, h, pixels) = crate::output::read_exr(p)?;
+            if (w, h) != (meta.width, meta.height) {
+                return Err(Error::Io {
+                    path: p.to_owned(),
+                    message: format!("is {w}x{h}, its metadata says {}x{}", meta.width, meta.height),
+                });
+            }
+            Ok(pixels)
+        };
+        Ok(GroundTruthFiles {
+            total: read(path)?,
+            sun: read(&sibling(path, "sun.exr"))?,
+            sky: read(&sibling(path, "sky.exr"))?,
+            sea: read(&sibling(path, "sea.exr"))?,
+            meta,
+        })
     }
 }

@@ -53,7 +53,8 @@ enum Command {
         frames: u32,
     },
     /// Ground truth: N x N stratified samples per pixel, every wave as exact geometry, to linear EXR
-    /// (alpha 0 marks pixels whose samples cannot resolve the shortest wave).
+    /// (alpha 0 marks pixels whose samples cannot resolve the shortest wave), with the reflected
+    /// sun, reflected sky and refracted sea light beside it (NAME.sun.exr, ...) and NAME.exr.json.
     Reference {
         #[arg(long)]
         scene: Option<PathBuf>,
@@ -152,7 +153,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                     }
                 }
             })?;
-            ocean::output::write_exr_rgba(&out, width, height, &truth.radiance)?;
+            truth.save(&scene, &out)?;
             if let Some(path) = png {
                 let rgba = ocean::output::tonemap(&truth.radiance, scene.render.exposure);
                 ocean::output::write_png(&path, width, height, &rgba)?;

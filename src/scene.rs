@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::Path;
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Camera {
     /// Height of the eye above the mean sea level.
@@ -18,7 +18,7 @@ pub struct Camera {
     pub fov_y_deg: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sun {
     pub elevation_deg: f64,
@@ -26,14 +26,14 @@ pub struct Sun {
     pub azimuth_deg: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sky {
     /// Preetham turbidity: 2 very clear, 3 clear, 6 hazy.
     pub turbidity: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Wind {
     /// Wind speed driving the Pierson-Moskowitz spectrum.
@@ -42,7 +42,7 @@ pub struct Wind {
     pub direction_deg: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Waves {
     pub count: u32,
@@ -51,7 +51,7 @@ pub struct Waves {
     pub seed: u64,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Render {
     /// Projected-grid cell size in pixels.
@@ -63,7 +63,7 @@ pub struct Render {
     pub sky_anisotropy: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize, Default)]
 #[serde(deny_unknown_fields, default)]
 pub struct Scene {
     pub camera: Camera,
