@@ -6,10 +6,12 @@
 pub mod app;
 pub mod bench;
 pub mod error;
+pub mod errorbench;
 pub mod frame;
 pub mod groundtruth;
 pub mod output;
 pub mod passes;
+pub mod plot;
 pub mod reference;
 pub mod renderer;
 pub mod report;

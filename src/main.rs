@@ -86,6 +86,21 @@ enum Command {
 
 #[derive(Subcommand)]
 enum Bench {
+    /// Error against GPU time of every method and setting, against a ground truth of the scene.
+    ErrorVsTime {
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Ground truth made by `ocean reference` for this scene (its size is the bench's size).
+        #[arg(long)]
+        reference: PathBuf,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+        /// Timed frames per setting, after one warm-up frame.
+        #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        #[arg(long)]
+        device: Option<String>,
+    },
     /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080.
     Speed {
         #[arg(long, default_value = "scenes")]
@@ -176,6 +191,16 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 r.validation_errors,
                 r.nonfinite_pixels
             );
+            Ok(())
+        }
+        Command::Bench { bench: Bench::ErrorVsTime { scene, reference, out, frames, device } } => {
+            let (scene, name) = match scene {
+                Some(path) => (Scene::load(&path)?, path.display().to_string()),
+                None => (Scene::default(), "scenes/default.toml".to_owned()),
+            };
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            ocean::errorbench::run(&gpu, &scene, &name, &reference, frames, &out)?;
+            println!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {

@@ -1,0 +1,247 @@
+//! Error against run time: every method at several quality settings, timed on the GPU and compared
+//! with a ground truth, in total and per term (reflected sun, reflected sky, refracted sea) and
+//! per distance band. Writes CSVs, a markdown table and a plot with the Pareto front.
+
+use crate::app::median;
+use crate::error::{Error, Result};
+use crate::frame::CameraFrame;
+use crate::groundtruth::GroundTruthFiles;
+use crate::output::write_text;
+use crate::passes::ocean::{Method, ShaderConfig, Terms};
+use crate::renderer::{Options, Renderer};
+use crate::scene::Scene;
+use crate::vk::gpu::Gpu;
+use crate::waves;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Distance bands (m) for the per-distance table: the near field to the horizon.
+pub const BANDS_M: [f64; 9] = [0.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, f64::INFINITY];
+const TERMS: [&str; 4] = ["total", "sun", "sky", "sea"];
+
+/// One configuration of the renderer.
+#[derive(Debug, Clone)]
+pub struct Setting {
+    pub method: Method,
+    pub label: String,
+    pub scene: Scene,
+    pub ssaa: u32,
+}
+
+/// RMSE (kcd/m^2, Rec. 709 luminance) and signed relative energy error per term.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct TermErrors {
+    pub rmse: [f64; 4],
+    pub energy_error: [f64; 4],
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Row {
+    pub method: String,
+    pub setting: String,
+    pub gpu_ms: f64,
+    pub all: TermErrors,
+    /// Per distance band: (pixels, unresolved fraction in the ground truth, errors).
+    pub bands: Vec<(usize, f64, TermErrors)>,
+}
+
+/// The settings benched for every method: the default, finer and coarser grids, fewer trains,
+/// and supersampling.
+pub fn settings(scene: &Scene) -> Vec<Setting> {
+    let mut out = Vec::new();
+    for method in [Method::Full, Method::ConstantBrdf, Method::NoFilter] {
+        let with = |label: String, scene: Scene, ssaa: u32| Setting { method, label, scene, ssaa };
+        out.push(with("default".into(), scene.clone(), 1));
+        for cell in [4.0, 16.0] {
+            let mut s = scene.clone();
+            s.render.grid_cell_px = cell;
+            out.push(with(format!("grid_cell_px={cell}"), s, 1));
+        }
+        let mut fewer = scene.clone();
+        fewer.waves.count = (scene.waves.count / 2).max(1);
+        out.push(with(format!("waves={}", fewer.waves.count), fewer, 1));
+        for k in [2, 3] {
+            out.push(with(format!("ssaa={k}"), scene.clone(), k));
+        }
+    }
+    out
+}
+
+fn luminance(p: [f32; 4]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+}
+
+/// Errors of `images` (total, sun, sky, sea) against the ground truth over the pixels `select`ed.
+fn errors(images: &[Vec<[f32; 4]>; 4], truth: &[&[[f32; 4]]; 4], select: &[usize]) -> TermErrors {
+    let mut e = TermErrors::default();
+    if select.is_empty() {
+        return e;
+    }
+    for t in 0..4 {
+        let (mut sq, mut sum_m, mut sum_r) = (0.0, 0.0, 0.0);
+        for &i in select {
+            let (m, r) = (luminance(images[t][i]), luminance(truth[t][i]));
+            sq += (m - r) * (m - r);
+            sum_m += m;
+            sum_r += r;
+        }
+        let n = select.len() as f64;
+        e.rmse[t] = (sq / n).sqrt();
+        e.energy_error[t] = if sum_r > 0.0 { (sum_m - sum_r) / sum_r } else { 0.0 };
+    }
+    e
+}
+
+pub fn run(
+    gpu: &Gpu,
+    scene: &Scene,
+    scene_name: &str,
+    reference: &Path,
+    frames: u32,
+    out_dir: &Path,
+) -> Result<Vec<Row>> {
+    let truth = GroundTruthFiles::load(reference)?;
+    let (w, h) = (truth.meta.width, truth.meta.height);
+    if truth.meta.scene != *scene {
+        return Err(Error::Argument(format!(
+            "reference {} was made for another scene than {scene_name}: make it with `ocean reference --scene {scene_name}`",
+            reference.display()
+        )));
+    }
+    let wave_set = waves::generate(scene);
+    let camera = CameraFrame::new(scene, &wave_set, w, h);
+    // Sea pixels by distance band; the whole sea for the overall numbers.
+    let mut bands: Vec<Vec<usize>> = vec![Vec::new(); BANDS_M.len() - 1];
+    let mut sea = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            if let Some(d) = camera.pixel_distance(x, y, w, h) {
+                let i = (y * w + x) as usize;
+                sea.push(i);
+                let band = BANDS_M.windows(2).position(|b| d >= b[0] && d < b[1]).expect("bands cover [0, inf)");
+                bands[band].push(i);
+            }
+        }
+    }
+    let truth_images = [truth.total.as_slice(), truth.sun.as_slice(), truth.sky.as_slice(), truth.sea.as_slice()];
+    let mut rows = Vec::new();
+    for setting in settings(scene) {
+        let shader = ShaderConfig { terms: Terms::ALL, method: setting.method };
+        let mut renderer = Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa })?;
+        let total = renderer.render(&setting.scene)?; // warm-up, and the image
+        let mut times = Vec::new();
+        for _ in 0..frames {
+            times.push(renderer.render(&setting.scene)?.pass_ms.iter().map(|(_, ms)| ms).sum::<f64>());
+        }
+        drop(renderer);
+        times.sort_by(f64::total_cmp);
+        let only = |sun, sky, sea| -> Result<Vec<[f32; 4]>> {
+            let shader = ShaderConfig { terms: Terms { sun, sky, sea }, method: setting.method };
+            let mut r = Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa })?;
+            Ok(r.render(&setting.scene)?.hdr)
+        };
+        let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?];
+        let band_rows = bands
+            .iter()
+            .map(|b| {
+                let unresolved = b.iter().filter(|&&i| truth.total[i][3] == 0.0).count() as f64 / b.len().max(1) as f64;
+                (b.len(), unresolved, errors(&images, &truth_images, b))
+            })
+            .collect();
+        let row = Row {
+            method: setting.method.name().into(),
+            setting: setting.label.clone(),
+            gpu_ms: median(&times),
+            all: errors(&images, &truth_images, &sea),
+            bands: band_rows,
+        };
+        println!(
+            "{:<14} {:<18} {:7.1} ms  rmse {:8.4}  energy {:+7.3}",
+            row.method, row.setting, row.gpu_ms, row.all.rmse[0], row.all.energy_error[0]
+        );
+        rows.push(row);
+    }
+    write_outputs(&rows, out_dir, scene_name, reference, w, h, frames)?;
+    Ok(rows)
+}
+
+fn term_columns() -> String {
+    TERMS.iter().map(|t| format!(",rmse_{t},energy_error_{t}")).collect()
+}
+
+fn term_values(e: &TermErrors) -> String {
+    (0..4).map(|t| format!(",{:.6},{:.6}", e.rmse[t], e.energy_error[t])).collect()
+}
+
+fn write_outputs(
+    rows: &[Row],
+    dir: &Path,
+    scene_name: &str,
+    reference: &Path,
+    w: u32,
+    h: u32,
+    frames: u32,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::Io { path: dir.to_owned(), message: e.to_string() })?;
+    let mut csv = format!("method,setting,gpu_ms{}\n", term_columns());
+    for r in rows {
+        writeln!(csv, "{},{},{:.3}{}", r.method, r.setting, r.gpu_ms, term_values(&r.all)).unwrap();
+    }
+    write_text(&dir.join("error_vs_time.csv"), &csv)?;
+    let mut by_distance =
+        format!("method,setting,band,distance_min_m,distance_max_m,pixels,unresolved_fraction{}\n", term_columns());
+    for r in rows {
+        for (b, (n, unresolved, e)) in r.bands.iter().enumerate() {
+            writeln!(
+                by_distance,
+                "{},{},{b},{},{},{n},{unresolved:.4}{}",
+                r.method,
+                r.setting,
+                BANDS_M[b],
+                BANDS_M[b + 1],
+                term_values(e)
+            )
+            .unwrap();
+        }
+    }
+    write_text(&dir.join("error_by_distance.csv"), &by_distance)?;
+    let front = pareto_front(rows);
+    let mut md = format!(
+        "Error against GPU time: scene `{scene_name}` at {w}x{h}, reference `{}`, median of {frames} frames.\n\
+         RMSE of Rec. 709 luminance (kcd/m^2) over the sea; energy error = (mean - reference mean) / reference mean.\n\
+         `*` marks the Pareto front (no other row is both faster and more accurate in total).\n\n\
+         | method | setting | GPU ms | RMSE total | energy total | energy sun | energy sky | energy sea |\n|---|---|---|---|---|---|---|---|\n",
+        reference.display()
+    );
+    for (i, r) in rows.iter().enumerate() {
+        let star = if front.contains(&i) { " *" } else { "" };
+        writeln!(
+            md,
+            "| {}{star} | {} | {:.1} | {:.4} | {:+.3} | {:+.3} | {:+.3} | {:+.3} |",
+            r.method,
+            r.setting,
+            r.gpu_ms,
+            r.all.rmse[0],
+            r.all.energy_error[0],
+            r.all.energy_error[1],
+            r.all.energy_error[2],
+            r.all.energy_error[3]
+        )
+        .unwrap();
+    }
+    write_text(&dir.join("error_vs_time.md"), &md)?;
+    crate::plot::error_vs_time(&dir.join("error_vs_time.png"), rows, &front)
+}
+
+/// Indices of rows no other row beats in both GPU time and total RMSE.
+pub fn pareto_front(rows: &[Row]) -> Vec<usize> {
+    (0..rows.len())
+        .filter(|&i| {
+            !rows.iter().any(|o| {
+                o.gpu_ms <= rows[i].gpu_ms
+                    && o.all.rmse[0] <= rows[i].all.rmse[0]
+                    && (o.gpu_ms < rows[i].gpu_ms || o.all.rmse[0] < rows[i].all.rmse[0])
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,88 @@
+//! A small raster plot of error against GPU time (no text: the markdown beside it carries the
+//! numbers). Axes start at zero; one tick every tenth of the range; methods by colour; the Pareto
+//! front as a grey line.
+
+use crate::error::{Error, Result};
+use crate::errorbench::Row;
+use image::{Rgb, RgbImage};
+use std::path::Path;
+
+const W: u32 = 720;
+const H: u32 = 480;
+const MARGIN: i32 = 40;
+
+/// full: blue, constant-brdf: orange, no-filter: red (the markdown table says so too).
+fn colour(method: &str) -> Rgb<u8> {
+    match method {
+        "full" => Rgb([31, 119, 180]),
+        "constant-brdf" => Rgb([255, 127, 14]),
+        _ => Rgb([214, 39, 40]),
+    }
+}
+
+fn put(img: &mut RgbImage, x: i32, y: i32, c: Rgb<u8>) {
+    if x >= 0 && y >= 0 && (x as u32) < W && (y as u32) < H {
+        img.put_pixel(x as u32, y as u32, c);
+    }
+}
+
+fn line(img: &mut RgbImage, (x0, y0): (i32, i32), (x1, y1): (i32, i32), c: Rgb<u8>) {
+    let steps = (x1 - x0).abs().max((y1 - y0).abs()).max(1);
+    for s in 0..=steps {
+        let t = s as f64 / steps as f64;
+        put(img, x0 + ((x1 - x0) as f64 * t).round() as i32, y0 + ((y1 - y0) as f64 * t).round() as i32, c);
+    }
+}
+
+fn disc(img: &mut RgbImage, (cx, cy): (i32, i32), r: i32, c: Rgb<u8>) {
+    for y in -r..=r {
+        for x in -r..=r {
+            if x * x + y * y <= r * r {
+                put(img, cx + x, cy + y, c);
+            }
+        }
+    }
+}
+
+pub fn error_vs_time(path: &Path, rows: &[Row], front: &[usize]) -> Result<()> {
+    let mut img = RgbImage::from_pixel(W, H, Rgb([255, 255, 255]));
+    let max_t = rows.iter().map(|r| r.gpu_ms).fold(0.0, f64::max).max(1e-9) * 1.1;
+    let max_e = rows.iter().map(|r| r.all.rmse[0]).fold(0.0, f64::max).max(1e-9) * 1.1;
+    let to_px = |t: f64, e: f64| {
+        let x = MARGIN + ((t / max_t) * (W as i32 - 2 * MARGIN) as f64).round() as i32;
+        let y = H as i32 - MARGIN - ((e / max_e) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
+        (x, y)
+    };
+    let axis = Rgb([0, 0, 0]);
+    line(&mut img, to_px(0.0, 0.0), to_px(max_t, 0.0), axis);
+    line(&mut img, to_px(0.0, 0.0), to_px(0.0, max_e), axis);
+    for i in 1..=10 {
+        let (x, y) = to_px(max_t * i as f64 / 10.0, 0.0);
+        line(&mut img, (x, y), (x, y + 5), axis);
+        let (x, y) = to_px(0.0, max_e * i as f64 / 10.0);
+        line(&mut img, (x - 5, y), (x, y), axis);
+    }
+    let mut on_front: Vec<&Row> = front.iter().map(|&i| &rows[i]).collect();
+    on_front.sort_by(|a, b| a.gpu_ms.total_cmp(&b.gpu_ms));
+    for pair in on_front.windows(2) {
+        line(
+            &mut img,
+            to_px(pair[0].gpu_ms, pair[0].all.rmse[0]),
+            to_px(pair[1].gpu_ms, pair[1].all.rmse[0]),
+            Rgb([150, 150, 150]),
+        );
+    }
+    for (i, r) in rows.iter().enumerate() {
+        let p = to_px(r.gpu_ms, r.all.rmse[0]);
+        if front.contains(&i) {
+            disc(&mut img, p, 7, Rgb([0, 0, 0]));
+        }
+        disc(&mut img, p, 5, colour(&r.method));
+    }
+    let mut partial = path.as_os_str().to_owned();
+    partial.push(".partial");
+    let partial = Path::new(&partial);
+    img.save_with_format(partial, image::ImageFormat::Png)
+        .and_then(|_| std::fs::rename(partial, path).map_err(image::ImageError::IoError))
+        .map_err(|e| Error::Io { path: path.to_owned(), message: e.to_string() })
+}
