@@ -28,7 +28,8 @@ pub struct Setting {
     pub ssaa: u32,
 }
 
-/// RMSE (kcd/m^2, Rec. 709 luminance) and signed relative energy error per term.
+/// RMSE (kcd/m^2, Rec. 709 luminance) and signed relative energy error per term; the energy
+/// error is NaN where the ground truth has no energy in that term (written as an empty field).
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct TermErrors {
     pub rmse: [f64; 4],
@@ -87,7 +88,7 @@ fn errors(images: &[Vec<[f32; 4]>; 4], truth: &[&[[f32; 4]]; 4], select: &[usize
         }
         let n = select.len() as f64;
         e.rmse[t] = (sq / n).sqrt();
-        e.energy_error[t] = if sum_r > 0.0 { (sum_m - sum_r) / sum_r } else { 0.0 };
+        e.energy_error[t] = if sum_r > 0.0 { (sum_m - sum_r) / sum_r } else { f64::NAN };
     }
     e
 }
@@ -170,7 +171,8 @@ fn term_columns() -> String {
 }
 
 fn term_values(e: &TermErrors) -> String {
-    (0..4).map(|t| format!(",{:.6},{:.6}", e.rmse[t], e.energy_error[t])).collect()
+    let energy = |v: f64| if v.is_finite() { format!("{v:.6}") } else { String::new() };
+    (0..4).map(|t| format!(",{:.6},{}", e.rmse[t], energy(e.energy_error[t]))).collect()
 }
 
 fn write_outputs(
