@@ -76,7 +76,7 @@ fn luminance(p: [f32; 4]) -> f64 {
 fn errors(images: &[Vec<[f32; 4]>; 4], truth: &[&[[f32; 4]]; 4], select: &[usize]) -> TermErrors {
     let mut e = TermErrors::default();
     if select.is_empty() {
-        return e;
+        return TermErrors { rmse: [f64::NAN; 4], energy_error: [f64::NAN; 4] };
     }
     for t in 0..4 {
         let (mut sq, mut sum_m, mut sum_r) = (0.0, 0.0, 0.0);
@@ -171,8 +171,8 @@ fn term_columns() -> String {
 }
 
 fn term_values(e: &TermErrors) -> String {
-    let energy = |v: f64| if v.is_finite() { format!("{v:.6}") } else { String::new() };
-    (0..4).map(|t| format!(",{:.6},{}", e.rmse[t], energy(e.energy_error[t]))).collect()
+    let value = |v: f64| if v.is_finite() { format!("{v:.6}") } else { String::new() };
+    (0..4).map(|t| format!(",{},{}", value(e.rmse[t]), value(e.energy_error[t]))).collect()
 }
 
 fn write_outputs(
@@ -232,7 +232,14 @@ fn write_outputs(
         .unwrap();
     }
     write_text(&dir.join("error_vs_time.md"), &md)?;
-    crate::plot::error_vs_time(&dir.join("error_vs_time.png"), rows, &front)
+    crate::plot::error_vs_time(&dir.join("error_vs_time.png"), rows, &front)?;
+    // Energy against distance of each method's default setting, sun and sky (indices 1 and 2).
+    let series: Vec<(&str, Vec<[f64; 2]>)> = rows
+        .iter()
+        .filter(|r| r.setting == "default")
+        .map(|r| (r.method.as_str(), r.bands.iter().map(|(_, _, e)| [e.energy_error[1], e.energy_error[2]]).collect()))
+        .collect();
+    crate::plot::energy_by_distance(&dir.join("energy_by_distance.png"), &series)
 }
 
 /// Indices of rows no other row beats in both GPU time and total RMSE.

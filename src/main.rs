@@ -2,7 +2,15 @@
 
 use clap::{Parser, Subcommand};
 use ocean::app::{self, RenderRequest};
-use ocean::passes::ocean::{Method, ShaderConfig};
+use ocean::passes::ocean::{Method, ShaderConfig, Terms};
+
+/// The sea's radiance terms, for --terms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Term {
+    Sun,
+    Sky,
+    Sea,
+}
 use ocean::renderer::Options;
 use ocean::scene::Scene;
 use std::io::IsTerminal;
@@ -48,6 +56,9 @@ enum Command {
         /// Supersampling: K x K samples per pixel, box-filtered in linear radiance.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
         ssaa: u32,
+        /// Which of the sea's terms to render (comma-separated: sun, sky, sea).
+        #[arg(long, value_delimiter = ',', default_value = "sun,sky,sea")]
+        terms: Vec<Term>,
         /// Render this many frames; timings are then the median after the first (warm-up).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
@@ -67,7 +78,8 @@ enum Command {
         samples: u32,
         #[arg(long, default_value = "reference.exr")]
         out: PathBuf,
-        /// Also write a tone-mapped PNG (the scene's exposure).
+        /// Also write tone-mapped PNGs (the scene's exposure): the total, and NAME.sun.png,
+        /// NAME.sky.png, NAME.sea.png beside it.
         #[arg(long)]
         png: Option<PathBuf>,
         #[arg(long)]
@@ -117,12 +129,17 @@ enum Bench {
 
 fn run(cli: Cli) -> ocean::Result<()> {
     match cli.command {
-        Command::Render { scene, width, height, out, exr, report, validation, device, method, ssaa, frames } => {
+        Command::Render { scene, width, height, out, exr, report, validation, device, method, ssaa, terms, frames } => {
             let scene = match scene {
                 Some(path) => Scene::load(&path)?,
                 None => Scene::default(),
             };
-            let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa };
+            let terms = Terms {
+                sun: terms.contains(&Term::Sun),
+                sky: terms.contains(&Term::Sky),
+                sea: terms.contains(&Term::Sea),
+            };
+            let options = Options { shader: ShaderConfig { method, terms }, ssaa };
             let request = RenderRequest {
                 scene,
                 width,
@@ -170,8 +187,13 @@ fn run(cli: Cli) -> ocean::Result<()> {
             })?;
             truth.save(&scene, &out)?;
             if let Some(path) = png {
-                let rgba = ocean::output::tonemap(&truth.radiance, scene.render.exposure);
-                ocean::output::write_png(&path, width, height, &rgba)?;
+                // The total, and each term beside it (NAME.sun.png, NAME.sky.png, NAME.sea.png).
+                let stem = path.file_stem().unwrap_or_default().to_string_lossy().into_owned();
+                let images = [("", &truth.radiance), (".sun", &truth.sun), (".sky", &truth.sky), (".sea", &truth.sea)];
+                for (suffix, pixels) in images {
+                    let rgba = ocean::output::tonemap(pixels, scene.render.exposure);
+                    ocean::output::write_png(&path.with_file_name(format!("{stem}{suffix}.png")), width, height, &rgba)?;
+                }
             }
             if let Some(path) = report {
                 let json = serde_json::to_string_pretty(&truth.report).expect("report serializes");

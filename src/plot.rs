@@ -79,10 +79,62 @@ pub fn error_vs_time(path: &Path, rows: &[Row], front: &[usize]) -> Result<()> {
         }
         disc(&mut img, p, 5, colour(&r.method));
     }
+    save(&img, path)
+}
+
+/// Writes through `<path>.partial`, then renames.
+fn save(img: &RgbImage, path: &Path) -> Result<()> {
     let mut partial = path.as_os_str().to_owned();
     partial.push(".partial");
     let partial = Path::new(&partial);
     img.save_with_format(partial, image::ImageFormat::Png)
         .and_then(|_| std::fs::rename(partial, path).map_err(image::ImageError::IoError))
         .map_err(|e| Error::Io { path: path.to_owned(), message: e.to_string() })
+}
+
+/// Energy error against distance band, for the sun (left half) and the sky (right half) of each
+/// method's default setting: a zero line, y from -1 (all energy lost) to +2 (three times the
+/// reference), one tick per band and per 0.5 of error; missing values leave gaps.
+pub fn energy_by_distance(path: &Path, series: &[(&str, Vec<[f64; 2]>)]) -> Result<()> {
+    let mut img = RgbImage::from_pixel(W, H, Rgb([255, 255, 255]));
+    let (lo, hi) = (-1.0, 2.0);
+    let bands = series.first().map_or(1, |s| s.1.len()).max(2);
+    let panel_w = (W as i32 - 3 * MARGIN) / 2;
+    let to_px = |panel: i32, band: usize, e: f64| {
+        let x0 = MARGIN + panel * (panel_w + MARGIN);
+        let x = x0 + (band as f64 / (bands - 1) as f64 * panel_w as f64).round() as i32;
+        let y = H as i32 - MARGIN - (((e.clamp(lo, hi) - lo) / (hi - lo)) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
+        (x, y)
+    };
+    let axis = Rgb([0, 0, 0]);
+    for panel in 0..2 {
+        line(&mut img, to_px(panel, 0, 0.0), to_px(panel, bands - 1, 0.0), Rgb([120, 120, 120]));
+        line(&mut img, to_px(panel, 0, lo), to_px(panel, 0, hi), axis);
+        for b in 0..bands {
+            let (x, y) = to_px(panel, b, lo);
+            line(&mut img, (x, y), (x, y + 5), axis);
+        }
+        for k in 0..=6 {
+            let (x, y) = to_px(panel, 0, lo + 0.5 * k as f64);
+            line(&mut img, (x - 5, y), (x, y), axis);
+        }
+    }
+    for (method, values) in series {
+        for panel in 0..2usize {
+            let points: Vec<Option<(i32, i32)>> = values
+                .iter()
+                .enumerate()
+                .map(|(b, v)| v[panel].is_finite().then(|| to_px(panel as i32, b, v[panel])))
+                .collect();
+            for pair in points.windows(2) {
+                if let (Some(a), Some(b)) = (pair[0], pair[1]) {
+                    line(&mut img, a, b, colour(method));
+                }
+            }
+            for p in points.into_iter().flatten() {
+                disc(&mut img, p, 4, colour(method));
+            }
+        }
+    }
+    save(&img, path)
 }
