@@ -192,7 +192,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 let images = [("", &truth.radiance), (".sun", &truth.sun), (".sky", &truth.sky), (".sea", &truth.sea)];
                 for (suffix, pixels) in images {
                     let rgba = ocean::output::tonemap(pixels, scene.render.exposure);
-                    ocean::output::write_png(&path.with_file_name(format!("{stem}{suffix}.png")), width, height, &rgba)?;
+                    ocean::output::write_png(
+                        &path.with_file_name(format!("{stem}{suffix}.png")),
+                        width,
+                        height,
+                        &rgba,
+                    )?;
                 }
             }
             if let Some(path) = report {

@@ -1,6 +1,5 @@
-//! A small raster plot of error against GPU time (no text: the markdown beside it carries the
-//! numbers). Axes start at zero; one tick every tenth of the range; methods by colour; the Pareto
-//! front as a grey line.
+//! Small raster plots for the error bench (no text: the markdown beside them carries the numbers).
+//! Methods by colour: full blue, constant-brdf orange, no-filter red.
 
 use crate::error::{Error, Result};
 use crate::errorbench::Row;
@@ -44,22 +43,27 @@ fn disc(img: &mut RgbImage, (cx, cy): (i32, i32), r: i32, c: Rgb<u8>) {
     }
 }
 
+/// Error against GPU time: time from zero, error over the rows' range, a tick every tenth of each
+/// axis, the Pareto front as a grey line with its points ringed.
 pub fn error_vs_time(path: &Path, rows: &[Row], front: &[usize]) -> Result<()> {
     let mut img = RgbImage::from_pixel(W, H, Rgb([255, 255, 255]));
     let max_t = rows.iter().map(|r| r.gpu_ms).fold(0.0, f64::max).max(1e-9) * 1.1;
-    let max_e = rows.iter().map(|r| r.all.rmse[0]).fold(0.0, f64::max).max(1e-9) * 1.1;
+    let errors = rows.iter().map(|r| r.all.rmse[0]).filter(|e| e.is_finite());
+    let (min_e, max_e) = errors.fold((f64::INFINITY, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
+    let span = (max_e - min_e).max(1e-9);
+    let (min_e, max_e) = ((min_e - 0.05 * span).max(0.0), max_e + 0.05 * span);
     let to_px = |t: f64, e: f64| {
         let x = MARGIN + ((t / max_t) * (W as i32 - 2 * MARGIN) as f64).round() as i32;
-        let y = H as i32 - MARGIN - ((e / max_e) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
+        let y = H as i32 - MARGIN - (((e - min_e) / (max_e - min_e)) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
         (x, y)
     };
     let axis = Rgb([0, 0, 0]);
-    line(&mut img, to_px(0.0, 0.0), to_px(max_t, 0.0), axis);
-    line(&mut img, to_px(0.0, 0.0), to_px(0.0, max_e), axis);
+    line(&mut img, to_px(0.0, min_e), to_px(max_t, min_e), axis);
+    line(&mut img, to_px(0.0, min_e), to_px(0.0, max_e), axis);
     for i in 1..=10 {
-        let (x, y) = to_px(max_t * i as f64 / 10.0, 0.0);
+        let (x, y) = to_px(max_t * i as f64 / 10.0, min_e);
         line(&mut img, (x, y), (x, y + 5), axis);
-        let (x, y) = to_px(0.0, max_e * i as f64 / 10.0);
+        let (x, y) = to_px(0.0, min_e + (max_e - min_e) * i as f64 / 10.0);
         line(&mut img, (x - 5, y), (x, y), axis);
     }
     let mut on_front: Vec<&Row> = front.iter().map(|&i| &rows[i]).collect();
@@ -103,7 +107,8 @@ pub fn energy_by_distance(path: &Path, series: &[(&str, Vec<[f64; 2]>)]) -> Resu
     let to_px = |panel: i32, band: usize, e: f64| {
         let x0 = MARGIN + panel * (panel_w + MARGIN);
         let x = x0 + (band as f64 / (bands - 1) as f64 * panel_w as f64).round() as i32;
-        let y = H as i32 - MARGIN - (((e.clamp(lo, hi) - lo) / (hi - lo)) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
+        let y =
+            H as i32 - MARGIN - (((e.clamp(lo, hi) - lo) / (hi - lo)) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
         (x, y)
     };
     let axis = Rgb([0, 0, 0]);
