@@ -79,9 +79,13 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
     let mut rows = Vec::new();
     for (name, scene) in &scenes {
         let row = time_scene(gpu, name, scene, 1024, 768, frames)?;
-        println!(
+        crate::say!(
             "{:<14} {}x{}  median {:7.1} ms  fastest {:7.1} ms",
-            row.scene, row.width, row.height, row.median_ms["total"], row.fastest_ms["total"]
+            row.scene,
+            row.width,
+            row.height,
+            row.median_ms["total"],
+            row.fastest_ms["total"]
         );
         rows.push(row);
     }
@@ -92,7 +96,7 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
         let m = renderer.memory();
         (m.used_bytes as f64 / 1048576.0, m.reserved_bytes as f64 / 1048576.0)
     };
-    println!("memory at 1920x1080: {used:.1} MiB used, {reserved:.1} MiB reserved (target < {TARGET_MIB} MiB)");
+    crate::say!("memory at 1920x1080: {used:.1} MiB used, {reserved:.1} MiB reserved (target < {TARGET_MIB} MiB)");
     let report = SpeedReport {
         device: gpu.device.name.clone(),
         frames,

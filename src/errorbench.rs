@@ -156,9 +156,13 @@ pub fn run(
             all: errors(&images, &truth_images, &sea),
             bands: band_rows,
         };
-        println!(
+        crate::say!(
             "{:<14} {:<18} {:7.1} ms  rmse {:8.4}  energy {:+7.3}",
-            row.method, row.setting, row.gpu_ms, row.all.rmse[0], row.all.energy_error[0]
+            row.method,
+            row.setting,
+            row.gpu_ms,
+            row.all.rmse[0],
+            row.all.energy_error[0]
         );
         rows.push(row);
     }

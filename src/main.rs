@@ -158,7 +158,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 Some(ms) if frames == 1 => format!("{ms:.1} ms (first frame, with the driver's shader compilation)"),
                 Some(ms) => format!("{ms:.1} ms (median of {} frames after the first)", frames - 1),
             };
-            println!(
+            ocean::say!(
                 "{}: {}x{} on {}, GPU {total}, {} validation errors, {} non-finite pixels",
                 out.display(),
                 report.width,
@@ -206,7 +206,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             }
             let r = &truth.report;
             let convergence = r.convergence_rms_relative.map_or("n/a".into(), |c| format!("{:.2}%", 100.0 * c));
-            println!(
+            ocean::say!(
                 "{}: {}x{} with {}x{} samples per pixel in {:.1} s; convergence {convergence}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
                 out.display(),
                 width,
@@ -227,13 +227,13 @@ fn run(cli: Cli) -> ocean::Result<()> {
             };
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::errorbench::run(&gpu, &scene, &name, &reference, frames, &out)?;
-            println!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());
+            ocean::say!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::bench::speed(&gpu, &scenes, frames, &out)?;
-            println!("wrote {}/speed.md and speed.json", out.display());
+            ocean::say!("wrote {}/speed.md and speed.json", out.display());
             Ok(())
         }
     }

@@ -11,6 +11,16 @@ pub struct ImageStats {
     pub mean_radiance: [f64; 3],
 }
 
+/// Prints a line to standard output; a closed pipe (`ocean ... | head`) is not an error worth a
+/// panic, so write failures are ignored.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 pub fn stats(hdr: &[[f32; 4]]) -> ImageStats {
     let mut nonfinite = 0;
     let mut sum = [0.0f64; 3];
