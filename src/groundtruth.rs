@@ -64,7 +64,7 @@ pub struct GroundTruthReport {
     pub height: u32,
     pub samples_per_axis: u32,
     pub gpu_seconds: f64,
-    /// RMS over resolved pixels of |L_N - L_(N/2)| / mean L: the N x N estimate against its
+    /// RMS over all pixels of |L_N - L_(N/2)| / mean L: the N x N estimate against its
     /// (N/2) x (N/2) subset of strata, a measure of how far the estimate still moves.
     pub convergence_rms_relative: Option<f64>,
     /// Pixels whose sub-samples step more than half a turn of the shortest wave.
@@ -289,9 +289,6 @@ fn convergence(full: &[[f32; 4]], subset: &[[f32; 4]], mean: [f64; 3]) -> f64 {
     let mean_l = (mean[0] + mean[1] + mean[2]) / 3.0;
     let (mut sum, mut n) = (0.0, 0.0);
     for (a, b) in full.iter().zip(subset) {
-        if a[3] == 0.0 {
-            continue;
-        }
         for c in 0..3 {
             let d = (a[c] - b[c]) as f64;
             sum += d * d;

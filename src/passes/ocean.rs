@@ -62,7 +62,8 @@ impl Default for ShaderConfig {
 pub struct OceanPass<'g> {
     bindings: Bindings<'g>,
     ocean: Owned<'g, vk::Pipeline>,
-    sky: Owned<'g, vk::Pipeline>,
+    /// The sky where no sea was drawn; absent when only some terms are rendered.
+    sky: Option<Owned<'g, vk::Pipeline>>,
 }
 
 impl<'g> OceanPass<'g> {
@@ -103,20 +104,26 @@ impl<'g> OceanPass<'g> {
                 depth_compare: vk::CompareOp::GREATER, // reversed Z
             },
         )?;
-        let sky = graphics_pipeline(
-            device,
-            bindings.layout(),
-            &GraphicsDesc {
-                name: "sky",
-                vertex: shaders::FULLSCREEN_VERT,
-                fragment: shaders::SKY_FRAG,
-                specialization: None,
-                color_format: HDR_FORMAT,
-                depth_format: DEPTH_FORMAT,
-                depth_write: false,
-                depth_compare: vk::CompareOp::GREATER_OR_EQUAL, // only where depth is still the far clear
-            },
-        )?;
+        // The sky behind the sea belongs to a full picture; a render of some terms only leaves
+        // it out (and clears instead), so that its pixels hold just those terms.
+        let sky = if terms == Terms::ALL {
+            Some(graphics_pipeline(
+                device,
+                bindings.layout(),
+                &GraphicsDesc {
+                    name: "sky",
+                    vertex: shaders::FULLSCREEN_VERT,
+                    fragment: shaders::SKY_FRAG,
+                    specialization: None,
+                    color_format: HDR_FORMAT,
+                    depth_format: DEPTH_FORMAT,
+                    depth_write: false,
+                    depth_compare: vk::CompareOp::GREATER_OR_EQUAL, // only where depth is still the far clear
+                },
+            )?)
+        } else {
+            None
+        };
         Ok(OceanPass { bindings, ocean, sky })
     }
 }
@@ -138,7 +145,9 @@ impl Pass for OceanPass<'_> {
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(r.hdr.view)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE) // every pixel is written: sea or sky
+            // With the sky every pixel is written (sea or sky); without it the rest is cleared.
+            .load_op(if self.sky.is_some() { vk::AttachmentLoadOp::DONT_CARE } else { vk::AttachmentLoadOp::CLEAR })
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: [0.0; 4] } })
             .store_op(vk::AttachmentStoreOp::STORE)];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(r.depth.view)
@@ -172,8 +181,10 @@ impl Pass for OceanPass<'_> {
                 device.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, r.grid_index_count, 1, 0, 0, 0);
             }
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.sky.raw);
-            device.cmd_draw(cmd, 3, 1, 0, 0);
+            if let Some(sky) = &self.sky {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);
+                device.cmd_draw(cmd, 3, 1, 0, 0);
+            }
             device.cmd_end_rendering(cmd);
         }
     }
