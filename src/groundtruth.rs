@@ -156,14 +156,16 @@ pub fn render(
     let pool_info = vk::CommandPoolCreateInfo::default()
         .queue_family_index(device.queue_family)
         .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-    // SAFETY (this and the two calls below): valid create infos on a live device.
+    // SAFETY: valid create info on a live device.
     let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
     let pool = Owned::new(device, pool, "ground truth commands");
     let alloc = vk::CommandBufferAllocateInfo::default()
         .command_pool(pool.raw)
         .level(vk::CommandBufferLevel::PRIMARY)
         .command_buffer_count(1);
+    // SAFETY: one primary buffer from the pool just made.
     let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
+    // SAFETY: a plain fence on a live device.
     let fence = unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
     let fence = Owned::new(device, fence, "ground truth tile done");
 

@@ -86,15 +86,17 @@ impl<'g> Renderer<'g> {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY (this and the calls below): valid create infos on a live device.
+        // SAFETY: valid create info on a live device.
         let command_pool = unsafe { raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
         let command_pool = Owned::new(device, command_pool, "frame commands");
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(command_pool.raw)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: one primary buffer from the pool just made.
         let cmd = unsafe { raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
         device.set_name(cmd, "frame");
+        // SAFETY: a plain fence on a live device.
         let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
         let fence = Owned::new(device, fence, "frame done");
         Ok(Renderer {
@@ -172,6 +174,7 @@ impl<'g> Renderer<'g> {
         unsafe { raw.queue_submit(device.queue, &[submit], self.fence.raw) }.during("vkQueueSubmit")?;
         // SAFETY: waits on and resets our own fence.
         unsafe { raw.wait_for_fences(&[self.fence.raw], true, u64::MAX) }.during("vkWaitForFences")?;
+        // SAFETY: the fence was waited on, so it is signalled and unused.
         unsafe { raw.reset_fences(&[self.fence.raw]) }.during("vkResetFences")?;
         Ok(())
     }

@@ -60,7 +60,7 @@ impl<'g> Resources<'g> {
         if 4 * pixels > limits.max_storage_buffer_range as u64 {
             return Err(Error::Argument(format!(
                 "image size {width}x{height} needs a {} MiB storage buffer; {} allows {} MiB",
-                4 * pixels >> 20,
+                (4 * pixels) >> 20,
                 gpu.device.name,
                 limits.max_storage_buffer_range >> 20
             )));

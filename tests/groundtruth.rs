@@ -130,8 +130,9 @@ fn bad_references_and_sample_counts_are_refused() {
     let dir = temp_dir("mismatch");
     let reference = dir.join("ref.exr");
     groundtruth::render(&gpu, &scene, 16, 12, 1, |_, _| {}).unwrap().save(&scene, &reference).unwrap();
-    let e =
-        errorbench::run(&gpu, &Scene::default(), "scenes/default.toml", &reference, 1, &dir).err().expect("refused");
+    let Err(e) = errorbench::run(&gpu, &Scene::default(), "scenes/default.toml", &reference, 1, &dir) else {
+        panic!("a reference of another scene must be refused");
+    };
     let message = e.to_string();
     assert!(message.contains("ref.exr") && message.contains("scenes/default.toml"), "{message}");
     assert!(!dir.join("error_vs_time.csv").exists(), "nothing written for a refused bench");

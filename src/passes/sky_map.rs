@@ -46,6 +46,7 @@ impl Pass for SkyMapPass<'_> {
         // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
+        // SAFETY: pipeline and set bound above; outside any rendering scope.
         unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
     }
 }

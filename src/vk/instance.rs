@@ -24,6 +24,7 @@ impl Instance {
         // SAFETY: plain enumeration calls on a loaded entry.
         let layers =
             unsafe { entry.enumerate_instance_layer_properties() }.during("vkEnumerateInstanceLayerProperties")?;
+        // SAFETY: plain enumeration on a loaded entry.
         let extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
             .during("vkEnumerateInstanceExtensionProperties")?;
         let has_layer = layers.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));

@@ -72,7 +72,7 @@ impl<'g> Bindings<'g> {
             })
             .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
-        // SAFETY (this and the calls below): valid create infos built from locals.
+        // SAFETY: valid create info built from locals.
         let set_layout =
             unsafe { raw.create_descriptor_set_layout(&info, None) }.during("vkCreateDescriptorSetLayout")?;
         let set_layout = Owned::new(device, set_layout, name);
@@ -82,14 +82,17 @@ impl<'g> Bindings<'g> {
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&set_layouts)
             .push_constant_ranges(if push_bytes > 0 { &push } else { &[] });
+        // SAFETY: valid create info; the set layout is live.
         let pipeline_layout = unsafe { raw.create_pipeline_layout(&info, None) }.during("vkCreatePipelineLayout")?;
         let pipeline_layout = Owned::new(device, pipeline_layout, name);
         let sizes: Vec<_> =
             bindings.iter().map(|&(_, ty, _)| vk::DescriptorPoolSize { ty, descriptor_count: 1 }).collect();
         let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        // SAFETY: valid create info built from locals.
         let pool = unsafe { raw.create_descriptor_pool(&info, None) }.during("vkCreateDescriptorPool")?;
         let pool = Owned::new(device, pool, name);
         let info = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool.raw).set_layouts(&set_layouts);
+        // SAFETY: one set of the layout above from its own pool, sized for it.
         let set = unsafe { raw.allocate_descriptor_sets(&info) }.during("vkAllocateDescriptorSets")?[0];
         device.set_name(set, name);
         Ok(Bindings { device, set, _pool: pool, pipeline_layout, _set_layout: set_layout })

@@ -76,6 +76,7 @@ unsafe extern "system" fn on_message(
         if p.is_null() {
             String::new()
         } else {
+            // SAFETY: the layer passes NUL-terminated strings, live for the call.
             unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
         }
     };
