@@ -63,6 +63,8 @@ pub struct Renderer<'g> {
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
     tracker: Tracker,
+    /// The sun and sky the sky map holds, once built: frames under the same sky skip rebuilding it.
+    sky_in_map: Option<(crate::scene::Sun, crate::scene::Sky)>,
 }
 
 impl<'g> Renderer<'g> {
@@ -112,6 +114,7 @@ impl<'g> Renderer<'g> {
             passes,
             resources,
             tracker: Tracker::default(),
+            sky_in_map: None,
         })
     }
 
@@ -134,7 +137,10 @@ impl<'g> Renderer<'g> {
         resources.set_grid(data.grid.columns, data.grid.rows)?;
         resources.frame_uniforms.write(std::slice::from_ref(&data.uniforms))?;
         resources.waves.write(std::slice::from_ref(data.waves.as_ref()))?;
-        self.submit_frame()?;
+        let sky = (scene.sun.clone(), scene.sky.clone());
+        let sky_current = self.sky_in_map.as_ref() == Some(&sky);
+        self.submit_frame(sky_current)?;
+        self.sky_in_map = Some(sky);
 
         let pixels = self.width as usize * self.height as usize;
         let hdr_bits: Vec<u16> = self.resources.hdr_readback.read(4 * pixels)?;
@@ -151,14 +157,15 @@ impl<'g> Renderer<'g> {
         Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data })
     }
 
-    fn submit_frame(&mut self) -> Result<()> {
+    /// Records and runs one frame; `sky_current`: the sky map already holds this frame's sky.
+    fn submit_frame(&mut self, sky_current: bool) -> Result<()> {
         let device = &self.gpu.device;
         let raw = &device.raw;
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: the previous submission's fence was waited on, so the buffer is not pending.
         unsafe { raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")?;
         self.profiler.reset(raw, self.cmd);
-        for pass in &self.passes {
+        for pass in self.passes.iter().filter(|p| !(sky_current && p.builds_sky_map())) {
             self.profiler.begin(device, self.cmd, pass.name());
             pass.declare(&self.resources, &mut self.tracker);
             self.tracker.flush(raw, self.cmd);

@@ -24,6 +24,10 @@ pub trait Pass {
     /// Declares every resource access of the pass (queued as barriers on the tracker).
     fn declare(&self, resources: &Resources, tracker: &mut Tracker);
     fn record(&self, rec: &mut Recorder, resources: &Resources);
+    /// Whether the pass only (re)builds the sky map, which a frame under the same sky can skip.
+    fn builds_sky_map(&self) -> bool {
+        false
+    }
 }
 
 pub fn dispatch_size(extent: vk::Extent2D, local: u32) -> (u32, u32) {

@@ -35,6 +35,10 @@ impl Pass for SkyMapPass<'_> {
         "sky_map"
     }
 
+    fn builds_sky_map(&self) -> bool {
+        true
+    }
+
     fn declare(&self, r: &Resources, t: &mut Tracker) {
         t.image(&r.sky_map, 0, 1, Access::ComputeStorageWrite, true);
     }
@@ -57,6 +61,10 @@ pub struct SkyMipsPass;
 impl Pass for SkyMipsPass {
     fn name(&self) -> &'static str {
         "sky_mips"
+    }
+
+    fn builds_sky_map(&self) -> bool {
+        true
     }
 
     fn declare(&self, r: &Resources, t: &mut Tracker) {
