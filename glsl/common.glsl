@@ -33,14 +33,6 @@ vec2 pixel_to_ndc(vec2 frag) {
     return frag * frame.viewport.zw * 2.0 - 1.0;
 }
 
-// smoothstep(lo, hi, num / den) for num >= 0, den >= 0, without dividing by a zero den:
-// the ratio is only formed when it lies strictly inside (lo, hi), where den > num / hi > 0.
-float ratio_smoothstep(float lo, float hi, float num, float den) {
-    if (num <= lo * den) return 0.0;   // also 0/0: no resolution at infinite distance
-    if (num >= hi * den) return 1.0;
-    return smoothstep(lo, hi, num / den);
-}
-
 // sin and cos of 2 pi t for any t, sharing one range reduction (Cody-Waite in turns, exact for
 // |t| < 2^22): q = round(4t) picks the quadrant and x = 2 pi (t - q/4) lies in [-pi/4, pi/4], where
 // Taylor polynomials to x^7 (sin) and x^8 (cos) are within 3.2e-7 and 2.5e-8 (next-term bounds).

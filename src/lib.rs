@@ -9,6 +9,7 @@ pub mod error;
 pub mod errorbench;
 pub mod frame;
 pub mod groundtruth;
+pub mod numerics;
 pub mod output;
 pub mod passes;
 pub mod plot;

@@ -1,0 +1,38 @@
+#version 450
+// Evaluates the shading functions themselves on arrays of inputs, for comparison with f64
+// implementations of the same formulas (src/numerics.rs, tests/numerics.rs). Frames are the
+// identity (local = world), so directions are given in the tangent frame.
+#include "frame.glsl"
+#include "common.glsl"
+WAVES_BLOCK;
+layout(set = 0, binding = 2) uniform sampler2D sky_map;
+layout(constant_id = 0) const bool TERM_SUN = true;
+layout(constant_id = 1) const bool TERM_SKY = true;
+layout(constant_id = 2) const bool TERM_SEA = true;
+#include "waves.glsl"
+#include "sky.glsl"
+#include "brdf.glsl"
+
+layout(local_size_x = 64) in;
+// Two vec4 of arguments per evaluation, one vec4 of results.
+layout(set = 0, binding = 9, std430) readonly buffer Arguments { vec4 arguments[]; };
+layout(set = 0, binding = 10, std430) writeonly buffer Results { vec4 results[]; };
+layout(push_constant) uniform Call { uint function; uint count; } call;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= call.count) return;
+    vec4 a = arguments[2u * i], b = arguments[2u * i + 1u];
+    Frame3 identity = Frame3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0));
+    vec4 r = vec4(0.0);
+    switch (call.function) {
+    case 0u: r.x = cos_times_lambda(a.x, a.y); break;                     // (cos, sin sqrt(2 sigma^2))
+    case 1u: r.x = mean_fresnel(a.x, a.y); break;                          // (cos_v, sigma_v)
+    case 2u: r.xy = sincos_turns(a.x); break;                              // turns
+    case 3u: r.x = trochoid_slope_variance(a.x); break;                    // k h
+    case 4u: r.xyz = reflected_sun(identity, a.xyz, b.xyz, vec2(a.w, b.w)); break;  // v, l, sigma^2
+    case 5u: r.xy = reflected_u(identity, a.xyz, b.xy); break;             // v, zeta
+    default: break;
+    }
+    results[i] = r;
+}

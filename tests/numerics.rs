@@ -1,0 +1,178 @@
+//! The shader's functions, evaluated on the GPU over their whole domains including the limits,
+//! against f64 implementations of the same formulas. Each has a stated bound on its largest
+//! error; docs/numerics.md lists the measured values.
+
+mod common;
+
+use common::gpu;
+use ocean::numerics::{evaluate, Function};
+use ocean::reference;
+use std::f64::consts::{PI, TAU};
+
+/// Largest |gpu - cpu| / max(|cpu|, floor) over the sweep, with the arguments where it occurred.
+fn worst(gpu_values: &[f64], cpu_values: &[f64], floor: f64) -> (f64, usize) {
+    gpu_values
+        .iter()
+        .zip(cpu_values)
+        .enumerate()
+        .map(|(i, (g, c))| {
+            assert!(g.is_finite(), "non-finite GPU value at {i}: {g} (f64 {c})");
+            ((g - c).abs() / c.abs().max(floor), i)
+        })
+        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+fn run(function: Function, args: &[[[f32; 4]; 2]], sun_var: f32) -> Vec<[f32; 4]> {
+    let gpu = gpu();
+    let out = evaluate(&gpu, function, args, sun_var).unwrap();
+    assert_eq!(gpu.validation_counts().error_total(), 0);
+    out
+}
+
+/// Values from 0 through tiny and moderate to the top of a range, the limits included.
+fn sweep(top: f64) -> Vec<f64> {
+    let mut v = vec![0.0, 1e-30, 1e-12, 1e-8, 1e-6, 1e-4];
+    v.extend((1..=40).map(|i| top * i as f64 / 40.0));
+    v.extend((0..20).map(|i| top * 10f64.powf(-3.0 + 3.0 * i as f64 / 20.0)));
+    v
+}
+
+#[test]
+fn smith_lambda_times_cosine() {
+    // c Lambda(a), a = c / s, with the demo's erfc, written stably: exp(-a^2) (s / (2 sqrt(pi))
+    // - c / (2.319 a + sqrt(4 + 1.52 a^2))). In f64 directly from the definition.
+    let cpu = |c: f64, s: f64| {
+        if s == 0.0 {
+            return 0.0;
+        }
+        let a = c / s;
+        if a == 0.0 {
+            return s / (2.0 * PI.sqrt());
+        }
+        c * reference::smith_lambda(a)
+    };
+    let mut args = Vec::new();
+    for c in sweep(1.0) {
+        for s in sweep(3.0) {
+            args.push([[c as f32, s as f32, 0.0, 0.0], [0.0; 4]]);
+        }
+    }
+    let out = run(Function::CosTimesLambda, &args, 0.0);
+    let g: Vec<f64> = out.iter().map(|r| r[0] as f64).collect();
+    let c: Vec<f64> = args.iter().map(|a| cpu(a[0][0] as f64, a[0][1] as f64)).collect();
+    // The value is at most s / (2 sqrt(pi)) ~ 0.85: errors relative to 1e-6 of that scale.
+    let (e, i) = worst(&g, &c, 1e-6);
+    eprintln!("c Lambda: largest error {e:.2e} at {:?}", args[i][0]);
+    assert!(e < 2e-5, "c Lambda off by {e} at {:?}: {} vs {}", args[i][0], g[i], c[i]);
+}
+
+#[test]
+fn mean_fresnel_over_its_domain() {
+    let mut args = Vec::new();
+    for cos_v in sweep(1.0) {
+        for sigma in sweep(1.0) {
+            args.push([[cos_v as f32, sigma as f32, 0.0, 0.0], [0.0; 4]]);
+        }
+    }
+    let out = run(Function::MeanFresnel, &args, 0.0);
+    let g: Vec<f64> = out.iter().map(|r| r[0] as f64).collect();
+    let c: Vec<f64> = args.iter().map(|a| reference::mean_fresnel(a[0][0] as f64, a[0][1] as f64)).collect();
+    let (e, i) = worst(&g, &c, 0.02);
+    eprintln!("mean Fresnel: largest error {e:.2e} at {:?}", args[i][0]);
+    assert!(e < 1e-5, "mean Fresnel off by {e} at {:?}", args[i][0]);
+    assert!(g.iter().all(|&f| (0.02 - 1e-6..=1.0 + 1e-6).contains(&f)), "mean Fresnel leaves [R0, 1]");
+}
+
+#[test]
+fn sin_and_cos_of_turns_stay_accurate_for_large_phases() {
+    let mut args = Vec::new();
+    for i in 0..4001 {
+        // -2^20 .. 2^20 turns, and fine steps near 0 and the quadrant boundaries.
+        let coarse = (i as f64 - 2000.0) / 2000.0 * 1048576.0 + 0.1234567 * (i % 7) as f64;
+        args.push([[coarse as f32, 0.0, 0.0, 0.0], [0.0; 4]]);
+        args.push([[(i as f64 / 4000.0 - 0.5) as f32, 0.0, 0.0, 0.0], [0.0; 4]]);
+    }
+    let out = run(Function::SinCosTurns, &args, 0.0);
+    let mut worst_abs = 0.0f64;
+    for (a, r) in args.iter().zip(&out) {
+        // The argument as the GPU has it (f32), reduced exactly in f64.
+        let t = a[0][0] as f64;
+        let (s, c) = (TAU * t.rem_euclid(1.0)).sin_cos();
+        worst_abs = worst_abs.max((r[0] as f64 - s).abs()).max((r[1] as f64 - c).abs());
+    }
+    eprintln!("sincos_turns: largest absolute error {worst_abs:.2e}");
+    assert!(worst_abs < 1e-6, "sincos_turns off by {worst_abs}");
+}
+
+#[test]
+fn trochoid_slope_variance_without_cancellation() {
+    let args: Vec<[[f32; 4]; 2]> = sweep(1.0).iter().map(|&a| [[a as f32, 0.0, 0.0, 0.0], [0.0; 4]]).collect();
+    let out = run(Function::TrochoidSlopeVariance, &args, 0.0);
+    let g: Vec<f64> = out.iter().map(|r| r[0] as f64).collect();
+    let c: Vec<f64> = args.iter().map(|a| ocean::waves::trochoid_slope_variance(a[0][0] as f64)).collect();
+    // Relative to the value itself down to 1e-30: the form a^2 / (1 + sqrt(1 - a^2)) keeps digits.
+    let (e, i) = worst(&g, &c, 1e-30);
+    eprintln!("trochoid variance: largest relative error {e:.2e} at {:?}", args[i][0]);
+    assert!(e < 1e-6, "trochoid variance off by {e} at {:?}", args[i][0]);
+}
+
+fn direction(elevation: f64, azimuth: f64) -> [f32; 3] {
+    [(elevation.cos() * azimuth.cos()) as f32, (elevation.cos() * azimuth.sin()) as f32, elevation.sin() as f32]
+}
+
+#[test]
+fn reflected_sun_at_grazing_and_glassy_limits() {
+    let sun_var = ocean::sky::SkyModel::sun_slope_variance() as f32;
+    let elevations = [0.0, 1e-6, 1e-3, 0.01, 0.05, 0.2, 0.5, 1.0, 1.5, PI / 2.0];
+    let variances = [0.0, 1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.2, 1.0];
+    let mut args = Vec::new();
+    for &ev in &elevations {
+        for &el in &elevations {
+            for azimuth in [PI, PI - 0.02, PI - 0.2, 2.0] {
+                for &sx in &variances {
+                    for sy in [sx, sx * 0.5] {
+                        let v = direction(ev, 0.0);
+                        let l = direction(el, azimuth);
+                        args.push([[v[0], v[1], v[2], sx as f32], [l[0], l[1], l[2], sy as f32]]);
+                    }
+                }
+            }
+        }
+    }
+    let out = run(Function::ReflectedSun, &args, sun_var);
+    let to64 = |a: [f32; 4]| glam::DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+    let g: Vec<f64> = out.iter().map(|r| r[0] as f64).collect();
+    let c: Vec<f64> = args
+        .iter()
+        .map(|a| reference::reflected_sun(to64(a[0]), to64(a[1]), [a[0][3] as f64, a[1][3] as f64], sun_var as f64))
+        .collect();
+    // The glitter of a glassy sea reaches 1e5 per unit irradiance; compare relative to the value,
+    // with a floor of 1e-3 (a thousandth of a unit of irradiance reflected).
+    let (e, i) = worst(&g, &c, 1e-3);
+    eprintln!("reflected sun: largest error {e:.2e} at {:?}: {} vs {}", args[i], g[i], c[i]);
+    assert!(e < 2e-5, "reflected sun off by {e} at {:?}: GPU {} f64 {}", args[i], g[i], c[i]);
+}
+
+#[test]
+fn reflection_footprint_u_of_zeta() {
+    let mut args = Vec::new();
+    for ev in [0.0, 1e-4, 0.01, 0.1, 0.5, 1.0, 1.5, PI / 2.0] {
+        for zx in [-10.0, -1.0, -0.1, 0.0, 1e-3, 0.1, 1.0, 10.0] {
+            for zy in [-1.0, 0.0, 0.3] {
+                let v = direction(ev, 0.3);
+                args.push([[v[0], v[1], v[2], 0.0], [zx as f32, zy as f32, 0.0, 0.0]]);
+            }
+        }
+    }
+    let out = run(Function::ReflectedU, &args, 0.0);
+    let mut worst_abs = 0.0f64;
+    for (a, r) in args.iter().zip(&out) {
+        let v = glam::DVec3::new(a[0][0] as f64, a[0][1] as f64, a[0][2] as f64);
+        let f = glam::DVec3::new(-a[1][0] as f64, -a[1][1] as f64, 1.0).normalize();
+        let refl = 2.0 * v.dot(f) * f - v;
+        let u = [refl.x / (1.0 + refl.z.abs()), refl.y / (1.0 + refl.z.abs())];
+        worst_abs = worst_abs.max((r[0] as f64 - u[0]).abs()).max((r[1] as f64 - u[1]).abs());
+    }
+    eprintln!("U(zeta): largest absolute error {worst_abs:.2e}");
+    assert!(worst_abs < 2e-6, "U(zeta) off by {worst_abs}");
+}
