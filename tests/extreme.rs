@@ -68,7 +68,7 @@ fn the_horizon_has_no_seam() {
         assert_clean(&report, name);
         // NDC y of the horizon: tan(pitch) / tan(fov/2), y pointing down.
         let tan_half = (scene.camera.fov_y_deg.to_radians() / 2.0).tan();
-        let ndc = (pitch as f64).to_radians().tan() / tan_half;
+        let ndc = f64::to_radians(pitch).tan() / tan_half;
         let row = ((ndc + 1.0) / 2.0 * h as f64).round() as u32;
         assert_no_seam(&frame, row, name);
     }
