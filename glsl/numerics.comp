@@ -32,6 +32,16 @@ void main() {
     case 3u: r.x = trochoid_slope_variance(a.x); break;                    // k h
     case 4u: r.xyz = reflected_sun(identity, a.xyz, b.xyz, vec2(a.w, b.w)); break;  // v, l, sigma^2
     case 5u: r.xy = reflected_u(identity, a.xyz, b.xy); break;             // v, zeta
+    case 6u: {                                                             // (ndc, k turns), (k h)
+        // A train's weight for the per-pixel normal, as ocean.frag computes it.
+        vec3 ray = camera_ray(a.xy);
+        vec3 v = -normalize(ray);
+        SampleScale s = sample_scale(ray, 1.0, frame.filter_steps.zw);
+        vec2 steps = frame.filter_steps.zw;
+        float nonlinearity = v.z > 0.0 ? max(1.0, b.x * 2.0 * PI / v.z) : 1.0;
+        r.x = s.any ? resolution_weight(s, a.zw, steps, 1.0 / (steps.y - steps.x), nonlinearity) : 0.0;
+        break;
+    }
     default: break;
     }
     results[i] = r;

@@ -28,6 +28,9 @@ pub enum Function {
     ReflectedSun = 4,
     /// (v), (zeta) -> stereographic u of v reflected about the facet
     ReflectedU = 5,
+    /// (ndc x, ndc y, k turns x, y), (k h) -> the train's weight in the per-pixel normal, for the
+    /// default scene's camera at 64 x 64
+    NormalWeight = 6,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's
