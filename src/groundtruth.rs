@@ -3,14 +3,14 @@
 //! submission runs long. Reports its own convergence and the pixels whose sub-samples still
 //! cannot resolve the shortest wave.
 
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::frame;
 use crate::scene::Scene;
 use crate::shaders;
 use crate::vk::buffer::Buffer;
+use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
-use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
 use crate::waves;
 use ash::vk;
@@ -153,21 +153,8 @@ pub fn render(
     bindings.write_buffer(8, D::STORAGE_BUFFER, output.raw);
     let pipeline = compute_pipeline(device, bindings.layout(), shaders::GROUNDTRUTH_COMP, "ground truth")?;
 
-    let pool_info = vk::CommandPoolCreateInfo::default()
-        .queue_family_index(device.queue_family)
-        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-    // SAFETY: valid create info on a live device.
-    let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
-    let pool = Owned::new(device, pool, "ground truth commands");
-    let alloc = vk::CommandBufferAllocateInfo::default()
-        .command_pool(pool.raw)
-        .level(vk::CommandBufferLevel::PRIMARY)
-        .command_buffer_count(1);
-    // SAFETY: one primary buffer from the pool just made.
-    let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
-    // SAFETY: a plain fence on a live device.
-    let fence = unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
-    let fence = Owned::new(device, fence, "ground truth tile done");
+    let commands = Commands::new(device, "ground truth")?;
+    let cmd = commands.cmd;
 
     let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
     let push = TilePush {
@@ -190,24 +177,13 @@ pub fn render(
     for ty in 0..tiles_y {
         for tx in 0..tiles_x {
             let origin = [tx * TILE, ty * TILE];
-            // SAFETY: the previous tile's fence was waited on, so `cmd` is not pending; every
-            // binding refers to live buffers; the push range matches the layout.
+            commands.begin()?;
+            // SAFETY: `cmd` is recording; every binding refers to live buffers; the push range
+            // matches the layout.
             unsafe {
                 let raw = &device.raw;
-                raw.begin_command_buffer(
-                    cmd,
-                    &vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-                )
-                .during("vkBeginCommandBuffer")?;
                 raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
-                raw.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    bindings.layout(),
-                    0,
-                    &[bindings.set],
-                    &[],
-                );
+                bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
                 // One dispatch per stratum, each adding to the pixels the previous one wrote.
                 let accumulate = vk::MemoryBarrier2::default()
                     .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
@@ -239,13 +215,8 @@ pub fn render(
                     cmd,
                     &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&barrier)),
                 );
-                raw.end_command_buffer(cmd).during("vkEndCommandBuffer")?;
-                let cmds = [cmd];
-                raw.queue_submit(device.queue, &[vk::SubmitInfo::default().command_buffers(&cmds)], fence.raw)
-                    .during("vkQueueSubmit")?;
-                raw.wait_for_fences(&[fence.raw], true, u64::MAX).during("vkWaitForFences")?;
-                raw.reset_fences(&[fence.raw]).during("vkResetFences")?;
             }
+            commands.submit_and_wait()?;
             progress(ty * tiles_x + tx + 1, total);
         }
     }

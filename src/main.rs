@@ -127,13 +127,18 @@ enum Bench {
     },
 }
 
+/// The scene from `--scene`, or the built-in defaults (scenes/default.toml), with its name.
+fn load_scene(path: Option<PathBuf>) -> ocean::Result<(Scene, String)> {
+    match path {
+        Some(path) => Ok((Scene::load(&path)?, path.display().to_string())),
+        None => Ok((Scene::default(), "scenes/default.toml".to_owned())),
+    }
+}
+
 fn run(cli: Cli) -> ocean::Result<()> {
     match cli.command {
         Command::Render { scene, width, height, out, exr, report, validation, device, method, ssaa, terms, frames } => {
-            let scene = match scene {
-                Some(path) => Scene::load(&path)?,
-                None => Scene::default(),
-            };
+            let (scene, _) = load_scene(scene)?;
             let terms = Terms {
                 sun: terms.contains(&Term::Sun),
                 sky: terms.contains(&Term::Sky),
@@ -170,10 +175,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             Ok(())
         }
         Command::Reference { scene, width, height, samples, out, png, report, validation, device } => {
-            let scene = match scene {
-                Some(path) => Scene::load(&path)?,
-                None => Scene::default(),
-            };
+            let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
             let interactive = std::io::stderr().is_terminal();
             let truth = ocean::groundtruth::render(&gpu, &scene, width, height, samples, |done, total| {
@@ -221,10 +223,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             Ok(())
         }
         Command::Bench { bench: Bench::ErrorVsTime { scene, reference, out, frames, device } } => {
-            let (scene, name) = match scene {
-                Some(path) => (Scene::load(&path)?, path.display().to_string()),
-                None => (Scene::default(), "scenes/default.toml".to_owned()),
-            };
+            let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::errorbench::run(&gpu, &scene, &name, &reference, frames, &out)?;
             ocean::say!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());

@@ -6,6 +6,7 @@ use crate::frame::{self, FrameUniforms, GpuWaves};
 use crate::scene::Scene;
 use crate::shaders;
 use crate::vk::buffer::Buffer;
+use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
 use crate::vk::owned::Owned;
@@ -110,19 +111,8 @@ pub fn evaluate(
     bindings.write_buffer(10, D::STORAGE_BUFFER, output.raw);
     let pipeline = compute_pipeline(device, bindings.layout(), shaders::NUMERICS_COMP, "numerics")?;
 
-    let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(device.queue_family);
-    // SAFETY: valid create info on a live device.
-    let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
-    let pool = Owned::new(device, pool, "numerics commands");
-    let alloc = vk::CommandBufferAllocateInfo::default()
-        .command_pool(pool.raw)
-        .level(vk::CommandBufferLevel::PRIMARY)
-        .command_buffer_count(1);
-    // SAFETY: one primary buffer from the pool just made.
-    let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
-    // SAFETY: a plain fence on a live device.
-    let fence = unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
-    let fence = Owned::new(device, fence, "numerics done");
+    let commands = Commands::new(device, "numerics")?;
+    let cmd = commands.cmd;
     let push = [function as u32, arguments.len() as u32];
     // SAFETY: recording into a fresh buffer; every binding names a live resource; the sampled
     // image is moved to SHADER_READ_ONLY_OPTIMAL before the dispatch; the fence is waited on
@@ -156,12 +146,8 @@ pub fn evaluate(
             .dst_stage_mask(vk::PipelineStageFlags2::HOST)
             .dst_access_mask(vk::AccessFlags2::HOST_READ);
         raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&to_host)));
-        raw.end_command_buffer(cmd).during("vkEndCommandBuffer")?;
-        let cmds = [cmd];
-        raw.queue_submit(device.queue, &[vk::SubmitInfo::default().command_buffers(&cmds)], fence.raw)
-            .during("vkQueueSubmit")?;
-        raw.wait_for_fences(&[fence.raw], true, u64::MAX).during("vkWaitForFences")?;
     }
+    commands.submit_and_wait()?;
     let words: Vec<f32> = output.read(4 * arguments.len())?;
     Ok(words.chunks_exact(4).map(|w| [w[0], w[1], w[2], w[3]]).collect())
 }

@@ -1,7 +1,7 @@
 //! The headless renderer: builds the frame's resources and passes for one image size, records
 //! the passes with declared-access barriers and timestamps, submits, waits and reads back.
 
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::frame::{self, FrameData};
 use crate::passes::ocean::{OceanPass, ShaderConfig};
 use crate::passes::readback::ReadbackPass;
@@ -12,12 +12,11 @@ use crate::passes::{Pass, Recorder};
 use crate::resources::Resources;
 use crate::scene::Scene;
 use crate::vk::barrier::Tracker;
+use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
-use crate::vk::owned::Owned;
 use crate::vk::profiler::Profiler;
 use crate::waves;
-use ash::vk;
 
 /// A rendered frame, read back to the CPU.
 pub struct RenderedFrame {
@@ -52,12 +51,9 @@ pub struct Renderer<'g> {
     height: u32,
     ssaa: u32,
     anisotropy: f64,
-    // Field order is drop order (after Drop::drop waits for the device): the fence and command
-    // pool, the passes, then the resources they refer to.
-    fence: Owned<'g, vk::Fence>,
-    /// Owns `cmd`.
-    _command_pool: Owned<'g, vk::CommandPool>,
-    cmd: vk::CommandBuffer,
+    // Field order is drop order (after Drop::drop waits for the device): the command buffer, the
+    // passes, then the resources they refer to.
+    commands: Commands<'g>,
     profiler: Profiler<'g>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
@@ -84,32 +80,14 @@ impl<'g> Renderer<'g> {
         passes.push(Box::new(TonemapPass::new(device, &resources)?));
         passes.push(Box::new(ReadbackPass));
         let profiler = Profiler::new(device, passes.len() as u32)?;
-        let raw = &device.raw;
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(device.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: valid create info on a live device.
-        let command_pool = unsafe { raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
-        let command_pool = Owned::new(device, command_pool, "frame commands");
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(command_pool.raw)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: one primary buffer from the pool just made.
-        let cmd = unsafe { raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
-        device.set_name(cmd, "frame");
-        // SAFETY: a plain fence on a live device.
-        let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
-        let fence = Owned::new(device, fence, "frame done");
+        let commands = Commands::new(device, "frame")?;
         Ok(Renderer {
             gpu,
             width,
             height,
             ssaa: options.ssaa,
             anisotropy: scene.render.sky_anisotropy,
-            fence,
-            _command_pool: command_pool,
-            cmd,
+            commands,
             profiler,
             passes,
             resources,
@@ -160,30 +138,17 @@ impl<'g> Renderer<'g> {
     /// Records and runs one frame; `sky_current`: the sky map already holds this frame's sky.
     fn submit_frame(&mut self, sky_current: bool) -> Result<()> {
         let device = &self.gpu.device;
-        let raw = &device.raw;
-        let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the previous submission's fence was waited on, so the buffer is not pending.
-        unsafe { raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")?;
-        self.profiler.reset(raw, self.cmd);
+        let cmd = self.commands.cmd;
+        self.commands.begin()?;
+        self.profiler.reset(&device.raw, cmd);
         for pass in self.passes.iter().filter(|p| !(sky_current && p.builds_sky_map())) {
-            self.profiler.begin(device, self.cmd, pass.name());
+            self.profiler.begin(device, cmd, pass.name());
             pass.declare(&self.resources, &mut self.tracker);
-            self.tracker.flush(raw, self.cmd);
-            pass.record(&mut Recorder { device, cmd: self.cmd, tracker: &mut self.tracker }, &self.resources);
-            self.profiler.end(device, self.cmd);
+            self.tracker.flush(&device.raw, cmd);
+            pass.record(&mut Recorder { device, cmd, tracker: &mut self.tracker }, &self.resources);
+            self.profiler.end(device, cmd);
         }
-        // SAFETY: recording began above.
-        unsafe { raw.end_command_buffer(self.cmd) }.during("vkEndCommandBuffer")?;
-        let cmds = [self.cmd];
-        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-        // SAFETY: the fence is unsignalled; host writes to mapped memory made before the submit
-        // are visible to the device (vkQueueSubmit's implicit host-write ordering).
-        unsafe { raw.queue_submit(device.queue, &[submit], self.fence.raw) }.during("vkQueueSubmit")?;
-        // SAFETY: waits on and resets our own fence.
-        unsafe { raw.wait_for_fences(&[self.fence.raw], true, u64::MAX) }.during("vkWaitForFences")?;
-        // SAFETY: the fence was waited on, so it is signalled and unused.
-        unsafe { raw.reset_fences(&[self.fence.raw]) }.during("vkResetFences")?;
-        Ok(())
+        self.commands.submit_and_wait()
     }
 }
 

@@ -3,8 +3,7 @@
 
 mod common;
 
-use common::{assert_clean, gpu, luminance};
-use ocean::app::{render_on, RenderRequest};
+use common::{assert_clean, gpu, luminance, render_with};
 use ocean::passes::ocean::{Method, ShaderConfig};
 use ocean::renderer::{Options, RenderedFrame};
 use ocean::scene::Scene;
@@ -12,19 +11,7 @@ use ocean::vk::gpu::Gpu;
 
 fn render(gpu: &Gpu, scene: &Scene, w: u32, h: u32, method: Method, ssaa: u32) -> RenderedFrame {
     let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa };
-    let request = RenderRequest {
-        scene: scene.clone(),
-        width: w,
-        height: h,
-        png: None,
-        exr: None,
-        report: None,
-        validation: true,
-        device: None,
-        frames: 1,
-        options,
-    };
-    let (report, frame) = render_on(gpu, &request).unwrap();
+    let (report, frame) = render_with(gpu, scene, w, h, options);
     assert_clean(&report, &format!("{method:?} ssaa {ssaa}"));
     frame
 }

@@ -11,6 +11,7 @@ pub mod tonemap;
 use crate::resources::Resources;
 use crate::vk::barrier::Tracker;
 use crate::vk::device::Device;
+use crate::vk::pipeline::Bindings;
 use ash::vk;
 
 pub struct Recorder<'a> {
@@ -30,6 +31,14 @@ pub trait Pass {
     }
 }
 
-pub fn dispatch_size(extent: vk::Extent2D, local: u32) -> (u32, u32) {
-    (extent.width.div_ceil(local), extent.height.div_ceil(local))
+/// Records a compute pass over an image: binds the pipeline and its set and dispatches one
+/// invocation per texel in the shaders' 8 x 8 groups.
+pub fn dispatch_over(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings, extent: vk::Extent2D) {
+    let (device, cmd) = (&rec.device.raw, rec.cmd);
+    // SAFETY: `cmd` is recording outside a rendering scope; the set was made for this pipeline's
+    // layout and its resources were declared (and so transitioned) by the calling pass.
+    unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
+    bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
+    // SAFETY: as above.
+    unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
 }

@@ -1,7 +1,7 @@
 //! Supersampling resolve: box-averages K x K samples of the HDR radiance into the output image
 //! (compute). Only in the frame when supersampling is asked for.
 
-use super::{dispatch_size, Pass, Recorder};
+use super::{dispatch_over, Pass, Recorder};
 use crate::error::Result;
 use crate::resources::Resources;
 use crate::shaders;
@@ -41,12 +41,6 @@ impl Pass for ResolvePass<'_> {
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
-        let (device, cmd) = (&rec.device.raw, rec.cmd);
-        let (gx, gy) = dispatch_size(r.output().extent, 8);
-        // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
-        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
-        self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
-        // SAFETY: as above.
-        unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
+        dispatch_over(rec, self.pipeline.raw, &self.bindings, r.output().extent);
     }
 }

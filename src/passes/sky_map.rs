@@ -1,7 +1,7 @@
 //! Sky map: level 0 of the stereographic sky texture from the analytic model (compute); then, in
 //! its own pass, the full mip chain by successive linear blits, each level a barrier from the one above.
 
-use super::{dispatch_size, Pass, Recorder};
+use super::{dispatch_over, Pass, Recorder};
 use crate::error::Result;
 use crate::resources::Resources;
 use crate::shaders;
@@ -44,14 +44,7 @@ impl Pass for SkyMapPass<'_> {
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
-        let (device, cmd) = (&rec.device.raw, rec.cmd);
-        let sky = &r.sky_map;
-        let (gx, gy) = dispatch_size(sky.extent, 8);
-        // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
-        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
-        self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
-        // SAFETY: pipeline and set bound above; outside any rendering scope.
-        unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
+        dispatch_over(rec, self.pipeline.raw, &self.bindings, r.sky_map.extent);
     }
 }
 

@@ -1,7 +1,7 @@
 //! Tone mapping: HDR radiance to 8-bit sRGB with the scene's exposure (compute), written straight
 //! into the host-visible readback buffer.
 
-use super::{dispatch_size, Pass, Recorder};
+use super::{dispatch_over, Pass, Recorder};
 use crate::error::Result;
 use crate::resources::Resources;
 use crate::shaders;
@@ -44,12 +44,6 @@ impl Pass for TonemapPass<'_> {
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
-        let (device, cmd) = (&rec.device.raw, rec.cmd);
-        let (gx, gy) = dispatch_size(r.output().extent, 8);
-        // SAFETY: `cmd` is recording outside a rendering scope; the set matches the pipeline.
-        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
-        self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
-        // SAFETY: pipeline and set bound above; outside any rendering scope.
-        unsafe { device.cmd_dispatch(cmd, gx, gy, 1) };
+        dispatch_over(rec, self.pipeline.raw, &self.bindings, r.output().extent);
     }
 }

@@ -264,32 +264,29 @@ impl Allocator {
         }
     }
 
-    /// Makes GPU writes to a non-coherent readback allocation visible to the CPU.
-    pub fn invalidate(&self, allocation: &Allocation) -> Result<()> {
+    /// The atom-aligned range of a non-coherent allocation (allocations there are atom-aligned, so
+    /// it never reaches a neighbour); None for coherent memory, which needs no flush.
+    fn non_coherent_range(&self, allocation: &Allocation) -> Option<vk::MappedMemoryRange<'static>> {
         if allocation.coherent {
-            return Ok(());
+            return None;
         }
         let atom = self.non_coherent_atom;
         let start = allocation.offset / atom * atom;
         let end = align_up(allocation.offset + allocation.size, atom);
         let block_size = self.blocks[allocation.block].as_ref().map_or(end, |b| b.size);
-        let range =
-            vk::MappedMemoryRange::default().memory(allocation.memory).offset(start).size(end.min(block_size) - start);
+        Some(vk::MappedMemoryRange::default().memory(allocation.memory).offset(start).size(end.min(block_size) - start))
+    }
+
+    /// Makes GPU writes to a non-coherent readback allocation visible to the CPU.
+    pub fn invalidate(&self, allocation: &Allocation) -> Result<()> {
+        let Some(range) = self.non_coherent_range(allocation) else { return Ok(()) };
         // SAFETY: the range lies in a mapped block.
         unsafe { self.device.invalidate_mapped_memory_ranges(&[range]) }.during("vkInvalidateMappedMemoryRanges")
     }
 
     /// Makes CPU writes to a non-coherent upload allocation visible to the GPU.
     pub fn flush(&self, allocation: &Allocation) -> Result<()> {
-        if allocation.coherent {
-            return Ok(());
-        }
-        let atom = self.non_coherent_atom;
-        let start = allocation.offset / atom * atom;
-        let end = align_up(allocation.offset + allocation.size, atom);
-        let block_size = self.blocks[allocation.block].as_ref().map_or(end, |b| b.size);
-        let range =
-            vk::MappedMemoryRange::default().memory(allocation.memory).offset(start).size(end.min(block_size) - start);
+        let Some(range) = self.non_coherent_range(allocation) else { return Ok(()) };
         // SAFETY: the range lies in a mapped block.
         unsafe { self.device.flush_mapped_memory_ranges(&[range]) }.during("vkFlushMappedMemoryRanges")
     }

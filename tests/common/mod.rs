@@ -16,6 +16,11 @@ pub fn gpu() -> Gpu {
 }
 
 pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, RenderedFrame) {
+    render_with(gpu, scene, width, height, Options::default())
+}
+
+/// A validated single-frame render with the given method, terms and supersampling.
+pub fn render_with(gpu: &Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> (Report, RenderedFrame) {
     let request = RenderRequest {
         scene: scene.clone(),
         width,
@@ -26,7 +31,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, Ren
         validation: true,
         device: None,
         frames: 1,
-        options: Options::default(),
+        options,
     };
     render_on(gpu, &request).unwrap_or_else(|e| panic!("render failed: {e}"))
 }
