@@ -70,6 +70,9 @@ pub struct CameraFrame {
     pub tan_half_y: f64,
     /// Height of the eye above the rest plane the grid is projected on.
     pub plane_height: f64,
+    /// Height of the eye above mean sea level: the scene's, raised with the water under the eye
+    /// so that it is never closer to that water than the scene asks.
+    pub eye_height: f64,
 }
 
 impl CameraFrame {
@@ -80,11 +83,15 @@ impl CameraFrame {
         let up = right.cross(forward);
         let tan_half_y = (scene.camera.fov_y_deg.to_radians() / 2.0).tan();
         let tan_half_x = tan_half_y * width as f64 / height as f64;
+        // `height_m` is the eye's height above the water: above mean sea level, and above the water
+        // under the eye where a crest lifts it (an eye 5 cm above the water is not under a crest).
+        let water = waves.water_height_at_origin(scene.render.time_s);
+        let eye_height = scene.camera.height_m + water.max(0.0);
         // The trochoids' mean surface lies sum(k h^2 / 2) below their rest plane, so the rest plane
         // sits that much above mean sea level. A projected grid needs the eye above the rest plane:
-        // an eye lower than twice the offset keeps half its height (a limit, reported by the caller).
-        let plane_height = (scene.camera.height_m - waves.mean_height_offset).max(0.5 * scene.camera.height_m);
-        CameraFrame { forward, right, up, tan_half_x, tan_half_y, plane_height }
+        // an eye lower than twice the offset keeps half its height.
+        let plane_height = (eye_height - waves.mean_height_offset).max(0.5 * eye_height);
+        CameraFrame { forward, right, up, tan_half_x, tan_half_y, plane_height, eye_height }
     }
 
     /// Unnormalized ray through an NDC position (y down), as `camera_ray` in the shaders.

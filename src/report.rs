@@ -27,6 +27,8 @@ pub struct Report {
     pub mean_radiance: [f64; 3],
     pub memory: MemoryReport,
     pub grid: GridReport,
+    /// The eye's height above mean sea level as rendered: the scene's, raised by a crest under it.
+    pub eye_height_m: f64,
     pub waves: WaveReport,
 }
 

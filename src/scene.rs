@@ -8,7 +8,8 @@ use std::path::Path;
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Camera {
-    /// Height of the eye above the mean sea level.
+    /// Height of the eye above the water: above mean sea level, and above the water directly
+    /// under the eye where a crest lifts it.
     pub height_m: f64,
     /// Elevation of the view direction; negative looks down.
     pub pitch_deg: f64,

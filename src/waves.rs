@@ -154,3 +154,42 @@ pub fn generate(scene: &Scene) -> WaveSet {
 pub fn cox_munk_total_variance(wind_speed: f64) -> f64 {
     0.003 + 5.12e-3 * wind_speed
 }
+
+impl WaveSet {
+    /// Height above mean sea level of the water directly below the origin (the eye) at time t:
+    /// the rest position x whose displaced point lies at the origin, x + D_xy(x) = 0, by Newton's
+    /// method in f64 over every train, then the rest plane's offset plus D_z(x).
+    pub fn water_height_at_origin(&self, t: f64) -> f64 {
+        let mut x = [0.0f64; 2];
+        let mut height = 0.0;
+        for _ in 0..32 {
+            let (mut f, mut jac, mut dz) = ([x[0], x[1]], [[1.0, 0.0], [0.0, 1.0]], 0.0);
+            for tr in &self.trains {
+                let (d, k) = (tr.direction, tr.k);
+                let (s, c) = (tr.phase_at(t) - k * (d[0] * x[0] + d[1] * x[1])).sin_cos();
+                let h = tr.amplitude;
+                f[0] += d[0] * h * s;
+                f[1] += d[1] * h * s;
+                dz += h * c;
+                for (r, row) in jac.iter_mut().enumerate() {
+                    for (col, entry) in row.iter_mut().enumerate() {
+                        *entry -= h * c * k * d[r] * d[col];
+                    }
+                }
+            }
+            height = self.mean_height_offset + dz;
+            if f[0].hypot(f[1]) < 1e-9 {
+                break;
+            }
+            let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+            // Where the surface folds, Newton has no direction: step by the residual instead.
+            let step = if det > 0.0 {
+                [(jac[1][1] * f[0] - jac[0][1] * f[1]) / det, (jac[0][0] * f[1] - jac[1][0] * f[0]) / det]
+            } else {
+                f
+            };
+            x = [x[0] - step[0], x[1] - step[1]];
+        }
+        height
+    }
+}
