@@ -91,3 +91,31 @@ fn phases_stay_precise_at_large_times() {
         assert!(step < 1e-6 || TAU - step < 1e-6, "phase drift {step} at t = {t}");
     }
 }
+
+#[test]
+fn water_height_under_the_eye_solves_the_trochoid() {
+    // One train along +x: the displaced point x + h sin(phi - k x) is 0 at the eye; bisection on
+    // that (monotone for k h < 1) gives the height h cos(phi - k x) to compare with.
+    let mut scene = Scene::default();
+    scene.waves.count = 1;
+    scene.waves.lambda_min_m = 10.0;
+    scene.waves.lambda_max_m = 10.0;
+    scene.wind.direction_deg = 0.0;
+    for time in [0.0, 1.3, 4.7, 123.0] {
+        let set = generate(&scene);
+        let t = &set.trains[0];
+        let (k, h) = (t.k, t.amplitude);
+        let dir = t.direction;
+        let phase = t.phase_at(time);
+        let f = |s: f64| s + h * (phase - k * s).sin(); // along the train's direction
+        let (mut lo, mut hi) = (-2.0 * h - 1.0, 2.0 * h + 1.0);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if f(mid) > 0.0 { hi = mid } else { lo = mid }
+        }
+        let s = 0.5 * (lo + hi);
+        let expected = set.mean_height_offset + h * (phase - k * s).cos();
+        let got = set.water_height_at_origin(time);
+        assert!((got - expected).abs() < 1e-9, "t = {time}: {got} vs {expected} (direction {dir:?})");
+    }
+}
