@@ -16,6 +16,10 @@ layout(location = 0) in vec3 in_rest_h;
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
+    if (!TERM_SUN && !TERM_SKY && !TERM_SEA) {
+        out_radiance = vec4(0.0, 0.0, 0.0, 1.0);   // nothing to shade: no normal needed either
+        return;
+    }
     vec3 ray = camera_ray(pixel_to_ndc(gl_FragCoord.xy));
     vec3 v = -normalize(ray);
     SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);

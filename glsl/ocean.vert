@@ -7,6 +7,9 @@
 WAVES_BLOCK;
 #include "waves.glsl"
 
+// Whether any train can be resolved by the grid in this view (specialization constant 4).
+layout(constant_id = 4) const bool GEOMETRY = true;
+
 layout(location = 0) out vec3 out_rest_h;   // (H r.xy, w): rest position = xy / w, interpolated projectively
 
 void main() {
@@ -24,7 +27,7 @@ void main() {
 
     vec3 d = vec3(0.0);
     SampleScale cell = sample_scale(ray, cell_px, frame.filter_steps.xy);
-    if (cell.any) d = displacement(rest_times_w / w, cell, frame.filter_steps.xy);   // any implies w > 0
+    if (GEOMETRY && cell.any) d = displacement(rest_times_w / w, cell, frame.filter_steps.xy);   // any implies w > 0
     vec4 p_h = vec4(rest_times_w + w * d.xy, w * (d.z - height), w);
     gl_Position = frame.view_proj * p_h;
     out_rest_h = vec3(rest_times_w, w);

@@ -22,6 +22,9 @@ pub struct RenderRequest {
     /// the first (which pays the driver's lazy shader compilation), `gpu_ms_min` the fastest.
     pub frames: u32,
     pub options: Options,
+    /// Leave out what the scene does not need (specialize::plan); false renders with the
+    /// general pipeline, for comparison.
+    pub specialize: bool,
 }
 
 /// Renders on a new GPU context and writes the requested files.
@@ -35,8 +38,14 @@ pub fn render(request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
 pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
     let scene = &request.scene;
     let before = gpu.validation_counts();
+    let wave_set = crate::waves::generate(scene);
+    let (options, omitted) = if request.specialize {
+        crate::specialize::plan(scene, &wave_set, request.width, request.height, request.options)
+    } else {
+        (request.options, Vec::new())
+    };
     let (frame, memory, fastest) = {
-        let mut renderer = Renderer::new(gpu, scene, request.width, request.height, request.options)?;
+        let mut renderer = Renderer::new(gpu, scene, request.width, request.height, options)?;
         let mut frame = renderer.render(scene)?;
         let mut timings = Vec::new();
         for _ in 1..request.frames {
@@ -51,7 +60,6 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     };
     let after = gpu.validation_counts();
     let stats = output::stats(&frame.hdr);
-    let wave_set = crate::waves::generate(scene);
     let mut messages = after.errors.clone();
     messages.extend(after.warnings.clone());
     let report = Report {
@@ -70,6 +78,8 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         mean_radiance: stats.mean_radiance,
         memory,
         eye_height_m: frame.frame.camera.eye_height,
+        omitted,
+        pipelines: crate::specialize::pipelines(&options),
         grid: GridReport {
             columns: frame.frame.grid.columns,
             rows: frame.frame.grid.rows,

@@ -44,8 +44,16 @@ fn totals(passes: Vec<(String, f64)>) -> BTreeMap<String, f64> {
 }
 
 /// Renders each scene `frames + 1` times at `width` x `height` and keeps per-pass statistics.
-pub fn time_scene(gpu: &Gpu, name: &str, scene: &Scene, width: u32, height: u32, frames: u32) -> Result<SpeedRow> {
-    let mut renderer = Renderer::new(gpu, scene, width, height, Options::default())?;
+pub fn time_scene(
+    gpu: &Gpu,
+    name: &str,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    frames: u32,
+    options: Options,
+) -> Result<SpeedRow> {
+    let mut renderer = Renderer::new(gpu, scene, width, height, options)?;
     renderer.render(scene)?; // warm-up: lazy shader compilation
     let mut timings = Vec::new();
     for _ in 0..frames {
@@ -78,7 +86,9 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
     }
     let mut rows = Vec::new();
     for (name, scene) in &scenes {
-        let row = time_scene(gpu, name, scene, 1024, 768, frames)?;
+        let wave_set = crate::waves::generate(scene);
+        let (options, _) = crate::specialize::plan(scene, &wave_set, 1024, 768, Options::default());
+        let row = time_scene(gpu, name, scene, 1024, 768, frames, options)?;
         crate::say!(
             "{:<14} {}x{}  median {:7.1} ms  fastest {:7.1} ms",
             row.scene,
@@ -140,4 +150,68 @@ fn markdown(r: &SpeedReport) -> String {
         r.memory_1080p_used_mib, r.memory_1080p_reserved_mib
     );
     s
+}
+
+#[derive(Debug, Serialize)]
+pub struct SpecializeRow {
+    pub scene: String,
+    pub omitted: Vec<String>,
+    pub general_ms: f64,
+    pub specialized_ms: f64,
+}
+
+/// Every scene of `dirs` at 1024x768 with the general pipeline and with what it needs only,
+/// alternating per scene in one run; median frame time of each.
+pub fn specialize(gpu: &Gpu, dirs: &[&Path], frames: u32, out_dir: &Path) -> Result<Vec<SpecializeRow>> {
+    let mut paths = Vec::new();
+    for dir in dirs {
+        let mut found: Vec<_> = std::fs::read_dir(dir)
+            .map_err(|e| Error::Io { path: dir.to_path_buf(), message: e.to_string() })?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
+        found.sort();
+        paths.extend(found);
+    }
+    let mut rows = Vec::new();
+    for path in paths {
+        let scene = Scene::load(&path)?;
+        let name = path.display().to_string();
+        let wave_set = crate::waves::generate(&scene);
+        let (options, omitted) = crate::specialize::plan(&scene, &wave_set, 1024, 768, Options::default());
+        let general = time_scene(gpu, &name, &scene, 1024, 768, frames, Options::default())?;
+        let special = time_scene(gpu, &name, &scene, 1024, 768, frames, options)?;
+        let row = SpecializeRow {
+            scene: name,
+            omitted: omitted.into_iter().filter(|o| !o.what.starts_with("resolve")).map(|o| o.what).collect(),
+            general_ms: general.median_ms["total"],
+            specialized_ms: special.median_ms["total"],
+        };
+        crate::say!(
+            "{:<40} general {:7.1} ms  specialized {:7.1} ms  {}",
+            row.scene,
+            row.general_ms,
+            row.specialized_ms,
+            row.omitted.join(", ")
+        );
+        rows.push(row);
+    }
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
+    write_text(&out_dir.join("specialize.json"), &serde_json::to_string_pretty(&rows).expect("serializes"))?;
+    let mut md = format!(
+        "GPU time per frame at 1024x768 on {}, median of {frames} frames after a warm-up, general pipeline against the one the scene needs (one run).\n\n| scene | left out | general ms | specialized ms | saving |\n|---|---|---|---|---|\n",
+        gpu.device.name
+    );
+    for r in &rows {
+        let omitted = if r.omitted.is_empty() { "nothing".to_owned() } else { r.omitted.join(", ") };
+        md += &format!(
+            "| {} | {omitted} | {:.1} | {:.1} | {:+.0}% |\n",
+            r.scene,
+            r.general_ms,
+            r.specialized_ms,
+            100.0 * (r.general_ms - r.specialized_ms) / r.general_ms
+        );
+    }
+    write_text(&out_dir.join("specialize.md"), &md)?;
+    Ok(rows)
 }

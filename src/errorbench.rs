@@ -127,8 +127,9 @@ pub fn run(
     let truth_images = [truth.total.as_slice(), truth.sun.as_slice(), truth.sky.as_slice(), truth.sea.as_slice()];
     let mut rows = Vec::new();
     for setting in settings(scene) {
-        let shader = ShaderConfig { terms: Terms::ALL, method: setting.method };
-        let mut renderer = Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa })?;
+        let shader = ShaderConfig { method: setting.method, ..ShaderConfig::default() };
+        let mut renderer =
+            Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, sky_map: true })?;
         let total = renderer.render(&setting.scene)?; // warm-up, and the image
         let mut times = Vec::new();
         for _ in 0..frames {
@@ -137,8 +138,9 @@ pub fn run(
         drop(renderer);
         times.sort_by(f64::total_cmp);
         let only = |sun, sky, sea| -> Result<Vec<[f32; 4]>> {
-            let shader = ShaderConfig { terms: Terms { sun, sky, sea }, method: setting.method };
-            let mut r = Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa })?;
+            let shader = ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method);
+            let mut r =
+                Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, sky_map: true })?;
             Ok(r.render(&setting.scene)?.hdr)
         };
         let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?];

@@ -19,6 +19,7 @@ pub mod report;
 pub mod resources;
 pub mod scene;
 pub mod sky;
+pub mod specialize;
 pub mod vk;
 pub mod waves;
 

@@ -14,7 +14,7 @@ enum Term {
 use ocean::renderer::Options;
 use ocean::scene::Scene;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -56,6 +56,9 @@ enum Command {
         /// Supersampling: K x K samples per pixel, box-filtered in linear radiance.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
         ssaa: u32,
+        /// Render with the general pipeline: leave nothing out (for comparison).
+        #[arg(long)]
+        no_specialize: bool,
         /// Which of the sea's terms to render (comma-separated: sun, sky, sea).
         #[arg(long, value_delimiter = ',', default_value = "sun,sky,sea")]
         terms: Vec<Term>,
@@ -113,6 +116,16 @@ enum Bench {
         #[arg(long)]
         device: Option<String>,
     },
+    /// GPU time of every preset and extreme scene with the general pipeline and with what it needs.
+    Specialize {
+        /// Timed frames per scene and pipeline, after one warm-up frame.
+        #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+        #[arg(long)]
+        device: Option<String>,
+    },
     /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080.
     Speed {
         #[arg(long, default_value = "scenes")]
@@ -137,14 +150,33 @@ fn load_scene(path: Option<PathBuf>) -> ocean::Result<(Scene, String)> {
 
 fn run(cli: Cli) -> ocean::Result<()> {
     match cli.command {
-        Command::Render { scene, width, height, out, exr, report, validation, device, method, ssaa, terms, frames } => {
+        Command::Render {
+            scene,
+            width,
+            height,
+            out,
+            exr,
+            report,
+            validation,
+            device,
+            method,
+            ssaa,
+            terms,
+            frames,
+            no_specialize,
+        } => {
             let (scene, _) = load_scene(scene)?;
             let terms = Terms {
                 sun: terms.contains(&Term::Sun),
                 sky: terms.contains(&Term::Sky),
                 sea: terms.contains(&Term::Sea),
             };
-            let options = Options { shader: ShaderConfig { method, terms }, ssaa };
+            let shader = if terms == Terms::ALL {
+                ShaderConfig { method, ..ShaderConfig::default() }
+            } else {
+                ShaderConfig::terms_only(terms, method)
+            };
+            let options = Options { shader, ssaa, ..Options::default() };
             let request = RenderRequest {
                 scene,
                 width,
@@ -156,6 +188,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 device,
                 frames,
                 options,
+                specialize: !no_specialize,
             };
             let (report, _) = app::render(&request)?;
             let total = match report.gpu_ms.get("total") {
@@ -227,6 +260,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::errorbench::run(&gpu, &scene, &name, &reference, frames, &out)?;
             ocean::say!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());
+            Ok(())
+        }
+        Command::Bench { bench: Bench::Specialize { frames, out, device } } => {
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            ocean::bench::specialize(&gpu, &[Path::new("scenes"), Path::new("scenes/extreme")], frames, &out)?;
+            ocean::say!("wrote {}/specialize.md and specialize.json", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {

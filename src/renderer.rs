@@ -37,11 +37,14 @@ pub struct Options {
     pub shader: ShaderConfig,
     /// Samples per pixel along each axis (1: none).
     pub ssaa: u32,
+    /// Whether the sky map is built (without it, a 1x1 placeholder keeps the descriptor valid
+    /// and its passes are left out); only a shader without the sky term may do without.
+    pub sky_map: bool,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { shader: ShaderConfig::default(), ssaa: 1 }
+        Options { shader: ShaderConfig::default(), ssaa: 1, sky_map: true }
     }
 }
 
@@ -68,12 +71,15 @@ impl<'g> Renderer<'g> {
     /// With supersampling the grid keeps its cell size in output pixels.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         let device = &gpu.device;
-        let resources = Resources::new(gpu, width, height, options.ssaa, scene.render.sky_anisotropy as f32)?;
-        let mut passes: Vec<Box<dyn Pass + 'g>> = vec![
-            Box::new(SkyMapPass::new(device, &resources)?),
-            Box::new(SkyMipsPass),
-            Box::new(OceanPass::new(device, &resources, options.shader)?),
-        ];
+        assert!(options.sky_map || !options.shader.terms.sky, "the sky term samples the sky map");
+        let resources =
+            Resources::new(gpu, width, height, options.ssaa, options.sky_map, scene.render.sky_anisotropy as f32)?;
+        let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
+        if options.sky_map {
+            passes.push(Box::new(SkyMapPass::new(device, &resources)?));
+            passes.push(Box::new(SkyMipsPass));
+        }
+        passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
         if let Some(resolved) = &resources.resolved {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }

@@ -29,6 +29,10 @@ pub struct Report {
     pub grid: GridReport,
     /// The eye's height above mean sea level as rendered: the scene's, raised by a crest under it.
     pub eye_height_m: f64,
+    /// What this scene did not need and was left out, with why (empty with --no-specialize).
+    pub omitted: Vec<crate::specialize::Omission>,
+    /// The pipelines the frame used.
+    pub pipelines: Vec<String>,
     pub waves: WaveReport,
 }
 

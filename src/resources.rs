@@ -38,7 +38,7 @@ pub struct Resources<'g> {
 
 impl<'g> Resources<'g> {
     /// Resources for `width` x `height` output images rendered with `ssaa` x `ssaa` samples per pixel.
-    pub fn new(gpu: &'g Gpu, width: u32, height: u32, ssaa: u32, anisotropy: f32) -> Result<Self> {
+    pub fn new(gpu: &'g Gpu, width: u32, height: u32, ssaa: u32, sky_map: bool, anisotropy: f32) -> Result<Self> {
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > side || height > side {
@@ -72,9 +72,11 @@ impl<'g> Resources<'g> {
         let frame_uniforms = Buffer::new(gpu, "frame uniforms", uniforms_size, B::UNIFORM_BUFFER, Location::Upload)?;
         let waves_size = std::mem::size_of::<GpuWaves>() as u64;
         let waves = Buffer::new(gpu, "wave trains", waves_size, B::UNIFORM_BUFFER, Location::Upload)?;
-        let sky_extent = vk::Extent2D { width: SKY_MAP_SIZE, height: SKY_MAP_SIZE };
+        // Without the sky term nothing samples the map: a 1x1 placeholder keeps its binding valid.
+        let sky_size = if sky_map { SKY_MAP_SIZE } else { 1 };
+        let sky_extent = vk::Extent2D { width: sky_size, height: sky_size };
         let sky_usage = I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
-        let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, SKY_MAP_SIZE.ilog2() + 1, sky_usage)?;
+        let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, sky_size.ilog2() + 1, sky_usage)?;
         let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::TRANSFER_SRC;
         let hdr = Image::new(gpu, "hdr radiance", HDR_FORMAT, render_extent, 1, hdr_usage)?;
         let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;

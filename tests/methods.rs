@@ -10,7 +10,7 @@ use ocean::scene::Scene;
 use ocean::vk::gpu::Gpu;
 
 fn render(gpu: &Gpu, scene: &Scene, w: u32, h: u32, method: Method, ssaa: u32) -> RenderedFrame {
-    let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa };
+    let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa, ..Options::default() };
     let (report, frame) = render_with(gpu, scene, w, h, options);
     assert_clean(&report, &format!("{method:?} ssaa {ssaa}"));
     frame

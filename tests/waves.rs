@@ -111,7 +111,11 @@ fn water_height_under_the_eye_solves_the_trochoid() {
         let (mut lo, mut hi) = (-2.0 * h - 1.0, 2.0 * h + 1.0);
         for _ in 0..200 {
             let mid = 0.5 * (lo + hi);
-            if f(mid) > 0.0 { hi = mid } else { lo = mid }
+            if f(mid) > 0.0 {
+                hi = mid
+            } else {
+                lo = mid
+            }
         }
         let s = 0.5 * (lo + hi);
         let expected = set.mean_height_offset + h * (phase - k * s).cos();

@@ -51,11 +51,23 @@ impl Method {
 pub struct ShaderConfig {
     pub terms: Terms,
     pub method: Method,
+    /// Whether the vertex stage displaces the grid (specialization constant 4).
+    pub geometry: bool,
+    /// Whether the sky is drawn behind the sea; renders of single terms leave it out (black), so
+    /// that their pixels hold just those terms.
+    pub background: bool,
 }
 
 impl Default for ShaderConfig {
     fn default() -> Self {
-        ShaderConfig { terms: Terms::ALL, method: Method::Full }
+        ShaderConfig { terms: Terms::ALL, method: Method::Full, geometry: true, background: true }
+    }
+}
+
+impl ShaderConfig {
+    /// Only `terms`, on black (for comparing terms one by one).
+    pub fn terms_only(terms: Terms, method: Method) -> ShaderConfig {
+        ShaderConfig { terms, method, geometry: true, background: false }
     }
 }
 
@@ -89,7 +101,13 @@ impl<'g> OceanPass<'g> {
             r.sky_sampler.raw,
         );
         let terms = config.terms;
-        let spec = Specialization::words(&[terms.sun as u32, terms.sky as u32, terms.sea as u32, config.method as u32]);
+        let spec = Specialization::words(&[
+            terms.sun as u32,
+            terms.sky as u32,
+            terms.sea as u32,
+            config.method as u32,
+            config.geometry as u32,
+        ]);
         let ocean = graphics_pipeline(
             device,
             bindings.layout(),
@@ -106,7 +124,7 @@ impl<'g> OceanPass<'g> {
         )?;
         // The sky behind the sea belongs to a full picture; a render of some terms only leaves
         // it out (and clears instead), so that its pixels hold just those terms.
-        let sky = if terms == Terms::ALL {
+        let sky = if config.background {
             Some(graphics_pipeline(
                 device,
                 bindings.layout(),

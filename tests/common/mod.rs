@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use ocean::app::{render_on, RenderRequest};
-use ocean::passes::ocean::{ShaderConfig, Terms};
+use ocean::passes::ocean::{Method, ShaderConfig, Terms};
 use ocean::renderer::{Options, RenderedFrame, Renderer};
 use ocean::report::Report;
 use ocean::scene::Scene;
@@ -32,13 +32,14 @@ pub fn render_with(gpu: &Gpu, scene: &Scene, width: u32, height: u32, options: O
         device: None,
         frames: 1,
         options,
+        specialize: true,
     };
     render_on(gpu, &request).unwrap_or_else(|e| panic!("render failed: {e}"))
 }
 
 /// Renders with only some BRDF terms (specialization constants).
 pub fn render_terms(gpu: &Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> RenderedFrame {
-    let options = Options { shader: ShaderConfig { terms, ..ShaderConfig::default() }, ssaa: 1 };
+    let options = Options { shader: ShaderConfig::terms_only(terms, Method::Full), ..Options::default() };
     let mut renderer = Renderer::new(gpu, scene, width, height, options).unwrap();
     renderer.render(scene).unwrap()
 }

@@ -1,0 +1,122 @@
+//! Leaves out what a scene does not need: from the scene and the camera, which shader terms,
+//! which stages' work and which passes and resources a frame needs. Every omission is one the
+//! general renderer would compute to zero (or to nothing visible), so the picture stays the same;
+//! the report lists each with its reason.
+
+use crate::frame::{CameraFrame, GEOMETRY_STEPS};
+use crate::renderer::Options;
+use crate::scene::Scene;
+use crate::sky::SkyModel;
+use crate::waves::WaveSet;
+use serde::Serialize;
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Omission {
+    pub what: String,
+    pub why: String,
+}
+
+/// Screen positions (NDC, margins included) where the grid's resolution is checked.
+const PROBES: usize = 41;
+/// A train must be this many times past the grid's Nyquist limit at every probe before the
+/// vertex stage's displacement is left out (the probes are a sample of the screen).
+const GEOMETRY_MARGIN: f64 = 2.0;
+
+/// Whether some train can be displaced by the grid somewhere in view: the test of
+/// glsl/waves.glsl `sample_scale` (the longest train against the footprint's smallest phase
+/// step) at probes over the screen and its margins, with a safety factor.
+fn grid_resolves_some_train(camera: &CameraFrame, waves: &WaveSet, cell_px: f64, width: u32, height: u32) -> bool {
+    let Some(longest) = waves.trains.last().map(|t| t.wavelength) else { return false };
+    let reach = camera.plane_height * cell_px;
+    let unresolved = GEOMETRY_STEPS[1] as f64;
+    let dr_du = camera.right * camera.tan_half_x * (2.0 / width as f64);
+    let dr_dv = -camera.up * camera.tan_half_y * (2.0 / height as f64);
+    (0..PROBES * PROBES).any(|i| {
+        let ndc = [
+            -2.0 + 4.0 * (i % PROBES) as f64 / (PROBES - 1) as f64,
+            -2.0 + 4.0 * (i / PROBES) as f64 / (PROBES - 1) as f64,
+        ];
+        let r = camera.ray(ndc);
+        let w = (-r.z).max(0.0);
+        let q = |d: glam::DVec3| glam::DVec2::new(d.x * w + r.x * d.z, d.y * w + r.y * d.z);
+        let (qu, qv) = (q(dr_du), q(dr_dv));
+        let det = (qu.x * qv.y - qu.y * qv.x).abs();
+        let diagonal = (qu - qv).length().max((qu + qv).length());
+        let q_min = if diagonal > 0.0 { det / diagonal } else { 0.0 };
+        longest * w * w * unresolved > GEOMETRY_MARGIN * q_min * reach
+    })
+}
+
+/// The options a frame of `scene` needs, starting from `requested` (which it only narrows), and
+/// what was left out. `width`, `height` are the output size.
+pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: Options) -> (Options, Vec<Omission>) {
+    let mut options = requested;
+    let mut omitted = Vec::new();
+    let mut omit = |what: &str, why: String| omitted.push(Omission { what: what.into(), why });
+    let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
+    let terms = &mut options.shader.terms;
+    if terms.sun && sky.sun_radiance.iter().all(|&l| l == 0.0) {
+        terms.sun = false;
+        omit("sun term", format!("the sun is {:.1} degrees below the horizon", -scene.sun.elevation_deg));
+    }
+    if terms.sky && sky.sky_scale == 0.0 {
+        terms.sky = false;
+        omit("sky term", "night: the sun is more than 18 degrees below the horizon, the sky is dark".into());
+    }
+    if terms.sea && sky.sky_scale == 0.0 {
+        terms.sea = false;
+        omit("refracted term", "night: no sky light enters the water".into());
+    }
+    if sky.sky_scale == 0.0 && options.shader.background && sky.sun_radiance.iter().all(|&l| l == 0.0) {
+        options.shader.background = false;
+        omit("sky behind the sea", "night: the sky and the sun are dark (cleared to black instead)".into());
+    }
+    if !terms.sky && options.sky_map {
+        options.sky_map = false;
+        omit("sky map and its mip chain (512x512, 10 levels)", "nothing samples it: no sky term".into());
+    }
+    let k = options.ssaa;
+    let camera = CameraFrame::new(scene, waves, width * k, height * k);
+    if options.shader.geometry
+        && !grid_resolves_some_train(&camera, waves, scene.render.grid_cell_px * k as f64, width * k, height * k)
+    {
+        options.shader.geometry = false;
+        let longest = waves.trains.last().map_or(0.0, |t| t.wavelength);
+        omit(
+            "vertex displacement",
+            format!(
+                "no train is long enough for the grid anywhere in view (the longest, {longest:.1} m, spans under {} cells)",
+                1.0 / GEOMETRY_STEPS[1]
+            ),
+        );
+    }
+    if options.ssaa == 1 {
+        omit("resolve pass and its image", "no supersampling".into());
+    }
+    (options, omitted)
+}
+
+/// Names of the pipelines a renderer with `options` uses, as the report lists them.
+pub fn pipelines(options: &Options) -> Vec<String> {
+    let t = options.shader.terms;
+    let terms: Vec<&str> =
+        [("sun", t.sun), ("sky", t.sky), ("sea", t.sea)].iter().filter(|x| x.1).map(|x| x.0).collect();
+    let mut names = Vec::new();
+    if options.sky_map {
+        names.push("sky map".to_owned());
+    }
+    names.push(format!(
+        "ocean ({}; terms: {}; {})",
+        options.shader.method.name(),
+        if terms.is_empty() { "none".to_owned() } else { terms.join(", ") },
+        if options.shader.geometry { "displaced" } else { "flat grid" }
+    ));
+    if options.shader.background {
+        names.push("sky".to_owned());
+    }
+    if options.ssaa > 1 {
+        names.push("resolve".to_owned());
+    }
+    names.push("tonemap".to_owned());
+    names
+}
