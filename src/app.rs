@@ -27,6 +27,25 @@ pub struct RenderRequest {
     pub specialize: bool,
 }
 
+impl RenderRequest {
+    /// One frame of `scene`, written nowhere, without validation, with what the scene needs only.
+    pub fn new(scene: Scene, width: u32, height: u32) -> RenderRequest {
+        RenderRequest {
+            scene,
+            width,
+            height,
+            png: None,
+            exr: None,
+            report: None,
+            validation: false,
+            device: None,
+            frames: 1,
+            options: Options::default(),
+            specialize: true,
+        }
+    }
+}
+
 /// Renders on a new GPU context and writes the requested files.
 pub fn render(request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
     let gpu = Gpu::new(request.validation, request.device.as_deref())?;

@@ -5,26 +5,14 @@ mod common;
 
 use common::{assert_clean, gpu};
 use ocean::app::{render_on, RenderRequest};
-use ocean::renderer::{Options, RenderedFrame};
+use ocean::renderer::RenderedFrame;
 use ocean::report::Report;
 use ocean::scene::Scene;
 use ocean::vk::gpu::Gpu;
 use std::path::Path;
 
 fn render(gpu: &Gpu, scene: &Scene, specialize: bool) -> (Report, RenderedFrame) {
-    let request = RenderRequest {
-        scene: scene.clone(),
-        width: 96,
-        height: 64,
-        png: None,
-        exr: None,
-        report: None,
-        validation: true,
-        device: None,
-        frames: 1,
-        options: Options::default(),
-        specialize,
-    };
+    let request = RenderRequest { validation: true, specialize, ..RenderRequest::new(scene.clone(), 96, 64) };
     let (report, frame) = render_on(gpu, &request).unwrap();
     assert_clean(&report, if specialize { "specialized" } else { "general" });
     (report, frame)

@@ -21,19 +21,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, Ren
 
 /// A validated single-frame render with the given method, terms and supersampling.
 pub fn render_with(gpu: &Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> (Report, RenderedFrame) {
-    let request = RenderRequest {
-        scene: scene.clone(),
-        width,
-        height,
-        png: None,
-        exr: None,
-        report: None,
-        validation: true,
-        device: None,
-        frames: 1,
-        options,
-        specialize: true,
-    };
+    let request = RenderRequest { validation: true, options, ..RenderRequest::new(scene.clone(), width, height) };
     render_on(gpu, &request).unwrap_or_else(|e| panic!("render failed: {e}"))
 }
 
