@@ -1,5 +1,7 @@
 //! Scene files (TOML). Every key has a unit in its name, a default (the authors' demo values)
 //! and an allowed range; unknown keys, malformed TOML and out-of-range values are errors.
+//! Azimuths and yaws are angles on a circle: any finite value is accepted and wrapped into
+//! (-180, 180]. Elevations and pitches are limited to [-90, 90], where they mean something.
 
 use crate::error::{Error, Result};
 use serde::Deserialize;
@@ -48,8 +50,64 @@ pub struct Wind {
 pub struct Waves {
     pub count: u32,
     pub lambda_min_m: f64,
-    pub lambda_max_m: f64,
+    /// The longest wavelength, in metres or from the wind (`"peak"`); see `Scene::lambda_max_m`.
+    pub lambda_max_m: LongestWave,
     pub seed: u64,
+}
+
+/// The longest wavelength of the trains: a length, or the peak of the wind's spectrum.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LongestWave {
+    Metres(f64),
+    /// The wavelength at the Pierson-Moskowitz spectrum's peak for the scene's wind speed.
+    Peak,
+}
+
+impl LongestWave {
+    /// The key's value as a scene file spells it.
+    pub fn describe(self) -> String {
+        match self {
+            LongestWave::Metres(m) => m.to_string(),
+            LongestWave::Peak => "\"peak\"".to_owned(),
+        }
+    }
+}
+
+impl serde::Serialize for LongestWave {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            LongestWave::Metres(m) => serializer.serialize_f64(*m),
+            LongestWave::Peak => serializer.serialize_str("peak"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for LongestWave {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = LongestWave;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a wavelength in metres or \"peak\" (the wind spectrum's peak)")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<LongestWave, E> {
+                Ok(LongestWave::Metres(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<LongestWave, E> {
+                Ok(LongestWave::Metres(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<LongestWave, E> {
+                Ok(LongestWave::Metres(v as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<LongestWave, E> {
+                match v {
+                    "peak" => Ok(LongestWave::Peak),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
@@ -97,7 +155,7 @@ impl Default for Wind {
 }
 impl Default for Waves {
     fn default() -> Self {
-        Self { count: 60, lambda_min_m: 0.02, lambda_max_m: 30.0, seed: 1 }
+        Self { count: 60, lambda_min_m: 0.02, lambda_max_m: LongestWave::Metres(30.0), seed: 1 }
     }
 }
 impl Default for Render {
@@ -128,33 +186,61 @@ impl Scene {
             };
             Error::Scene { file, message }
         })?;
+        let mut scene = scene;
         scene.validate().map_err(|message| Error::Scene { file: file.to_owned(), message })?;
+        scene.wrap_angles();
         Ok(scene)
+    }
+
+    /// Wraps every azimuth into (-180, 180] degrees, so that equal directions compare equal.
+    pub fn wrap_angles(&mut self) {
+        self.camera.yaw_deg = wrap_degrees(self.camera.yaw_deg);
+        self.sun.azimuth_deg = wrap_degrees(self.sun.azimuth_deg);
+        self.wind.direction_deg = wrap_degrees(self.wind.direction_deg);
+    }
+
+    /// The longest wavelength in metres, with `"peak"` resolved from the wind speed.
+    pub fn lambda_max_m(&self) -> f64 {
+        match self.waves.lambda_max_m {
+            LongestWave::Metres(m) => m,
+            LongestWave::Peak => crate::waves::peak_wavelength(self.wind.speed_mps),
+        }
     }
 
     pub fn validate(&self) -> Result<(), String> {
         let c = &self.camera;
         in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(100_000.0))?;
         in_range("camera.pitch_deg", c.pitch_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
-        in_range("camera.yaw_deg", c.yaw_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
+        finite_angle("camera.yaw_deg", c.yaw_deg)?;
         // Beyond these the projection loses single precision (tan overflows or 1/tan does).
         in_range("camera.fov_y_deg", c.fov_y_deg, Bound::Closed(0.01), Bound::Closed(179.0))?;
         in_range("sun.elevation_deg", self.sun.elevation_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
-        in_range("sun.azimuth_deg", self.sun.azimuth_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
+        finite_angle("sun.azimuth_deg", self.sun.azimuth_deg)?;
         // Preetham's fit covers turbidities 2 to 10; below 1.7 its zenith chromaticity leaves the gamut.
         in_range("sky.turbidity", self.sky.turbidity, Bound::Closed(1.7), Bound::Closed(10.0))?;
         in_range("wind.speed_mps", self.wind.speed_mps, Bound::Closed(0.0), Bound::Closed(60.0))?;
-        in_range("wind.direction_deg", self.wind.direction_deg, Bound::Closed(-360.0), Bound::Closed(360.0))?;
+        finite_angle("wind.direction_deg", self.wind.direction_deg)?;
         let w = &self.waves;
         if w.count == 0 || w.count > MAX_WAVES {
             return Err(format!("waves.count = {} is out of range [1, {MAX_WAVES}]", w.count));
         }
         in_range("waves.lambda_min_m", w.lambda_min_m, Bound::Closed(1e-3), Bound::Closed(1e4))?;
-        in_range("waves.lambda_max_m", w.lambda_max_m, Bound::Closed(1e-3), Bound::Closed(1e4))?;
-        if w.lambda_min_m >= w.lambda_max_m && w.count > 1 {
+        let lambda_max = self.lambda_max_m();
+        if w.lambda_max_m == LongestWave::Peak && !(self.wind.speed_mps > 0.0) {
+            return Err("waves.lambda_max_m = \"peak\" needs a wind: wind.speed_mps = 0 has no spectral peak".into());
+        }
+        let key = format!("waves.lambda_max_m = {}", w.lambda_max_m.describe());
+        let resolved = match w.lambda_max_m {
+            LongestWave::Metres(_) => String::new(),
+            LongestWave::Peak => format!(" (resolved from wind.speed_mps = {})", self.wind.speed_mps),
+        };
+        if !(1e-3..=1e4).contains(&lambda_max) {
+            return Err(format!("{key}{resolved} = {lambda_max} m is out of range [0.001, 10000]"));
+        }
+        if w.lambda_min_m >= lambda_max && w.count > 1 {
             return Err(format!(
-                "waves.lambda_min_m = {} must be below waves.lambda_max_m = {}",
-                w.lambda_min_m, w.lambda_max_m
+                "waves.lambda_min_m = {} must be below {key}{resolved} = {lambda_max} m",
+                w.lambda_min_m
             ));
         }
         let r = &self.render;
@@ -163,6 +249,27 @@ impl Scene {
         in_range("render.time_s", r.time_s, Bound::Closed(-1e9), Bound::Closed(1e9))?;
         in_range("render.sky_anisotropy", r.sky_anisotropy, Bound::Closed(1.0), Bound::Closed(16.0))?;
         Ok(())
+    }
+}
+
+/// The angle wrapped into (-180, 180] degrees; `%` on floats is exact, so nothing is lost.
+pub fn wrap_degrees(angle: f64) -> f64 {
+    let r = angle % 360.0; // in (-360, 360), same sign as angle
+    if r > 180.0 {
+        r - 360.0
+    } else if r <= -180.0 {
+        r + 360.0
+    } else {
+        r
+    }
+}
+
+/// Any finite angle: it is wrapped, not limited.
+fn finite_angle(key: &str, value: f64) -> Result<(), String> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(format!("{key} = {value} is not a finite angle (any finite value in degrees is wrapped)"))
     }
 }
 

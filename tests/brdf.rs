@@ -7,7 +7,7 @@ use common::{gpu, render_terms};
 use ocean::frame::{CameraFrame, GEOMETRY_STEPS};
 use ocean::passes::ocean::Terms;
 use ocean::reference::ReferenceScene;
-use ocean::scene::Scene;
+use ocean::scene::{LongestWave, Scene};
 use ocean::sky::SkyModel;
 use ocean::waves::generate;
 
@@ -24,7 +24,7 @@ fn scene() -> Scene {
     s.sun.elevation_deg = 35.0;
     s.wind.speed_mps = 8.0;
     s.waves.count = 40;
-    s.waves.lambda_max_m = 4.0;
+    s.waves.lambda_max_m = LongestWave::Metres(4.0);
     s.render.time_s = 12.5;
     s
 }

@@ -1,6 +1,6 @@
 //! Scene files: defaults, presets, and one clear line for every kind of bad input.
 
-use ocean::scene::Scene;
+use ocean::scene::{wrap_degrees, LongestWave, Scene};
 use std::path::Path;
 use std::process::Command;
 
@@ -20,7 +20,7 @@ fn defaults_are_the_demo_values() {
     assert_eq!(scene.sun.elevation_deg, 3.0);
     assert_eq!(scene.wind.speed_mps, 10.0);
     assert_eq!(scene.waves.count, 60);
-    assert_eq!((scene.waves.lambda_min_m, scene.waves.lambda_max_m), (0.02, 30.0));
+    assert_eq!((scene.waves.lambda_min_m, scene.waves.lambda_max_m), (0.02, LongestWave::Metres(30.0)));
     assert_eq!(scene.render.grid_cell_px, 8.0);
 }
 
@@ -71,12 +71,80 @@ fn out_of_range_values_name_key_and_range() {
         ("[render]\nexposure = inf", "render.exposure"),
         ("[render]\ngrid_cell_px = 0.5", "render.grid_cell_px"),
         ("[sky]\nturbidity = 1.0", "sky.turbidity"),
+        ("[sun]\nelevation_deg = -90.5", "sun.elevation_deg"),
+        ("[camera]\nfov_y_deg = 0.0", "camera.fov_y_deg"),
+        ("[waves]\nlambda_max_m = 20000", "waves.lambda_max_m"),
+        ("[wind]\nspeed_mps = 2.0\n[waves]\nlambda_min_m = 5.0\nlambda_max_m = \"peak\"", "waves.lambda_max_m"),
     ];
     for (text, key) in cases {
         let e = parse_error(text);
         assert!(e.contains(key), "{text:?}: {e}");
         assert!(e.contains("range") || e.contains("below"), "{text:?}: {e}");
         assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
+
+#[test]
+fn azimuths_wrap_and_only_non_finite_angles_are_refused() {
+    let scene = Scene::parse(
+        "[camera]\nyaw_deg = 720.0\n[sun]\nazimuth_deg = -540.0\n[wind]\ndirection_deg = 1e300\n",
+        "t.toml",
+    )
+    .unwrap();
+    assert_eq!(scene.camera.yaw_deg, 0.0);
+    assert_eq!(scene.sun.azimuth_deg, 180.0, "-540 is the direction 180");
+    assert!(scene.wind.direction_deg > -180.0 && scene.wind.direction_deg <= 180.0);
+    // The same direction written two ways is the same scene.
+    let a = Scene::parse("[camera]\nyaw_deg = -90\n", "a.toml").unwrap();
+    let b = Scene::parse("[camera]\nyaw_deg = 270\n", "b.toml").unwrap();
+    assert_eq!(a, b);
+    for (value, expected) in
+        [(180.0, 180.0), (-180.0, 180.0), (540.0, 180.0), (359.5, -0.5), (-0.25, -0.25), (1e-30, 1e-30)]
+    {
+        assert_eq!(wrap_degrees(value), expected, "wrap {value}");
+    }
+    for key in ["[camera]\nyaw_deg", "[sun]\nazimuth_deg", "[wind]\ndirection_deg"] {
+        for bad in ["nan", "inf", "-inf"] {
+            let e = parse_error(&format!("{key} = {bad}"));
+            assert!(e.contains("not a finite angle"), "{key} = {bad}: {e}");
+            assert!(!e.contains('\n'), "one line: {e}");
+        }
+    }
+}
+
+#[test]
+fn the_longest_wave_can_come_from_the_wind() {
+    let scene = Scene::parse("[wind]\nspeed_mps = 20.0\n[waves]\nlambda_max_m = \"peak\"\n", "t.toml").unwrap();
+    assert_eq!(scene.waves.lambda_max_m, LongestWave::Peak);
+    // Pierson-Moskowitz: omega_p = (4 beta / 5)^(1/4) g / U, lambda = 2 pi g / omega_p^2.
+    let omega_p = (4.0f64 * 0.74 / 5.0).powf(0.25) * 9.81 / 20.0;
+    let expected = std::f64::consts::TAU * 9.81 / (omega_p * omega_p);
+    assert!((scene.lambda_max_m() - expected).abs() < 1e-9 * expected, "{}", scene.lambda_max_m());
+    assert!((scene.lambda_max_m() - 333.0).abs() < 1.0, "about 333 m at 20 m/s: {}", scene.lambda_max_m());
+    // The longest train is the peak's wavelength.
+    let waves = ocean::waves::generate(&scene);
+    let longest = waves.trains.last().unwrap().wavelength;
+    assert!((longest - expected).abs() < 1e-6 * expected, "{longest}");
+    let e = parse_error("[wind]\nspeed_mps = 0.0\n[waves]\nlambda_max_m = \"peak\"\n");
+    assert!(e.contains("waves.lambda_max_m") && e.contains("wind"), "{e}");
+    let e = parse_error("[waves]\nlambda_max_m = \"long\"\n");
+    assert!(e.contains("line 2") && e.contains("peak"), "{e}");
+    // Round trip through the report's JSON keeps the keyword.
+    let json = serde_json::to_string(&scene).unwrap();
+    assert!(json.contains("\"lambda_max_m\":\"peak\""), "{json}");
+    assert_eq!(serde_json::from_str::<Scene>(&json).unwrap(), scene);
+}
+
+#[test]
+fn every_preset_fits_its_wind() {
+    // No preset wastes trains on waves the wind does not make: the longest train is at most
+    // twice the spectrum's peak (beyond it lies under 1% of the height variance).
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for name in ["calm", "storm", "sunset", "noon", "high_altitude"] {
+        let scene = Scene::load(&dir.join(format!("{name}.toml"))).unwrap();
+        let peak = ocean::waves::peak_wavelength(scene.wind.speed_mps);
+        let longest = scene.lambda_max_m();
+        assert!(longest <= 2.0 * peak && longest >= 0.5 * peak, "{name}: longest {longest} m, peak {peak} m");
     }
 }
 

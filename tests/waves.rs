@@ -1,7 +1,7 @@
 //! Wave generation: slope variance against its formula, determinism, the k h <= 1 clamp, the
 //! Cox-Munk order of magnitude, and the phase reduction for large times.
 
-use ocean::scene::Scene;
+use ocean::scene::{LongestWave, Scene};
 use ocean::waves::{cox_munk_total_variance, generate, G};
 use std::f64::consts::TAU;
 
@@ -99,7 +99,7 @@ fn water_height_under_the_eye_solves_the_trochoid() {
     let mut scene = Scene::default();
     scene.waves.count = 1;
     scene.waves.lambda_min_m = 10.0;
-    scene.waves.lambda_max_m = 10.0;
+    scene.waves.lambda_max_m = LongestWave::Metres(10.0);
     scene.wind.direction_deg = 0.0;
     for time in [0.0, 1.3, 4.7, 123.0] {
         let set = generate(&scene);
