@@ -5,6 +5,7 @@
 
 use crate::app::{median, minimum, pass_statistic};
 use crate::error::{Error, Result};
+use crate::output::progress::Progress;
 use crate::output::write_text;
 use crate::renderer::{Options, Renderer};
 use crate::scene::Scene;
@@ -85,20 +86,19 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
         scenes.push((name, Scene::load(&path)?));
     }
     let mut rows = Vec::new();
-    for (name, scene) in &scenes {
+    let mut progress = Progress::new("bench speed", scenes.len() as u64 + 1, "scenes", true);
+    for (i, (name, scene)) in scenes.iter().enumerate() {
+        progress.set(i as u64, Some(&format!("timing {name}, {} frames", frames + 1)));
         let wave_set = crate::waves::generate(scene);
         let (options, _) = crate::specialize::plan(scene, &wave_set, 1024, 768, Options::default());
         let row = time_scene(gpu, name, scene, 1024, 768, frames, options)?;
-        crate::say!(
+        progress.println(&format!(
             "{:<14} {}x{}  median {:7.1} ms  fastest {:7.1} ms",
-            row.scene,
-            row.width,
-            row.height,
-            row.median_ms["total"],
-            row.fastest_ms["total"]
-        );
+            row.scene, row.width, row.height, row.median_ms["total"], row.fastest_ms["total"]
+        ));
         rows.push(row);
     }
+    progress.set(scenes.len() as u64, Some("memory at 1920x1080"));
     let (used, reserved) = {
         let scene = Scene::default();
         let mut renderer = Renderer::new(gpu, &scene, 1920, 1080, Options::default())?;
@@ -106,6 +106,7 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
         let m = renderer.memory();
         (m.used_bytes as f64 / 1048576.0, m.reserved_bytes as f64 / 1048576.0)
     };
+    progress.set(scenes.len() as u64 + 1, None);
     crate::say!("memory at 1920x1080: {used:.1} MiB used, {reserved:.1} MiB reserved (target < {TARGET_MIB} MiB)");
     let report = SpeedReport {
         device: gpu.device.name.clone(),
@@ -196,9 +197,11 @@ pub fn specialize(gpu: &Gpu, dirs: &[&Path], frames: u32, out_dir: &Path) -> Res
         paths.extend(found);
     }
     let mut rows = Vec::new();
-    for path in paths {
-        let scene = Scene::load(&path)?;
+    let mut progress = Progress::new("bench specialize", paths.len() as u64, "scenes", true);
+    for (i, path) in paths.iter().enumerate() {
+        let scene = Scene::load(path)?;
         let name = path.display().to_string();
+        progress.set(i as u64, Some(&format!("timing {name}, both pipelines, {} frames each", frames + 1)));
         let wave_set = crate::waves::generate(&scene);
         let (options, omitted) = crate::specialize::plan(&scene, &wave_set, 1024, 768, Options::default());
         let [general, special] = interleaved(gpu, &scene, frames, Options::default(), options)?;
@@ -210,15 +213,16 @@ pub fn specialize(gpu: &Gpu, dirs: &[&Path], frames: u32, out_dir: &Path) -> Res
             general_fastest_ms: general.1,
             specialized_fastest_ms: special.1,
         };
-        crate::say!(
+        progress.println(&format!(
             "{:<40} general {:7.1} ms  specialized {:7.1} ms  {}",
             row.scene,
             row.general_ms,
             row.specialized_ms,
             row.omitted.join(", ")
-        );
+        ));
         rows.push(row);
     }
+    progress.set(paths.len() as u64, None);
     std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
     write_text(&out_dir.join("specialize.json"), &serde_json::to_string_pretty(&rows).expect("serializes"))?;
     let mut md = format!(

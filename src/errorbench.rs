@@ -6,7 +6,8 @@ use crate::app::median;
 use crate::error::{Error, Result};
 use crate::frame::CameraFrame;
 use crate::groundtruth::GroundTruthFiles;
-use crate::output::write_text;
+use crate::output::progress::Progress;
+use crate::output::{luminance, write_text};
 use crate::passes::ocean::{Method, ShaderConfig, Terms};
 use crate::renderer::{Options, Renderer};
 use crate::scene::Scene;
@@ -68,10 +69,6 @@ pub fn settings(scene: &Scene) -> Vec<Setting> {
     out
 }
 
-fn luminance(p: [f32; 4]) -> f64 {
-    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
-}
-
 /// Errors of `images` (total, sun, sky, sea) against the ground truth over the pixels `select`ed.
 fn errors(images: &[Vec<[f32; 4]>; 4], truth: &[&[[f32; 4]]; 4], select: &[usize]) -> TermErrors {
     let mut e = TermErrors::default();
@@ -126,7 +123,13 @@ pub fn run(
     }
     let truth_images = [truth.total.as_slice(), truth.sun.as_slice(), truth.sky.as_slice(), truth.sea.as_slice()];
     let mut rows = Vec::new();
-    for setting in settings(scene) {
+    let settings = settings(scene);
+    let mut progress = Progress::new("bench error-vs-time", settings.len() as u64, "settings", true);
+    for (i, setting) in settings.into_iter().enumerate() {
+        progress.set(
+            i as u64,
+            Some(&format!("{} {}, {} frames and 3 term renders", setting.method.name(), setting.label, frames + 1)),
+        );
         let shader = ShaderConfig { method: setting.method, ..ShaderConfig::default() };
         let mut renderer =
             Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, sky_map: true })?;
@@ -158,16 +161,13 @@ pub fn run(
             all: errors(&images, &truth_images, &sea),
             bands: band_rows,
         };
-        crate::say!(
+        progress.println(&format!(
             "{:<14} {:<18} {:7.1} ms  rmse {:8.4}  energy {:+7.3}",
-            row.method,
-            row.setting,
-            row.gpu_ms,
-            row.all.rmse[0],
-            row.all.energy_error[0]
-        );
+            row.method, row.setting, row.gpu_ms, row.all.rmse[0], row.all.energy_error[0]
+        ));
         rows.push(row);
     }
+    progress.set(rows.len() as u64, None);
     write_outputs(&rows, out_dir, scene_name, reference, w, h, frames)?;
     Ok(rows)
 }
@@ -238,14 +238,14 @@ fn write_outputs(
         .unwrap();
     }
     write_text(&dir.join("error_vs_time.md"), &md)?;
-    crate::plot::error_vs_time(&dir.join("error_vs_time.png"), rows, &front)?;
+    crate::output::plot::error_vs_time(&dir.join("error_vs_time.png"), rows, &front)?;
     // Energy against distance of each method's default setting, sun and sky (indices 1 and 2).
     let series: Vec<(&str, Vec<[f64; 2]>)> = rows
         .iter()
         .filter(|r| r.setting == "default")
         .map(|r| (r.method.as_str(), r.bands.iter().map(|(_, _, e)| [e.energy_error[1], e.energy_error[2]]).collect()))
         .collect();
-    crate::plot::energy_by_distance(&dir.join("energy_by_distance.png"), &series)
+    crate::output::plot::energy_by_distance(&dir.join("energy_by_distance.png"), &series)
 }
 
 /// Indices of rows no other row beats in both GPU time and total RMSE.

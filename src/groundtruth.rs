@@ -67,6 +67,9 @@ pub struct GroundTruthReport {
     /// RMS over all pixels of |L_N - L_(N/2)| / mean L: the N x N estimate against its
     /// (N/2) x (N/2) subset of strata, a measure of how far the estimate still moves.
     pub convergence_rms_relative: Option<f64>,
+    /// The estimate's own noise over the sea, as an RMSE of Rec. 709 luminance (kcd/m^2): the
+    /// error a perfect method would still show against it (see `noise_floor`).
+    pub noise_floor_rmse: Option<f64>,
     /// Pixels whose sub-samples step more than half a turn of the shortest wave.
     pub unresolved_pixels: u64,
     pub nonfinite_pixels: u64,
@@ -88,14 +91,45 @@ pub struct GroundTruth {
     pub report: GroundTruthReport,
 }
 
-/// Renders the ground truth of `scene`; `progress(done, total)` is called after every tile.
+/// What a sky pixel costs against a sea pixel (no march, no sun ray): a sky tile is far from free,
+/// but an order of magnitude cheaper. Only the estimate of the time left depends on it.
+const SKY_PIXEL_COST: u64 = 1;
+const SEA_PIXEL_COST: u64 = 16;
+
+/// Each tile's share of the work, in units of one sky pixel: for an estimate of the time left
+/// that holds while the top rows (sky) go fast and the rows near the eye go slow.
+fn tile_costs(camera: &frame::CameraFrame, width: u32, height: u32) -> Vec<u64> {
+    let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
+    let mut costs = Vec::with_capacity((tiles_x * tiles_y) as usize);
+    for ty in 0..tiles_y {
+        for tx in 0..tiles_x {
+            let xs = tx * TILE..((tx + 1) * TILE).min(width);
+            let ys = ty * TILE..((ty + 1) * TILE).min(height);
+            let cost =
+                ys.flat_map(|y| xs.clone().map(move |x| (x, y)))
+                    .map(|(x, y)| {
+                        if camera.pixel_distance(x, y, width, height).is_some() {
+                            SEA_PIXEL_COST
+                        } else {
+                            SKY_PIXEL_COST
+                        }
+                    })
+                    .sum();
+            costs.push(cost);
+        }
+    }
+    costs
+}
+
+/// Renders the ground truth of `scene`; `progress(done, total)` is called after every tile, in
+/// units of work (`tile_costs`), not tiles.
 pub fn render(
     gpu: &Gpu,
     scene: &Scene,
     width: u32,
     height: u32,
     samples: u32,
-    mut progress: impl FnMut(u32, u32),
+    mut progress: impl FnMut(u64, u64),
 ) -> Result<GroundTruth> {
     if samples == 0 || samples > MAX_SAMPLES {
         return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
@@ -172,7 +206,10 @@ pub fn render(
     };
     let tiles_x = width.div_ceil(TILE);
     let tiles_y = height.div_ceil(TILE);
-    let total = tiles_x * tiles_y;
+    let camera = frame::CameraFrame::new(scene, &wave_set, width, height);
+    let costs = tile_costs(&camera, width, height);
+    let total: u64 = costs.iter().sum();
+    let mut done = 0;
     let started = Instant::now();
     for ty in 0..tiles_y {
         for tx in 0..tiles_x {
@@ -217,7 +254,8 @@ pub fn render(
                 );
             }
             commands.submit_and_wait()?;
-            progress(ty * tiles_x + tx + 1, total);
+            done += costs[(ty * tiles_x + tx) as usize];
+            progress(done, total);
         }
     }
     let gpu_seconds = started.elapsed().as_secs_f64();
@@ -243,6 +281,12 @@ pub fn render(
     let stats = crate::output::stats(&radiance);
     let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
     let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
+    let sea_pixels: Vec<usize> = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| camera.pixel_distance(x, y, width, height).is_some())
+        .map(|(x, y)| (y * width + x) as usize)
+        .collect();
+    let noise_floor_rmse = (samples >= 2).then(|| noise_floor(&radiance, &subset, &sea_pixels));
     let report = GroundTruthReport {
         device: device.name.clone(),
         width,
@@ -250,6 +294,7 @@ pub fn render(
         samples_per_axis: samples,
         gpu_seconds,
         convergence_rms_relative,
+        noise_floor_rmse,
         unresolved_pixels,
         nonfinite_pixels: stats.nonfinite_pixels,
         mean_radiance: stats.mean_radiance,
@@ -275,6 +320,19 @@ fn convergence(full: &[[f32; 4]], subset: &[[f32; 4]], mean: [f64; 3]) -> f64 {
     }
 }
 
+/// The ground truth's noise as an RMSE over `pixels`, in luminance: with the N x N mean F and its
+/// (N/2) x (N/2) subset S (a quarter of the samples), F - S = 3/4 (R - S) for the mean R of the
+/// other three quarters, so Var(F - S) = 9/16 (4 + 4/3) Var(F) = 3 Var(F): the noise of F is
+/// RMS(F - S) / sqrt(3), strata taken as independent samples.
+fn noise_floor(full: &[[f32; 4]], subset: &[[f32; 4]], pixels: &[usize]) -> f64 {
+    if pixels.is_empty() {
+        return 0.0;
+    }
+    let luminance = crate::output::luminance;
+    let sum: f64 = pixels.iter().map(|&i| (luminance(full[i]) - luminance(subset[i])).powi(2)).sum();
+    (sum / pixels.len() as f64 / 3.0).sqrt()
+}
+
 /// What a saved ground truth carries besides its images: enough to refuse comparing it with
 /// another scene or size.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -283,6 +341,9 @@ pub struct GroundTruthMeta {
     pub width: u32,
     pub height: u32,
     pub samples_per_axis: u32,
+    /// `GroundTruthReport::noise_floor_rmse` (absent in files from before it was measured).
+    #[serde(default)]
+    pub noise_floor_rmse: Option<f64>,
 }
 
 /// The four images of a ground truth on disk: `ref.exr` (total, alpha = resolved), and
@@ -318,6 +379,7 @@ impl GroundTruth {
             width: self.width,
             height: self.height,
             samples_per_axis: self.report.samples_per_axis,
+            noise_floor_rmse: self.report.noise_floor_rmse,
         };
         write_text(&meta_path(path), &serde_json::to_string_pretty(&meta).expect("serializes"))
     }

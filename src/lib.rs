@@ -12,7 +12,6 @@ pub mod groundtruth;
 pub mod numerics;
 pub mod output;
 pub mod passes;
-pub mod plot;
 pub mod reference;
 pub mod renderer;
 pub mod report;

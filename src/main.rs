@@ -11,9 +11,10 @@ enum Term {
     Sky,
     Sea,
 }
+use ocean::output::progress::Progress;
+use ocean::output::target::is_stdout;
 use ocean::renderer::Options;
 use ocean::scene::Scene;
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -35,13 +36,14 @@ enum Command {
         width: u32,
         #[arg(long, default_value_t = 768)]
         height: u32,
-        /// Output PNG (tone-mapped sRGB).
+        /// Output PNG (tone-mapped sRGB); `-` for standard output.
         #[arg(long, default_value = "out.png")]
         out: PathBuf,
-        /// Also write the linear HDR radiance as OpenEXR.
+        /// Also write the linear HDR radiance as OpenEXR; `-` for standard output.
         #[arg(long)]
         exr: Option<PathBuf>,
-        /// Write a JSON report (timings, validation counts, image statistics, memory).
+        /// Write a JSON report (timings, validation counts, image statistics, memory); `-` for
+        /// standard output.
         #[arg(long)]
         report: Option<PathBuf>,
         /// Enable the Khronos validation layer with synchronization validation.
@@ -140,6 +142,25 @@ enum Bench {
     },
 }
 
+/// Reserves standard output for the one option given `-` (binary ones never for a terminal).
+fn claim_stdout(outputs: &[(&str, Option<&Path>, bool)]) -> ocean::Result<()> {
+    for &(option, path, binary) in outputs {
+        if let Some(path) = path {
+            ocean::output::target::claim_stdout(option, path, binary)?;
+        }
+    }
+    Ok(())
+}
+
+/// A path as status lines name it.
+fn shown(path: &Path) -> String {
+    if is_stdout(path) {
+        "standard output".to_owned()
+    } else {
+        path.display().to_string()
+    }
+}
+
 /// The scene from `--scene`, or the built-in defaults (scenes/default.toml), with its name.
 fn load_scene(path: Option<PathBuf>) -> ocean::Result<(Scene, String)> {
     match path {
@@ -165,6 +186,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
             frames,
             no_specialize,
         } => {
+            claim_stdout(&[
+                ("--out", Some(&out), true),
+                ("--exr", exr.as_deref(), true),
+                ("--report", report.as_deref(), false),
+            ])?;
             let (scene, _) = load_scene(scene)?;
             let terms = Terms {
                 sun: terms.contains(&Term::Sun),
@@ -198,7 +224,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             };
             ocean::say!(
                 "{}: {}x{} on {}, GPU {total}, {} validation errors, {} non-finite pixels",
-                out.display(),
+                shown(&out),
                 report.width,
                 report.height,
                 report.device,
@@ -208,17 +234,22 @@ fn run(cli: Cli) -> ocean::Result<()> {
             Ok(())
         }
         Command::Reference { scene, width, height, samples, out, png, report, validation, device } => {
+            // The per-term images and the metadata are named after these files.
+            for (option, path) in [("--out", Some(&out)), ("--png", png.as_ref())] {
+                if path.is_some_and(|p| is_stdout(p)) {
+                    return Err(ocean::Error::Argument(format!(
+                        "reference {option} - : the per-term files written beside it are named after it; give a file name"
+                    )));
+                }
+            }
+            claim_stdout(&[("--report", report.as_deref(), false)])?;
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
-            let interactive = std::io::stderr().is_terminal();
+            let label = format!("ground truth {width}x{height}, {samples}x{samples} samples per pixel");
+            let mut progress: Option<Progress> = None;
             let truth = ocean::groundtruth::render(&gpu, &scene, width, height, samples, |done, total| {
-                if interactive {
-                    let bar = "#".repeat((40 * done / total) as usize);
-                    eprint!("\rground truth [{bar:<40}] {done}/{total} tiles");
-                    if done == total {
-                        eprintln!();
-                    }
-                }
+                // Work units are weighted by what a tile costs, so the time left holds.
+                progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
             })?;
             truth.save(&scene, &out)?;
             if let Some(path) = png {

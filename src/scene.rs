@@ -226,7 +226,7 @@ impl Scene {
         }
         in_range("waves.lambda_min_m", w.lambda_min_m, Bound::Closed(1e-3), Bound::Closed(1e4))?;
         let lambda_max = self.lambda_max_m();
-        if w.lambda_max_m == LongestWave::Peak && !(self.wind.speed_mps > 0.0) {
+        if w.lambda_max_m == LongestWave::Peak && self.wind.speed_mps <= 0.0 {
             return Err("waves.lambda_max_m = \"peak\" needs a wind: wind.speed_mps = 0 has no spectral peak".into());
         }
         let key = format!("waves.lambda_max_m = {}", w.lambda_max_m.describe());

@@ -38,8 +38,27 @@ fn the_reference_converges_as_samples_grow() {
     let best = truth(8);
     assert_eq!(best.report.nonfinite_pixels, 0);
     assert_eq!(best.report.validation_errors, 0);
-    let errors: Vec<f64> = [1, 2, 4].iter().map(|&n| rms_difference(&truth(n).radiance, &best.radiance)).collect();
+    let coarse: Vec<_> = [1, 2, 4].iter().map(|&n| truth(n)).collect();
+    let errors: Vec<f64> = coarse.iter().map(|t| rms_difference(&t.radiance, &best.radiance)).collect();
     assert!(errors[0] > errors[1] && errors[1] > errors[2], "error against 8x8 samples for 1, 2, 4: {errors:?}");
+    // The noise floor each estimate reports of itself falls with the samples, and the 4x4 one
+    // predicts its real distance from the 8x8 estimate: RMS(F4 - F8) = sqrt(s4^2 + s8^2), with
+    // s8 = s4 / 2, is 1.12 s4 (luminance over the sea).
+    let floors: Vec<f64> = [&coarse[1], &coarse[2], &best].iter().map(|t| t.report.noise_floor_rmse.unwrap()).collect();
+    assert!(coarse[0].report.noise_floor_rmse.is_none(), "one sample has no subset to compare with");
+    assert!(floors[0] > floors[1] && floors[1] > floors[2] && floors[2] > 0.0, "noise floors for 2, 4, 8: {floors:?}");
+    let camera = ocean::frame::CameraFrame::new(&scene, &ocean::waves::generate(&scene), w, h);
+    let sea: Vec<usize> =
+        (0..w * h).filter(|i| camera.pixel_distance(i % w, i / w, w, h).is_some()).map(|i| i as usize).collect();
+    let lum = ocean::output::luminance;
+    let measured = (sea.iter().map(|&i| (lum(coarse[2].radiance[i]) - lum(best.radiance[i])).powi(2)).sum::<f64>()
+        / sea.len() as f64)
+        .sqrt();
+    let predicted = 1.12 * floors[1];
+    assert!(
+        measured / predicted > 0.5 && measured / predicted < 2.0,
+        "4x4 noise: predicted {predicted}, measured {measured}"
+    );
 }
 
 #[test]

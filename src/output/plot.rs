@@ -86,14 +86,11 @@ pub fn error_vs_time(path: &Path, rows: &[Row], front: &[usize]) -> Result<()> {
     save(&img, path)
 }
 
-/// Writes through `<path>.partial`, then renames.
 fn save(img: &RgbImage, path: &Path) -> Result<()> {
-    let mut partial = path.as_os_str().to_owned();
-    partial.push(".partial");
-    let partial = Path::new(&partial);
-    img.save_with_format(partial, image::ImageFormat::Png)
-        .and_then(|_| std::fs::rename(partial, path).map_err(image::ImageError::IoError))
-        .map_err(|e| Error::Io { path: path.to_owned(), message: e.to_string() })
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Png)
+        .map_err(|e| Error::Io { path: path.to_owned(), message: e.to_string() })?;
+    super::target::write(path, bytes.get_ref())
 }
 
 /// Energy error against distance band, for the sun (left half) and the sky (right half) of each

@@ -1,8 +1,14 @@
-//! Image files and image statistics: PNG of the tone-mapped frame, linear EXR of the radiance,
-//! non-finite counts and mean radiance. Files are written under a temporary name and renamed,
-//! so an interrupted run never leaves a half-written file under the final name.
+//! What the program hands the user: image files (PNG of the tone-mapped frame, linear EXR of the
+//! radiance), text (JSON, CSV, markdown), plots, progress and status lines, and image
+//! statistics. Every output is encoded in memory and written through `target`, which knows a
+//! regular file from a device, a pipe, a symlink or standard output.
+
+pub mod plot;
+pub mod progress;
+pub mod target;
 
 use crate::error::{Error, Result};
+use std::io::Cursor;
 use std::path::Path;
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -11,14 +17,24 @@ pub struct ImageStats {
     pub mean_radiance: [f64; 3],
 }
 
-/// Prints a line to standard output; a closed pipe (`ocean ... | head`) is not an error worth a
-/// panic, so write failures are ignored.
+/// Prints a status line to standard output, or to standard error once an output file took
+/// standard output (`--out -`). A closed pipe (`ocean ... | head`) is not an error worth a
+/// panic, so failures to print a status line are ignored.
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
+        if $crate::output::target::stdout_taken() {
+            let _ = writeln!(std::io::stderr(), $($arg)*);
+        } else {
+            let _ = writeln!(std::io::stdout(), $($arg)*);
+        }
     }};
+}
+
+/// Rec. 709 luminance of linear RGB (the alpha is ignored).
+pub fn luminance(p: [f32; 4]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
 }
 
 pub fn stats(hdr: &[[f32; 4]]) -> ImageStats {
@@ -43,16 +59,11 @@ fn io_error(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Io { path: path.to_owned(), message: e.to_string() }
 }
 
-/// Writes through `<path>.partial` then renames over `path`.
-fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let mut partial = path.as_os_str().to_owned();
-    partial.push(".partial");
-    let partial = Path::new(&partial);
-    if let Err(e) = write(partial) {
-        let _ = std::fs::remove_file(partial);
-        return Err(e);
-    }
-    std::fs::rename(partial, path).map_err(|e| io_error(path, e))
+/// Encodes an image in memory (the EXR encoder needs to seek) and writes it to `path`.
+fn write_image(path: &Path, image: image::DynamicImage, format: image::ImageFormat) -> Result<()> {
+    let mut bytes = Cursor::new(Vec::new());
+    image.write_to(&mut bytes, format).map_err(|e| io_error(path, e))?;
+    target::write(path, bytes.get_ref())
 }
 
 /// The tone mapping of glsl/tonemap.comp on the CPU: 1 - exp(-exposure L), then sRGB, as RGBA8.
@@ -72,28 +83,15 @@ pub fn tonemap(hdr: &[[f32; 4]], exposure: f64) -> Vec<u8> {
 
 pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
     let rgb: Vec<u8> = rgba8.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-    write_atomically(path, |tmp| {
-        image::save_buffer_with_format(
-            tmp,
-            &rgb,
-            width,
-            height,
-            image::ExtendedColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| io_error(path, e))
-    })
+    let buffer = image::RgbImage::from_raw(width, height, rgb).expect("width * height pixels");
+    write_image(path, image::DynamicImage::ImageRgb8(buffer), image::ImageFormat::Png)
 }
 
 /// Linear RGBA as OpenEXR (f32), alpha carried as given (the ground truth's resolved mask).
 pub fn write_exr_rgba(path: &Path, width: u32, height: u32, rgba: &[[f32; 4]]) -> Result<()> {
     let data: Vec<f32> = rgba.iter().flatten().copied().collect();
     let buffer = image::Rgba32FImage::from_raw(width, height, data).expect("width * height pixels");
-    write_atomically(path, |tmp| {
-        image::DynamicImage::ImageRgba32F(buffer)
-            .save_with_format(tmp, image::ImageFormat::OpenExr)
-            .map_err(|e| io_error(path, e))
-    })
+    write_image(path, image::DynamicImage::ImageRgba32F(buffer), image::ImageFormat::OpenExr)
 }
 
 /// Reads an OpenEXR written by `write_exr` or `write_exr_rgba` (alpha 1 when absent).
@@ -106,13 +104,9 @@ pub fn read_exr(path: &Path) -> Result<(u32, u32, Vec<[f32; 4]>)> {
 pub fn write_exr(path: &Path, width: u32, height: u32, hdr: &[[f32; 4]]) -> Result<()> {
     let rgb: Vec<f32> = hdr.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
     let buffer = image::Rgb32FImage::from_raw(width, height, rgb).expect("width * height pixels");
-    write_atomically(path, |tmp| {
-        image::DynamicImage::ImageRgb32F(buffer)
-            .save_with_format(tmp, image::ImageFormat::OpenExr)
-            .map_err(|e| io_error(path, e))
-    })
+    write_image(path, image::DynamicImage::ImageRgb32F(buffer), image::ImageFormat::OpenExr)
 }
 
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    write_atomically(path, |tmp| std::fs::write(tmp, text).map_err(|e| io_error(path, e)))
+    target::write(path, text.as_bytes())
 }

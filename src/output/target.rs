@@ -1,0 +1,133 @@
+//! Where an output's bytes go. A regular file (or a name not yet taken) is written under a
+//! temporary name beside it and renamed over it, so an interrupted run never leaves half a file;
+//! anything else (a device, a named pipe, a socket) is written in place, because renaming over
+//! it would replace the node itself; symlinks are followed to the file they name; `-` is
+//! standard output. Every failed write is an error naming the path.
+
+use crate::error::{Error, Result};
+use std::fs::{self, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Symlink hops followed before giving up (Linux's own limit, MAXSYMLINKS, is 40).
+const MAX_SYMLINK_HOPS: u32 = 40;
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Target {
+    /// `-`.
+    Stdout,
+    /// A regular file, existing or to be created: written beside it, then renamed over it.
+    Replace(PathBuf),
+    /// An existing node that is not a regular file: opened and written where it is.
+    InPlace(PathBuf),
+}
+
+fn io_error(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Io { path: path.to_owned(), message: e.to_string() }
+}
+
+/// True for the name that means standard output.
+pub fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+impl Target {
+    /// Classifies `path`, following symlinks (relative ones from their own folder).
+    pub fn of(path: &Path) -> Result<Target> {
+        if is_stdout(path) {
+            return Ok(Target::Stdout);
+        }
+        let mut current = path.to_owned();
+        for _ in 0..MAX_SYMLINK_HOPS {
+            match fs::symlink_metadata(&current) {
+                Ok(meta) if meta.file_type().is_symlink() => {
+                    let link = fs::read_link(&current).map_err(|e| io_error(&current, e))?;
+                    current = match current.parent() {
+                        Some(parent) if link.is_relative() => parent.join(link),
+                        _ => link,
+                    };
+                }
+                Ok(meta) if meta.is_file() => return Ok(Target::Replace(current)),
+                Ok(meta) if meta.is_dir() => return Err(io_error(path, "is a directory, not a file")),
+                Ok(_) => return Ok(Target::InPlace(current)),
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Target::Replace(current)),
+                Err(e) => return Err(io_error(&current, e)),
+            }
+        }
+        Err(io_error(path, format!("more than {MAX_SYMLINK_HOPS} symbolic links to follow")))
+    }
+}
+
+/// Writes `bytes` to `path` as `Target::of` classifies it.
+pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
+    match Target::of(path)? {
+        Target::Stdout => {
+            let mut out = std::io::stdout().lock();
+            out.write_all(bytes).and_then(|()| out.flush()).map_err(|e| io_error(Path::new("standard output"), e))
+        }
+        Target::InPlace(node) => OpenOptions::new()
+            .write(true)
+            .open(&node)
+            .and_then(|mut file| file.write_all(bytes).and_then(|()| file.flush()))
+            .map_err(|e| io_error(path, e)),
+        Target::Replace(file) => replace(path, &file, bytes),
+    }
+}
+
+/// Writes `.NAME.PID.partial` beside `file`, flushes it to disk, keeps the old file's
+/// permissions, and renames it over `file`; on failure the partial file is removed.
+fn replace(asked: &Path, file: &Path, bytes: &[u8]) -> Result<()> {
+    let name = file.file_name().ok_or_else(|| io_error(asked, "names no file"))?;
+    let mut partial_name = std::ffi::OsString::from(".");
+    partial_name.push(name);
+    partial_name.push(format!(".{}.partial", std::process::id()));
+    let partial = file.with_file_name(partial_name);
+    let result = (|| {
+        let mut out = OpenOptions::new().write(true).create(true).truncate(true).open(&partial)?;
+        out.write_all(bytes)?;
+        out.sync_all()?;
+        if let Ok(old) = fs::metadata(file) {
+            fs::set_permissions(&partial, old.permissions())?;
+        }
+        fs::rename(&partial, file)
+    })();
+    result.map_err(|e| {
+        let _ = fs::remove_file(&partial);
+        io_error(asked, e)
+    })
+}
+
+/// Which option took standard output, if any; status lines then go to standard error.
+static STDOUT_OWNER: Mutex<Option<String>> = Mutex::new(None);
+
+/// Reserves standard output for the output of `option` when its path is `-`. A second option
+/// asking for it is refused, and so is binary data for a terminal.
+pub fn claim_stdout(option: &str, path: &Path, binary: bool) -> Result<()> {
+    if !is_stdout(path) {
+        return Ok(());
+    }
+    let mut owner = stdout_owner();
+    if let Some(first) = owner.as_deref() {
+        return Err(Error::Argument(format!(
+            "{first} and {option} both ask for standard output ('-'); only one output can go there"
+        )));
+    }
+    if binary && std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+        return Err(Error::Argument(format!(
+            "{option} - would write binary data to the terminal; redirect standard output or name a file"
+        )));
+    }
+    *owner = Some(option.to_owned());
+    Ok(())
+}
+
+fn stdout_owner() -> std::sync::MutexGuard<'static, Option<String>> {
+    // A panic elsewhere cannot leave the Option half-written: take it as it is.
+    STDOUT_OWNER.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// True once an output owns standard output (status lines then go to standard error: `say!`).
+pub fn stdout_taken() -> bool {
+    stdout_owner().is_some()
+}
