@@ -96,6 +96,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         nonfinite_pixels: stats.nonfinite_pixels,
         mean_radiance: stats.mean_radiance,
         memory,
+        pipeline_cache: gpu.device.pipeline_cache.report.clone(),
         eye_height_m: frame.frame.camera.eye_height,
         omitted,
         pipelines: crate::specialize::pipelines(&options),

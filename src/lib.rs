@@ -6,7 +6,6 @@
 pub mod app;
 pub mod bench;
 pub mod error;
-pub mod errorbench;
 pub mod frame;
 pub mod groundtruth;
 pub mod numerics;

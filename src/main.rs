@@ -128,6 +128,17 @@ enum Bench {
         #[arg(long)]
         device: Option<String>,
     },
+    /// Wall time of `ocean render` as new processes: without the pipeline cache on disk, with an
+    /// empty cache folder, and with a previous run's cache file.
+    Startup {
+        /// Runs of each setup, interleaved.
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+        runs: u32,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+        #[arg(long)]
+        device: Option<String>,
+    },
     /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080.
     Speed {
         #[arg(long, default_value = "scenes")]
@@ -289,7 +300,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
         Command::Bench { bench: Bench::ErrorVsTime { scene, reference, out, frames, device } } => {
             let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            ocean::errorbench::run(&gpu, &scene, &name, &reference, frames, &out)?;
+            ocean::bench::error_vs_time::run(&gpu, &scene, &name, &reference, frames, &out)?;
             ocean::say!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());
             Ok(())
         }
@@ -297,6 +308,22 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::bench::specialize(&gpu, &[Path::new("scenes"), Path::new("scenes/extreme")], frames, &out)?;
             ocean::say!("wrote {}/specialize.md and specialize.json", out.display());
+            Ok(())
+        }
+        Command::Bench { bench: Bench::Startup { runs, out, device } } => {
+            let name = ocean::vk::gpu::Gpu::with_cache_dir(false, device.as_deref(), None)?.device.name.clone();
+            let report = ocean::bench::startup::run(&name, device.as_deref(), runs, &out)?;
+            for row in &report.rows {
+                ocean::say!(
+                    "{:<40} wall {:.3} s (fastest {:.3} s), first frame {:.1} ms GPU, {} cache bytes loaded",
+                    row.setup,
+                    row.wall_median_s,
+                    row.wall_fastest_s,
+                    row.first_frame_gpu_median_ms,
+                    row.cache_loaded_bytes
+                );
+            }
+            ocean::say!("wrote {}/startup.md and startup.json", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {

@@ -26,6 +26,8 @@ pub struct Report {
     /// Mean linear radiance of the HDR image (kcd/m^2 per channel).
     pub mean_radiance: [f64; 3],
     pub memory: MemoryReport,
+    /// The pipeline cache this run started from (file, bytes loaded, or why none was used).
+    pub pipeline_cache: crate::vk::pipeline_cache::CacheReport,
     pub grid: GridReport,
     /// The eye's height above mean sea level as rendered: the scene's, raised by a crest under it.
     pub eye_height_m: f64,

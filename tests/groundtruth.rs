@@ -4,7 +4,7 @@
 mod common;
 
 use common::gpu;
-use ocean::errorbench;
+use ocean::bench::error_vs_time as errorbench;
 use ocean::groundtruth;
 use ocean::scene::Scene;
 use std::path::PathBuf;

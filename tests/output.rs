@@ -107,7 +107,7 @@ fn failed_writes_are_errors_naming_the_path() {
 }
 
 fn ocean(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).output().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).env("OCEAN_CACHE_DIR", "").output().unwrap()
 }
 
 #[test]

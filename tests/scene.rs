@@ -149,7 +149,7 @@ fn every_preset_fits_its_wind() {
 }
 
 fn run_cli(args: &[&str]) -> (bool, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).output().unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).env("OCEAN_CACHE_DIR", "").output().unwrap();
     (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
 

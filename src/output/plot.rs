@@ -1,8 +1,8 @@
 //! Small raster plots for the error bench (no text: the markdown beside them carries the numbers).
 //! Methods by colour: full blue, constant-brdf orange, no-filter red.
 
+use crate::bench::error_vs_time::Row;
 use crate::error::{Error, Result};
-use crate::errorbench::Row;
 use image::{Rgb, RgbImage};
 use std::path::Path;
 

@@ -1,8 +1,10 @@
 //! Physical-device choice and the logical device with its one graphics+compute queue.
 
 use super::instance::Instance;
+use super::pipeline_cache::PipelineCache;
 use crate::error::{Error, Result, VkContext};
 use ash::{ext, vk};
+use std::path::Path;
 
 /// Formats the renderer uses and the features each must offer with optimal tiling.
 pub const HDR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -36,6 +38,8 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     pub anisotropy: bool,
     pub debug_utils: Option<ext::debug_utils::Device>,
+    /// Every pipeline is created through it; kept on disk between runs (pipeline_cache.rs).
+    pub pipeline_cache: PipelineCache,
 }
 
 fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
@@ -106,7 +110,8 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice) -> Result<Candidate>
 impl Device {
     /// Picks discrete > integrated > virtual > CPU among devices that have what we need, or the
     /// first device whose name contains `name_filter` (case-insensitive).
-    pub fn new(instance: &Instance, name_filter: Option<&str>) -> Result<Device> {
+    /// `cache_dir` holds the pipeline cache files (None: the cache lives for this run only).
+    pub fn new(instance: &Instance, name_filter: Option<&str>, cache_dir: Option<&Path>) -> Result<Device> {
         // SAFETY: enumeration on a live instance.
         let physicals = unsafe { instance.raw.enumerate_physical_devices() }.during("vkEnumeratePhysicalDevices")?;
         if physicals.is_empty() {
@@ -133,10 +138,10 @@ impl Device {
         let Some(chosen) = candidates.into_iter().next() else {
             return Err(Error::NoDevice(rejected.join("; ")));
         };
-        Self::open(instance, chosen)
+        Self::open(instance, chosen, cache_dir)
     }
 
-    fn open(instance: &Instance, c: Candidate) -> Result<Device> {
+    fn open(instance: &Instance, c: Candidate, cache_dir: Option<&Path>) -> Result<Device> {
         let priorities = [1.0];
         let queue_info =
             [vk::DeviceQueueCreateInfo::default().queue_family_index(c.queue_family).queue_priorities(&priorities)];
@@ -151,6 +156,14 @@ impl Device {
         // SAFETY: plain query on a live physical device.
         let memory_properties = unsafe { instance.raw.get_physical_device_memory_properties(c.physical) };
         let debug_utils = instance.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
+        let pipeline_cache = match PipelineCache::open(&raw, &c.properties, cache_dir) {
+            Ok(cache) => cache,
+            Err(e) => {
+                // SAFETY: nothing was created on the device yet.
+                unsafe { raw.destroy_device(None) };
+                return Err(e);
+            }
+        };
         let device = Device {
             raw,
             physical: c.physical,
@@ -162,8 +175,10 @@ impl Device {
             timestamp_valid_bits: c.timestamp_valid_bits,
             anisotropy: c.anisotropy,
             debug_utils,
+            pipeline_cache,
         };
         device.set_name(device.queue, "main queue");
+        device.set_name(device.pipeline_cache.raw, "pipeline cache");
         Ok(device)
     }
 
@@ -189,6 +204,7 @@ impl Drop for Device {
         // SAFETY: owners of child objects drop first (Gpu's field order), after wait_idle.
         unsafe {
             let _ = self.raw.device_wait_idle();
+            self.raw.destroy_pipeline_cache(self.pipeline_cache.raw, None);
             self.raw.destroy_device(None);
         }
     }

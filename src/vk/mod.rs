@@ -11,5 +11,6 @@ pub mod instance;
 pub mod memory;
 pub mod owned;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod profiler;
 pub mod validation;

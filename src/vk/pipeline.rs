@@ -150,7 +150,7 @@ pub fn compute_pipeline<'g>(
         .name(c"main");
     let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
     // SAFETY: valid create info; the module outlives the call.
-    let pipelines = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+    let pipelines = unsafe { device.raw.create_compute_pipelines(device.pipeline_cache.raw, &[info], None) }
         .map_err(|(_, e)| e)
         .during("vkCreateComputePipelines")?;
     Ok(Owned::new(device, pipelines[0], name))
@@ -222,7 +222,7 @@ pub fn graphics_pipeline<'g>(
         .layout(layout)
         .push_next(&mut rendering);
     // SAFETY: valid create info built from locals; the modules outlive the call.
-    let pipelines = unsafe { device.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+    let pipelines = unsafe { device.raw.create_graphics_pipelines(device.pipeline_cache.raw, &[info], None) }
         .map_err(|(_, e)| e)
         .during("vkCreateGraphicsPipelines")?;
     Ok(Owned::new(device, pipelines[0], desc.name))

@@ -8,11 +8,13 @@ use ocean::report::Report;
 use ocean::scene::Scene;
 use ocean::vk::gpu::Gpu;
 
-/// A context with the validation layer and synchronization validation on. `OCEAN_TEST_DEVICE`
-/// picks a device by name (CI sets VK_DRIVER_FILES to lavapipe instead).
+/// A context with the validation layer and synchronization validation on, its pipeline cache in
+/// memory only (the tests leave nothing in the user's cache folder). `OCEAN_TEST_DEVICE` picks a
+/// device by name (CI sets VK_DRIVER_FILES to lavapipe instead).
 pub fn gpu() -> Gpu {
     let filter = std::env::var("OCEAN_TEST_DEVICE").ok();
-    Gpu::new(true, filter.as_deref()).unwrap_or_else(|e| panic!("GPU tests need Vulkan with validation: {e}"))
+    Gpu::with_cache_dir(true, filter.as_deref(), None)
+        .unwrap_or_else(|e| panic!("GPU tests need Vulkan with validation: {e}"))
 }
 
 pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, RenderedFrame) {

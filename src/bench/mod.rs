@@ -3,6 +3,9 @@
 //! after a warm-up frame, from timestamp queries; all in one run, so ratios between rows hold on
 //! a noisy machine.
 
+pub mod error_vs_time;
+pub mod startup;
+
 use crate::app::{median, minimum, pass_statistic};
 use crate::error::{Error, Result};
 use crate::output::progress::Progress;
