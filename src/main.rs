@@ -301,7 +301,10 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::bench::error_vs_time::run(&gpu, &scene, &name, &reference, frames, &out)?;
-            ocean::say!("wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .png", out.display());
+            ocean::say!(
+                "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg",
+                out.display()
+            );
             Ok(())
         }
         Command::Bench { bench: Bench::Specialize { frames, out, device } } => {

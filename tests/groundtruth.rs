@@ -132,8 +132,49 @@ fn the_bench_writes_a_finite_row_per_method() {
             assert!(value.is_finite(), "{method} {column} = {value}");
         }
     }
-    for file in ["error_by_distance.csv", "error_vs_time.md", "error_vs_time.png"] {
+    for file in ["error_by_distance.csv", "error_vs_time.md"] {
         assert!(dir.join(file).is_file(), "{file} missing");
+    }
+    let md = std::fs::read_to_string(dir.join("error_vs_time.md")).unwrap();
+    assert!(md.contains("noise floor over the sea: RMSE "), "the table states the ground truth's noise: {md}");
+    // The plots say what they show: a title, axes with units and values, a legend.
+    let texts = |file: &str| -> Vec<String> {
+        let svg = std::fs::read_to_string(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"), "{file} is SVG");
+        svg.split("<text")
+            .skip(1)
+            .map(|t| t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].trim().replace("&apos;", "'"))
+            .collect()
+    };
+    let error = texts("error_vs_time.svg");
+    for wanted in [
+        "Error against GPU time: test scene, 32x24",
+        "GPU time per frame (ms)",
+        "RMSE of luminance over the sea (kcd/m²",
+        "full",
+        "constant-brdf",
+        "no-filter",
+        "Pareto front (ringed)",
+        "ground truth's noise floor (",
+        "ssaa=2",
+    ] {
+        assert!(error.iter().any(|t| t.starts_with(wanted)), "error_vs_time.svg lacks {wanted:?}: {error:?}");
+    }
+    let ticks = error.iter().filter(|t| t.parse::<f64>().is_ok()).count();
+    assert!(ticks >= 6, "tick values on both axes: {error:?}");
+    let energy = texts("energy_by_distance.svg");
+    for wanted in [
+        "Energy error by distance",
+        "reflected sun",
+        "reflected sky",
+        "distance from the eye (m)",
+        "energy error against the ground truth (%)",
+        "±5% target",
+        "10–20",
+        "≥1000",
+        "full",
+    ] {
+        assert!(energy.iter().any(|t| t.starts_with(wanted)), "energy_by_distance.svg lacks {wanted:?}: {energy:?}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

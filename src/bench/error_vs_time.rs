@@ -168,7 +168,8 @@ pub fn run(
         rows.push(row);
     }
     progress.set(rows.len() as u64, None);
-    write_outputs(&rows, out_dir, scene_name, reference, w, h, frames)?;
+    let truth_info = Truth { path: reference, noise_floor: truth.meta.noise_floor_rmse };
+    write_outputs(&rows, out_dir, scene_name, truth_info, (w, h), frames)?;
     Ok(rows)
 }
 
@@ -181,15 +182,21 @@ fn term_values(e: &TermErrors) -> String {
     (0..4).map(|t| format!(",{},{}", value(e.rmse[t]), value(e.energy_error[t]))).collect()
 }
 
+/// What the outputs say of the ground truth they were measured against.
+struct Truth<'a> {
+    path: &'a Path,
+    noise_floor: Option<f64>,
+}
+
 fn write_outputs(
     rows: &[Row],
     dir: &Path,
     scene_name: &str,
-    reference: &Path,
-    w: u32,
-    h: u32,
+    truth: Truth,
+    (w, h): (u32, u32),
     frames: u32,
 ) -> Result<()> {
+    let Truth { path: reference, noise_floor } = truth;
     std::fs::create_dir_all(dir).map_err(|e| Error::Io { path: dir.to_owned(), message: e.to_string() })?;
     let mut csv = format!("method,setting,gpu_ms{}\n", term_columns());
     for r in rows {
@@ -217,9 +224,11 @@ fn write_outputs(
     let mut md = format!(
         "Error against GPU time: scene `{scene_name}` at {w}x{h}, reference `{}`, median of {frames} frames.\n\
          RMSE of Rec. 709 luminance (kcd/m^2) over the sea; energy error = (mean - reference mean) / reference mean.\n\
-         `*` marks the Pareto front (no other row is both faster and more accurate in total).\n\n\
+         `*` marks the Pareto front (no other row is both faster and more accurate in total).\n\
+         The ground truth's own noise floor over the sea: {} (no method can show a smaller RMSE against it).\n\n\
          | method | setting | GPU ms | RMSE total | energy total | energy sun | energy sky | energy sea |\n|---|---|---|---|---|---|---|---|\n",
-        reference.display()
+        reference.display(),
+        noise_floor.map_or("not measured (a reference with one sample per pixel)".to_owned(), |f| format!("RMSE {f:.4}"))
     );
     for (i, r) in rows.iter().enumerate() {
         let star = if front.contains(&i) { " *" } else { "" };
@@ -238,14 +247,16 @@ fn write_outputs(
         .unwrap();
     }
     write_text(&dir.join("error_vs_time.md"), &md)?;
-    crate::output::plot::error_vs_time(&dir.join("error_vs_time.png"), rows, &front)?;
+    let title = format!("Error against GPU time: {scene_name}, {w}x{h}");
+    crate::output::plot::error_vs_time(&dir.join("error_vs_time.svg"), &title, rows, &front, noise_floor)?;
     // Energy against distance of each method's default setting, sun and sky (indices 1 and 2).
     let series: Vec<(&str, Vec<[f64; 2]>)> = rows
         .iter()
         .filter(|r| r.setting == "default")
         .map(|r| (r.method.as_str(), r.bands.iter().map(|(_, _, e)| [e.energy_error[1], e.energy_error[2]]).collect()))
         .collect();
-    crate::output::plot::energy_by_distance(&dir.join("energy_by_distance.png"), &series)
+    let title = format!("Energy error by distance, default settings: {scene_name}, {w}x{h}");
+    crate::output::plot::energy_by_distance(&dir.join("energy_by_distance.svg"), &title, &series)
 }
 
 /// Indices of rows no other row beats in both GPU time and total RMSE.

@@ -1,142 +1,249 @@
-//! Small raster plots for the error bench (no text: the markdown beside them carries the numbers).
-//! Methods by colour: full blue, constant-brdf orange, no-filter red.
+//! Plots of the error bench as SVG (plotters; SVG text needs no font files and shows in any
+//! browser and in rendered markdown): titled, with labelled axes, units, tick values and a
+//! legend. Methods by colour: full blue, constant-brdf orange, no-filter red.
 
-use crate::bench::error_vs_time::Row;
+use crate::bench::error_vs_time::{Row, BANDS_M};
 use crate::error::{Error, Result};
-use image::{Rgb, RgbImage};
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::prelude::*;
 use std::path::Path;
 
-const W: u32 = 720;
-const H: u32 = 480;
-const MARGIN: i32 = 40;
+const SIZE: (u32, u32) = (900, 560);
+const FONT: &str = "sans-serif";
 
-/// full: blue, constant-brdf: orange, no-filter: red (the markdown table says so too).
-fn colour(method: &str) -> Rgb<u8> {
+fn colour(method: &str) -> RGBColor {
     match method {
-        "full" => Rgb([31, 119, 180]),
-        "constant-brdf" => Rgb([255, 127, 14]),
-        _ => Rgb([214, 39, 40]),
+        "full" => RGBColor(31, 119, 180),
+        "constant-brdf" => RGBColor(255, 127, 14),
+        _ => RGBColor(214, 39, 40),
     }
 }
 
-fn put(img: &mut RgbImage, x: i32, y: i32, c: Rgb<u8>) {
-    if x >= 0 && y >= 0 && (x as u32) < W && (y as u32) < H {
-        img.put_pixel(x as u32, y as u32, c);
+fn plot_error(path: &Path) -> impl Fn(String) -> Error + '_ {
+    move |message| Error::Io { path: path.to_owned(), message: format!("plot: {message}") }
+}
+
+/// A value with three significant digits (plain notation from 0.001 up).
+fn three_digits(v: f64) -> String {
+    let decimals = (2 - v.abs().max(1e-3).log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// The smallest and largest positive finite value ((0.1, 10) where there is none).
+fn value_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    if lo.is_finite() {
+        (lo, hi)
+    } else {
+        (0.1, 10.0)
     }
 }
 
-fn line(img: &mut RgbImage, (x0, y0): (i32, i32), (x1, y1): (i32, i32), c: Rgb<u8>) {
-    let steps = (x1 - x0).abs().max((y1 - y0).abs()).max(1);
-    for s in 0..=steps {
-        let t = s as f64 / steps as f64;
-        put(img, x0 + ((x1 - x0) as f64 * t).round() as i32, y0 + ((y1 - y0) as f64 * t).round() as i32, c);
+/// Total RMSE against GPU time, one point per method and setting (labelled with the setting),
+/// the Pareto front joined and ringed, and the ground truth's own noise floor as a dashed line:
+/// no method can measure below it. The RMSE axis is logarithmic where the values span more than
+/// a decade.
+pub fn error_vs_time(path: &Path, title: &str, rows: &[Row], front: &[usize], noise_floor: Option<f64>) -> Result<()> {
+    let fail = plot_error(path);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
+        let (lo, hi) = value_range(rows.iter().map(|r| r.all.rmse[0]).chain(noise_floor));
+        let plot = ErrorPlot { title, rows, front, noise_floor };
+        if hi / lo > 10.0 {
+            plot.draw(&root, (lo / 1.25..hi * 1.25).log_scale(), "log scale")
+        } else {
+            let pad = 0.08 * (hi - lo).max(1e-6 * hi);
+            plot.draw(&root, (lo - pad).max(0.0)..hi + pad, "")
+        }
+        .map_err(&fail)?;
+        root.present().map_err(|e| fail(e.to_string()))?;
     }
+    super::write_text(path, &svg)
 }
 
-fn disc(img: &mut RgbImage, (cx, cy): (i32, i32), r: i32, c: Rgb<u8>) {
-    for y in -r..=r {
-        for x in -r..=r {
-            if x * x + y * y <= r * r {
-                put(img, cx + x, cy + y, c);
+struct ErrorPlot<'a> {
+    title: &'a str,
+    rows: &'a [Row],
+    front: &'a [usize],
+    noise_floor: Option<f64>,
+}
+
+impl ErrorPlot<'_> {
+    /// Draws on `root` with the RMSE axis `y` (linear or log), `scale` naming it in the label.
+    fn draw<Y>(&self, root: &DrawingArea<SVGBackend, Shift>, y: Y, scale: &str) -> Result<(), String>
+    where
+        Y: AsRangedCoord<Value = f64>,
+        Y::CoordDescType: ValueFormatter<f64>,
+    {
+        let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+        let rmse = |r: &Row| r.all.rmse[0];
+        let max_ms = self.rows.iter().map(|r| r.gpu_ms).fold(0.0, f64::max).max(1e-3) * 1.15;
+        let mut chart = ChartBuilder::on(root)
+            .caption(self.title, (FONT, 20))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..max_ms, y)
+            .map_err(e)?;
+        let unit = if scale.is_empty() { "kcd/m²".to_owned() } else { format!("kcd/m², {scale}") };
+        chart
+            .configure_mesh()
+            .x_desc("GPU time per frame (ms)")
+            .y_desc(format!("RMSE of luminance over the sea ({unit})"))
+            .axis_desc_style((FONT, 15))
+            .label_style((FONT, 13))
+            .y_labels(10)
+            .draw()
+            .map_err(e)?;
+        if let Some(floor) = self.noise_floor {
+            let grey = BLACK.mix(0.6);
+            chart
+                .draw_series(DashedLineSeries::new([(0.0, floor), (max_ms, floor)], 8, 5, grey.stroke_width(1)))
+                .map_err(e)?
+                .label(format!("ground truth's noise floor ({})", three_digits(floor)))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], grey));
+        }
+        let mut on_front: Vec<&Row> = self.front.iter().map(|&i| &self.rows[i]).collect();
+        on_front.sort_by(|a, b| a.gpu_ms.total_cmp(&b.gpu_ms));
+        chart
+            .draw_series(LineSeries::new(on_front.iter().map(|r| (r.gpu_ms, rmse(r))), BLACK.stroke_width(1)))
+            .map_err(e)?
+            .label("Pareto front (ringed)")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+        chart
+            .draw_series(on_front.iter().map(|r| Circle::new((r.gpu_ms, rmse(r)), 8, BLACK.stroke_width(1))))
+            .map_err(e)?;
+        for method in ["full", "constant-brdf", "no-filter"] {
+            let points: Vec<&Row> = self.rows.iter().filter(|r| r.method == method && rmse(r).is_finite()).collect();
+            if points.is_empty() {
+                continue;
             }
+            let c = colour(method);
+            chart
+                .draw_series(points.iter().map(|r| Circle::new((r.gpu_ms, rmse(r)), 5, c.filled())))
+                .map_err(e)?
+                .label(method)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+            // Settings named beside their points, alternately above and below: neighbours overlap less.
+            chart
+                .draw_series(points.iter().enumerate().map(|(i, r)| {
+                    let dy = if i % 2 == 0 { -16 } else { 6 };
+                    EmptyElement::at((r.gpu_ms, rmse(r)))
+                        + Text::new(r.setting.clone(), (7, dy), (FONT, 11).into_font().color(&c))
+                }))
+                .map_err(e)?;
         }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font((FONT, 13))
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK.mix(0.4))
+            .draw()
+            .map_err(e)?;
+        Ok(())
     }
 }
 
-/// Error against GPU time: time from zero, error over the rows' range, a tick every tenth of each
-/// axis, the Pareto front as a grey line with its points ringed.
-pub fn error_vs_time(path: &Path, rows: &[Row], front: &[usize]) -> Result<()> {
-    let mut img = RgbImage::from_pixel(W, H, Rgb([255, 255, 255]));
-    let max_t = rows.iter().map(|r| r.gpu_ms).fold(0.0, f64::max).max(1e-9) * 1.1;
-    let errors = rows.iter().map(|r| r.all.rmse[0]).filter(|e| e.is_finite());
-    let (min_e, max_e) = errors.fold((f64::INFINITY, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
-    let span = (max_e - min_e).max(1e-9);
-    let (min_e, max_e) = ((min_e - 0.05 * span).max(0.0), max_e + 0.05 * span);
-    let to_px = |t: f64, e: f64| {
-        let x = MARGIN + ((t / max_t) * (W as i32 - 2 * MARGIN) as f64).round() as i32;
-        let y = H as i32 - MARGIN - (((e - min_e) / (max_e - min_e)) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
-        (x, y)
-    };
-    let axis = Rgb([0, 0, 0]);
-    line(&mut img, to_px(0.0, min_e), to_px(max_t, min_e), axis);
-    line(&mut img, to_px(0.0, min_e), to_px(0.0, max_e), axis);
-    for i in 1..=10 {
-        let (x, y) = to_px(max_t * i as f64 / 10.0, min_e);
-        line(&mut img, (x, y), (x, y + 5), axis);
-        let (x, y) = to_px(0.0, min_e + (max_e - min_e) * i as f64 / 10.0);
-        line(&mut img, (x - 5, y), (x, y), axis);
+/// "0–10", ..., "≥1000" (metres) for band `i` of BANDS_M.
+pub fn band_label(i: usize) -> String {
+    let (lo, hi) = (BANDS_M[i], BANDS_M[i + 1]);
+    if hi.is_finite() {
+        format!("{lo}–{hi}")
+    } else {
+        format!("≥{lo}")
     }
-    let mut on_front: Vec<&Row> = front.iter().map(|&i| &rows[i]).collect();
-    on_front.sort_by(|a, b| a.gpu_ms.total_cmp(&b.gpu_ms));
-    for pair in on_front.windows(2) {
-        line(
-            &mut img,
-            to_px(pair[0].gpu_ms, pair[0].all.rmse[0]),
-            to_px(pair[1].gpu_ms, pair[1].all.rmse[0]),
-            Rgb([150, 150, 150]),
-        );
-    }
-    for (i, r) in rows.iter().enumerate() {
-        let p = to_px(r.gpu_ms, r.all.rmse[0]);
-        if front.contains(&i) {
-            disc(&mut img, p, 7, Rgb([0, 0, 0]));
-        }
-        disc(&mut img, p, 5, colour(&r.method));
-    }
-    save(&img, path)
 }
 
-fn save(img: &RgbImage, path: &Path) -> Result<()> {
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)
-        .map_err(|e| Error::Io { path: path.to_owned(), message: e.to_string() })?;
-    super::target::write(path, bytes.get_ref())
-}
-
-/// Energy error against distance band, for the sun (left half) and the sky (right half) of each
-/// method's default setting: a zero line, y from -1 (all energy lost) to +2 (three times the
-/// reference), one tick per band and per 0.5 of error; missing values leave gaps.
-pub fn energy_by_distance(path: &Path, series: &[(&str, Vec<[f64; 2]>)]) -> Result<()> {
-    let mut img = RgbImage::from_pixel(W, H, Rgb([255, 255, 255]));
-    let (lo, hi) = (-1.0, 2.0);
-    let bands = series.first().map_or(1, |s| s.1.len()).max(2);
-    let panel_w = (W as i32 - 3 * MARGIN) / 2;
-    let to_px = |panel: i32, band: usize, e: f64| {
-        let x0 = MARGIN + panel * (panel_w + MARGIN);
-        let x = x0 + (band as f64 / (bands - 1) as f64 * panel_w as f64).round() as i32;
-        let y =
-            H as i32 - MARGIN - (((e.clamp(lo, hi) - lo) / (hi - lo)) * (H as i32 - 2 * MARGIN) as f64).round() as i32;
-        (x, y)
-    };
-    let axis = Rgb([0, 0, 0]);
-    for panel in 0..2 {
-        line(&mut img, to_px(panel, 0, 0.0), to_px(panel, bands - 1, 0.0), Rgb([120, 120, 120]));
-        line(&mut img, to_px(panel, 0, lo), to_px(panel, 0, hi), axis);
-        for b in 0..bands {
-            let (x, y) = to_px(panel, b, lo);
-            line(&mut img, (x, y), (x, y + 5), axis);
-        }
-        for k in 0..=6 {
-            let (x, y) = to_px(panel, 0, lo + 0.5 * k as f64);
-            line(&mut img, (x - 5, y), (x, y), axis);
-        }
-    }
-    for (method, values) in series {
-        for panel in 0..2usize {
-            let points: Vec<Option<(i32, i32)>> = values
-                .iter()
-                .enumerate()
-                .map(|(b, v)| v[panel].is_finite().then(|| to_px(panel as i32, b, v[panel])))
-                .collect();
-            for pair in points.windows(2) {
-                if let (Some(a), Some(b)) = (pair[0], pair[1]) {
-                    line(&mut img, a, b, colour(method));
+/// Relative energy error per distance band of the reflected sun (left) and the reflected sky
+/// (right), one line per method, with the ±5% target shaded; bands without energy in the ground
+/// truth are gaps.
+pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2]>)]) -> Result<()> {
+    let fail = plot_error(path);
+    let bands = BANDS_M.len() - 1;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
+        let root = root.titled(title, (FONT, 20)).map_err(|e| fail(e.to_string()))?;
+        let panels = root.split_evenly((1, 2));
+        for (term, panel) in panels.iter().enumerate() {
+            let percent = |v: f64| 100.0 * v;
+            let values = series.iter().flat_map(|(_, v)| v.iter().map(move |b| percent(b[term])));
+            let (lo, hi) =
+                values.filter(|v| v.is_finite()).fold((-10.0f64, 10.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+            let pad = 0.08 * (hi - lo);
+            let mut chart = ChartBuilder::on(panel)
+                .caption(["reflected sun", "reflected sky"][term], (FONT, 16))
+                .margin(12)
+                .x_label_area_size(60)
+                .y_label_area_size(60)
+                .build_cartesian_2d(-0.3..(bands as f64 - 0.7), (lo - pad)..(hi + pad))
+                .map_err(|e| fail(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .x_labels(bands)
+                .x_label_formatter(&|x| {
+                    let i = x.round();
+                    if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < bands {
+                        band_label(i as usize)
+                    } else {
+                        String::new()
+                    }
+                })
+                .x_desc("distance from the eye (m)")
+                .y_desc("energy error against the ground truth (%)")
+                .axis_desc_style((FONT, 13))
+                .label_style((FONT, 11))
+                .draw()
+                .map_err(|e| fail(e.to_string()))?;
+            chart
+                .draw_series([Rectangle::new(
+                    [(-0.3, -5.0), (bands as f64 - 0.7, 5.0)],
+                    RGBColor(0, 160, 0).mix(0.12).filled(),
+                )])
+                .map_err(|e| fail(e.to_string()))?
+                .label("±5% target")
+                .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], RGBColor(0, 160, 0).mix(0.3).filled()));
+            chart
+                .draw_series(LineSeries::new([(-0.3, 0.0), (bands as f64 - 0.7, 0.0)], BLACK.mix(0.5)))
+                .map_err(|e| fail(e.to_string()))?;
+            for (method, values) in series {
+                let c = colour(method);
+                // Split at missing bands so that a gap is not bridged by a line.
+                let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+                for (b, v) in values.iter().enumerate() {
+                    if v[term].is_finite() {
+                        runs.last_mut().expect("never empty").push((b as f64, percent(v[term])));
+                    } else if !runs.last().expect("never empty").is_empty() {
+                        runs.push(Vec::new());
+                    }
+                }
+                for (i, run) in runs.iter().enumerate() {
+                    let line = chart
+                        .draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)).point_size(4))
+                        .map_err(|e| fail(e.to_string()))?;
+                    if i == 0 {
+                        line.label(*method)
+                            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
+                    }
                 }
             }
-            for p in points.into_iter().flatten() {
-                disc(&mut img, p, 4, colour(method));
-            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .label_font((FONT, 12))
+                .background_style(WHITE.mix(0.9))
+                .border_style(BLACK.mix(0.4))
+                .draw()
+                .map_err(|e| fail(e.to_string()))?;
         }
+        root.present().map_err(|e| fail(e.to_string()))?;
     }
-    save(&img, path)
+    super::write_text(path, &svg)
 }
