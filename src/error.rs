@@ -25,6 +25,13 @@ pub enum Error {
     Io { path: PathBuf, message: String },
 }
 
+impl Error {
+    /// A failed file operation on `path`, with what the system said.
+    pub fn io(path: &std::path::Path, e: impl std::fmt::Display) -> Error {
+        Error::Io { path: path.to_owned(), message: e.to_string() }
+    }
+}
+
 impl From<vk::Result> for Error {
     fn from(result: vk::Result) -> Self {
         Error::Vulkan { call: "vkCall", result }

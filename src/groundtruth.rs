@@ -121,8 +121,8 @@ fn tile_costs(camera: &frame::CameraFrame, width: u32, height: u32) -> Vec<u64> 
     costs
 }
 
-/// Renders the ground truth of `scene`; `progress(done, total)` is called after every tile, in
-/// units of work (`tile_costs`), not tiles.
+/// Renders the ground truth of `scene`; `progress(done, total)` is called before the first tile
+/// and after every tile, in units of work (`tile_costs`), not tiles.
 pub fn render(
     gpu: &Gpu,
     scene: &Scene,
@@ -210,6 +210,7 @@ pub fn render(
     let costs = tile_costs(&camera, width, height);
     let total: u64 = costs.iter().sum();
     let mut done = 0;
+    progress(0, total);
     let started = Instant::now();
     for ty in 0..tiles_y {
         for tx in 0..tiles_x {

@@ -197,7 +197,7 @@ fn write_outputs(
     frames: u32,
 ) -> Result<()> {
     let Truth { path: reference, noise_floor } = truth;
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io { path: dir.to_owned(), message: e.to_string() })?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let mut csv = format!("method,setting,gpu_ms{}\n", term_columns());
     for r in rows {
         writeln!(csv, "{},{},{:.3}{}", r.method, r.setting, r.gpu_ms, term_values(&r.all)).unwrap();

@@ -79,7 +79,7 @@ pub fn time_scene(
 pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Result<SpeedReport> {
     let mut scenes = vec![("default".to_owned(), Scene::default())];
     let mut paths: Vec<_> = std::fs::read_dir(scenes_dir)
-        .map_err(|e| Error::Io { path: scenes_dir.to_owned(), message: e.to_string() })?
+        .map_err(|e| Error::io(scenes_dir, e))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "toml") && p.file_stem().is_some_and(|s| s != "default"))
         .collect();
@@ -118,7 +118,7 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
         memory_1080p_used_mib: used,
         memory_1080p_reserved_mib: reserved,
     };
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     write_text(&out_dir.join("speed.json"), &serde_json::to_string_pretty(&report).expect("serializes"))?;
     write_text(&out_dir.join("speed.md"), &markdown(&report))?;
     Ok(report)
@@ -192,7 +192,7 @@ pub fn specialize(gpu: &Gpu, dirs: &[&Path], frames: u32, out_dir: &Path) -> Res
     let mut paths = Vec::new();
     for dir in dirs {
         let mut found: Vec<_> = std::fs::read_dir(dir)
-            .map_err(|e| Error::Io { path: dir.to_path_buf(), message: e.to_string() })?
+            .map_err(|e| Error::io(dir, e))?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|e| e == "toml"))
             .collect();
@@ -226,7 +226,7 @@ pub fn specialize(gpu: &Gpu, dirs: &[&Path], frames: u32, out_dir: &Path) -> Res
         rows.push(row);
     }
     progress.set(paths.len() as u64, None);
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     write_text(&out_dir.join("specialize.json"), &serde_json::to_string_pretty(&rows).expect("serializes"))?;
     let mut md = format!(
         "GPU time per frame at 1024x768 on {}: median (fastest) of {frames} frames after a warm-up, the general pipeline and the one the scene needs rendering alternate frames in one run. Rows that leave nothing out show the machine's noise.\n\n| scene | left out | general ms | specialized ms | saving (median) |\n|---|---|---|---|---|\n",

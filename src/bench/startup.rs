@@ -78,31 +78,25 @@ fn run_once(
         command.env("MESA_SHADER_CACHE_DISABLE", "true");
     }
     let started = Instant::now();
-    let output = command.output().map_err(|e| Error::Io { path: exe.to_owned(), message: e.to_string() })?;
+    let output = command.output().map_err(|e| Error::io(exe, e))?;
     let wall = started.elapsed().as_secs_f64();
     if !output.status.success() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         return Err(Error::Argument(format!("ocean render failed in the startup bench: {}", stderr.trim())));
     }
-    let text =
-        std::fs::read_to_string(&report).map_err(|e| Error::Io { path: report.clone(), message: e.to_string() })?;
-    let json: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| Error::Io { path: report.clone(), message: e.to_string() })?;
+    let text = std::fs::read_to_string(&report).map_err(|e| Error::io(&report, e))?;
+    let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::io(&report, e))?;
     let gpu_ms = json["gpu_ms"]["total"].as_f64().unwrap_or(f64::NAN);
     let loaded = json["pipeline_cache"]["loaded_bytes"].as_u64().unwrap_or(0);
     Ok((wall, gpu_ms, loaded))
 }
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
-    move |e| Error::Io { path: path.to_owned(), message: e.to_string() }
-}
-
 /// Runs every setup `runs` times, interleaved, and writes startup.md and startup.json to `out_dir`.
 pub fn run(device_name: &str, device: Option<&str>, runs: u32, out_dir: &Path) -> Result<StartupReport> {
-    let exe = std::env::current_exe().map_err(io(Path::new("the ocean executable")))?;
+    let exe = std::env::current_exe().map_err(|e| Error::io(Path::new("the ocean executable"), e))?;
     let work: PathBuf = std::env::temp_dir().join(format!("ocean-startup-bench-{}", std::process::id()));
     let filled = work.join("filled");
-    std::fs::create_dir_all(&filled).map_err(io(&filled))?;
+    std::fs::create_dir_all(&filled).map_err(|e| Error::io(&filled, e))?;
     // The first run fills the folder the "previous run" setup starts from.
     run_once(&exe, Some(&filled), false, &work, device)?;
     let mut samples: Vec<Vec<(f64, f64, u64)>> = SETUPS.iter().map(|_| Vec::new()).collect();
@@ -120,8 +114,11 @@ pub fn run(device_name: &str, device: Option<&str>, runs: u32, out_dir: &Path) -
         }
     }
     progress.set((runs as usize * SETUPS.len()) as u64, None);
-    let cache_file_bytes =
-        std::fs::read_dir(&filled).map_err(io(&filled))?.filter_map(|e| e.ok()?.metadata().ok()).map(|m| m.len()).sum();
+    let cache_file_bytes = std::fs::read_dir(&filled)
+        .map_err(|e| Error::io(&filled, e))?
+        .filter_map(|e| e.ok()?.metadata().ok())
+        .map(|m| m.len())
+        .sum();
     let _ = std::fs::remove_dir_all(&work);
     let rows: Vec<StartupRow> = SETUPS
         .iter()
@@ -144,7 +141,7 @@ pub fn run(device_name: &str, device: Option<&str>, runs: u32, out_dir: &Path) -
         .collect();
     let report =
         StartupReport { device: device_name.to_owned(), runs, width: 1024, height: 768, cache_file_bytes, rows };
-    std::fs::create_dir_all(out_dir).map_err(io(out_dir))?;
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     write_text(&out_dir.join("startup.json"), &serde_json::to_string_pretty(&report).expect("serializes"))?;
     write_text(&out_dir.join("startup.md"), &markdown(&report))?;
     Ok(report)

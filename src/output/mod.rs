@@ -55,14 +55,10 @@ pub fn stats(hdr: &[[f32; 4]]) -> ImageStats {
     ImageStats { nonfinite_pixels: nonfinite, mean_radiance: sum.map(|s| s / n) }
 }
 
-fn io_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Io { path: path.to_owned(), message: e.to_string() }
-}
-
 /// Encodes an image in memory (the EXR encoder needs to seek) and writes it to `path`.
 fn write_image(path: &Path, image: image::DynamicImage, format: image::ImageFormat) -> Result<()> {
     let mut bytes = Cursor::new(Vec::new());
-    image.write_to(&mut bytes, format).map_err(|e| io_error(path, e))?;
+    image.write_to(&mut bytes, format).map_err(|e| Error::io(path, e))?;
     target::write(path, bytes.get_ref())
 }
 
@@ -96,7 +92,7 @@ pub fn write_exr_rgba(path: &Path, width: u32, height: u32, rgba: &[[f32; 4]]) -
 
 /// Reads an OpenEXR written by `write_exr` or `write_exr_rgba` (alpha 1 when absent).
 pub fn read_exr(path: &Path) -> Result<(u32, u32, Vec<[f32; 4]>)> {
-    let image = image::open(path).map_err(|e| io_error(path, e))?.into_rgba32f();
+    let image = image::open(path).map_err(|e| Error::io(path, e))?.into_rgba32f();
     let (w, h) = image.dimensions();
     Ok((w, h, image.pixels().map(|p| p.0).collect()))
 }

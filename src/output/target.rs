@@ -23,10 +23,6 @@ pub enum Target {
     InPlace(PathBuf),
 }
 
-fn io_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Io { path: path.to_owned(), message: e.to_string() }
-}
-
 /// True for the name that means standard output.
 pub fn is_stdout(path: &Path) -> bool {
     path.as_os_str() == "-"
@@ -42,20 +38,20 @@ impl Target {
         for _ in 0..MAX_SYMLINK_HOPS {
             match fs::symlink_metadata(&current) {
                 Ok(meta) if meta.file_type().is_symlink() => {
-                    let link = fs::read_link(&current).map_err(|e| io_error(&current, e))?;
+                    let link = fs::read_link(&current).map_err(|e| Error::io(&current, e))?;
                     current = match current.parent() {
                         Some(parent) if link.is_relative() => parent.join(link),
                         _ => link,
                     };
                 }
                 Ok(meta) if meta.is_file() => return Ok(Target::Replace(current)),
-                Ok(meta) if meta.is_dir() => return Err(io_error(path, "is a directory, not a file")),
+                Ok(meta) if meta.is_dir() => return Err(Error::io(path, "is a directory, not a file")),
                 Ok(_) => return Ok(Target::InPlace(current)),
                 Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Target::Replace(current)),
-                Err(e) => return Err(io_error(&current, e)),
+                Err(e) => return Err(Error::io(&current, e)),
             }
         }
-        Err(io_error(path, format!("more than {MAX_SYMLINK_HOPS} symbolic links to follow")))
+        Err(Error::io(path, format!("more than {MAX_SYMLINK_HOPS} symbolic links to follow")))
     }
 }
 
@@ -64,13 +60,13 @@ pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
     match Target::of(path)? {
         Target::Stdout => {
             let mut out = std::io::stdout().lock();
-            out.write_all(bytes).and_then(|()| out.flush()).map_err(|e| io_error(Path::new("standard output"), e))
+            out.write_all(bytes).and_then(|()| out.flush()).map_err(|e| Error::io(Path::new("standard output"), e))
         }
         Target::InPlace(node) => OpenOptions::new()
             .write(true)
             .open(&node)
             .and_then(|mut file| file.write_all(bytes).and_then(|()| file.flush()))
-            .map_err(|e| io_error(path, e)),
+            .map_err(|e| Error::io(path, e)),
         Target::Replace(file) => replace(path, &file, bytes),
     }
 }
@@ -78,7 +74,7 @@ pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Writes `.NAME.PID.partial` beside `file`, flushes it to disk, keeps the old file's
 /// permissions, and renames it over `file`; on failure the partial file is removed.
 fn replace(asked: &Path, file: &Path, bytes: &[u8]) -> Result<()> {
-    let name = file.file_name().ok_or_else(|| io_error(asked, "names no file"))?;
+    let name = file.file_name().ok_or_else(|| Error::io(asked, "names no file"))?;
     let mut partial_name = std::ffi::OsString::from(".");
     partial_name.push(name);
     partial_name.push(format!(".{}.partial", std::process::id()));
@@ -94,7 +90,7 @@ fn replace(asked: &Path, file: &Path, bytes: &[u8]) -> Result<()> {
     })();
     result.map_err(|e| {
         let _ = fs::remove_file(&partial);
-        io_error(asked, e)
+        Error::io(asked, e)
     })
 }
 

@@ -105,8 +105,7 @@ impl PipelineCache {
             return Ok(None); // nothing was added to what the file holds
         }
         if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| crate::Error::Io { path: dir.to_owned(), message: e.to_string() })?;
+            std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
         }
         crate::output::target::write(path, &data)?;
         Ok(Some(data.len()))
