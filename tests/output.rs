@@ -155,6 +155,24 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+#[test]
+fn the_reference_reports_its_progress_on_standard_error() {
+    let dir = scratch("progress");
+    let out = dir.join("ref.exr");
+    let out_arg = out.display().to_string();
+    let run = ocean(&["reference", "--width", "40", "--height", "30", "--samples", "1", "--out", &out_arg]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let lines: Vec<&str> = stderr.lines().collect();
+    // Not a terminal: plain lines, the last at 100%, and nothing but progress there.
+    assert!(!stderr.contains('\r'), "no bar outside a terminal: {stderr:?}");
+    assert!(lines.iter().all(|l| l.starts_with("ground truth 40x30, 1x1 samples per pixel: ")), "{stderr}");
+    assert!(lines.last().is_some_and(|l| l.contains("100%")), "{stderr}");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("40x30 with 1x1 samples per pixel"), "the summary on standard output: {stdout}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A writer the test can read back.
 #[derive(Clone, Default)]
 struct Captured(Arc<Mutex<Vec<u8>>>);

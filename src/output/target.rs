@@ -62,25 +62,42 @@ pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
             let mut out = std::io::stdout().lock();
             out.write_all(bytes).and_then(|()| out.flush()).map_err(|e| Error::io(Path::new("standard output"), e))
         }
-        Target::InPlace(node) => OpenOptions::new()
-            .write(true)
-            .open(&node)
-            .and_then(|mut file| file.write_all(bytes).and_then(|()| file.flush()))
-            .map_err(|e| Error::io(path, e)),
+        Target::InPlace(node) => in_place(&node, bytes).map_err(|e| Error::io(path, e)),
         Target::Replace(file) => replace(path, &file, bytes),
     }
 }
 
+/// Opens an existing node for writing, without creating or truncating it, and writes.
+fn in_place(node: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut out = OpenOptions::new().write(true).open(node)?;
+    out.write_all(bytes)?;
+    out.flush()
+}
+
 /// Writes `.NAME.PID.partial` beside `file`, flushes it to disk, keeps the old file's
-/// permissions, and renames it over `file`; on failure the partial file is removed.
+/// permissions, and renames it over `file`; on failure the partial file is removed. Where the
+/// folder does not let us create the partial file but the file itself is writable, the file is
+/// rewritten in place (not atomic, but what was asked).
 fn replace(asked: &Path, file: &Path, bytes: &[u8]) -> Result<()> {
     let name = file.file_name().ok_or_else(|| Error::io(asked, "names no file"))?;
     let mut partial_name = std::ffi::OsString::from(".");
     partial_name.push(name);
     partial_name.push(format!(".{}.partial", std::process::id()));
     let partial = file.with_file_name(partial_name);
+    let mut out = match OpenOptions::new().write(true).create(true).truncate(true).open(&partial) {
+        Ok(out) => out,
+        // A writable file in a folder we may not add to: it can only be rewritten where it is.
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied && file.is_file() => {
+            return OpenOptions::new()
+                .write(true)
+                .truncate(true)
+                .open(file)
+                .and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
+                .map_err(|e| Error::io(asked, e));
+        }
+        Err(e) => return Err(Error::io(asked, e)),
+    };
     let result = (|| {
-        let mut out = OpenOptions::new().write(true).create(true).truncate(true).open(&partial)?;
         out.write_all(bytes)?;
         out.sync_all()?;
         if let Ok(old) = fs::metadata(file) {
