@@ -164,13 +164,22 @@ pub fn band_label(i: usize) -> String {
 /// (right), one line per method, with the ±5% target shaded; bands without energy in the ground
 /// truth are gaps.
 pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2]>)]) -> Result<()> {
-    let fail = plot_error(path);
-    let bands = BANDS_M.len() - 1;
     let mut svg = String::new();
+    draw_energy(SVGBackend::with_string(&mut svg, SIZE).into_drawing_area(), title, series)
+        .map_err(plot_error(path))?;
+    super::write_text(path, &svg)
+}
+
+fn draw_energy(
+    root: DrawingArea<SVGBackend, Shift>,
+    title: &str,
+    series: &[(&str, Vec<[f64; 2]>)],
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let bands = BANDS_M.len() - 1;
     {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
-        let root = root.titled(title, (FONT, 20)).map_err(|e| fail(e.to_string()))?;
+        root.fill(&WHITE).map_err(e)?;
+        let root = root.titled(title, (FONT, 20)).map_err(e)?;
         let panels = root.split_evenly((1, 2));
         for (term, panel) in panels.iter().enumerate() {
             let percent = |v: f64| 100.0 * v;
@@ -184,7 +193,7 @@ pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2
                 .x_label_area_size(60)
                 .y_label_area_size(60)
                 .build_cartesian_2d(-0.3..(bands as f64 - 0.7), (lo - pad)..(hi + pad))
-                .map_err(|e| fail(e.to_string()))?;
+                .map_err(e)?;
             chart
                 .configure_mesh()
                 .x_labels(bands)
@@ -201,18 +210,16 @@ pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2
                 .axis_desc_style((FONT, 13))
                 .label_style((FONT, 11))
                 .draw()
-                .map_err(|e| fail(e.to_string()))?;
+                .map_err(e)?;
             chart
                 .draw_series([Rectangle::new(
                     [(-0.3, -5.0), (bands as f64 - 0.7, 5.0)],
                     RGBColor(0, 160, 0).mix(0.12).filled(),
                 )])
-                .map_err(|e| fail(e.to_string()))?
+                .map_err(e)?
                 .label("±5% target")
                 .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], RGBColor(0, 160, 0).mix(0.3).filled()));
-            chart
-                .draw_series(LineSeries::new([(-0.3, 0.0), (bands as f64 - 0.7, 0.0)], BLACK.mix(0.5)))
-                .map_err(|e| fail(e.to_string()))?;
+            chart.draw_series(LineSeries::new([(-0.3, 0.0), (bands as f64 - 0.7, 0.0)], BLACK.mix(0.5))).map_err(e)?;
             for (method, values) in series {
                 let c = colour(method);
                 // Split at missing bands so that a gap is not bridged by a line.
@@ -227,7 +234,7 @@ pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2
                 for (i, run) in runs.iter().enumerate() {
                     let line = chart
                         .draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)).point_size(4))
-                        .map_err(|e| fail(e.to_string()))?;
+                        .map_err(e)?;
                     if i == 0 {
                         line.label(*method)
                             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
@@ -241,9 +248,9 @@ pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2
                 .background_style(WHITE.mix(0.9))
                 .border_style(BLACK.mix(0.4))
                 .draw()
-                .map_err(|e| fail(e.to_string()))?;
+                .map_err(e)?;
         }
-        root.present().map_err(|e| fail(e.to_string()))?;
+        root.present().map_err(e)?;
     }
-    super::write_text(path, &svg)
+    Ok(())
 }
