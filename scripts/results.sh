@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates docs/results/: for a calm and an agitated sea, the ground truth, the method and its
 # constant-BRDF baseline (total, reflected sun, reflected sky as PNGs), and the error-against-time
-# and energy-against-distance tables and plots. About 15 minutes on two cores with lavapipe.
+# and energy-against-distance tables and plots (SVG). About 36 minutes on two cores with lavapipe
+# (measured last), nearly all of it the two ground truths.
 # Each step says what it does and where the whole stands; the ocean commands draw their own
 # progress (a bar on a terminal, lines otherwise).
 set -euo pipefail
