@@ -24,6 +24,22 @@ fn plot_error(path: &Path) -> impl Fn(String) -> Error + '_ {
     move |message| Error::Io { path: path.to_owned(), message: format!("plot: {message}") }
 }
 
+/// The legend of every labelled series, in a light box at `position`.
+fn legend<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    position: SeriesLabelPosition,
+    font_size: u32,
+) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .label_font((FONT, font_size))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK.mix(0.4))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 /// A value with three significant digits (plain notation from 0.001 up).
 fn three_digits(v: f64) -> String {
     let decimals = (2 - v.abs().max(1e-3).log10().floor() as i32).max(0) as usize;
@@ -138,15 +154,7 @@ impl ErrorPlot<'_> {
                 }))
                 .map_err(e)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font((FONT, 13))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK.mix(0.4))
-            .draw()
-            .map_err(e)?;
-        Ok(())
+        legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
     }
 }
 
@@ -241,14 +249,7 @@ fn draw_energy(
                     }
                 }
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .label_font((FONT, 12))
-                .background_style(WHITE.mix(0.9))
-                .border_style(BLACK.mix(0.4))
-                .draw()
-                .map_err(e)?;
+            legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)?;
         }
         root.present().map_err(e)?;
     }
