@@ -14,7 +14,7 @@ fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ocean-output-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    dir
+    std::fs::canonicalize(&dir).unwrap() // targets are named by their real folders
 }
 
 fn mkfifo(path: &Path) {
@@ -43,11 +43,15 @@ fn targets_are_classified_by_what_the_path_names() {
     std::fs::create_dir(dir.join("sub")).unwrap();
     std::os::unix::fs::symlink("../a.png", dir.join("sub/link1")).unwrap();
     std::os::unix::fs::symlink("sub/link1", dir.join("link2")).unwrap();
-    assert_eq!(Target::of(&dir.join("link2")).unwrap(), Target::Replace(dir.join("sub/../a.png")));
+    assert_eq!(Target::of(&dir.join("link2")).unwrap(), Target::Replace(file.clone()));
     // A dangling symlink: the file it names will be created.
     std::os::unix::fs::symlink("later.png", dir.join("dangling")).unwrap();
     assert_eq!(Target::of(&dir.join("dangling")).unwrap(), Target::Replace(dir.join("later.png")));
     assert_eq!(Target::of(Path::new("/dev/null")).unwrap(), Target::InPlace("/dev/null".into()));
+    // Links to open descriptors are the kernel's to follow: written where they are.
+    for fd in ["/dev/stdout", "/dev/fd/2"] {
+        assert_eq!(Target::of(Path::new(fd)).unwrap(), Target::InPlace(fd.into()), "{fd}");
+    }
     mkfifo(&dir.join("fifo"));
     assert_eq!(Target::of(&dir.join("fifo")).unwrap(), Target::InPlace(dir.join("fifo")));
     let e = Target::of(&dir).unwrap_err().to_string();
@@ -124,6 +128,12 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.starts_with("standard output: 16x12"), "{stderr}");
     assert!(report.exists());
+    // /dev/stdout is standard output too: the PNG there, the status line off it.
+    let out = ocean(&["render", "--width", "16", "--height", "12", "--out", "/dev/stdout"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.stdout.starts_with(b"\x89PNG\r\n\x1a\n"), "a PNG through /dev/stdout");
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("/dev/stdout: 16x12"));
+    image::load_from_memory(&out.stdout).expect("nothing but the PNG on standard output");
     // The report as JSON on standard output.
     let png_path = dir.join("o.png");
     let out =
@@ -142,6 +152,7 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     for args in [
         vec!["render", "--out", "-", "--report", "-"],
         vec!["render", "--exr", "-", "--out", "-"],
+        vec!["render", "--out", "-", "--report", "/dev/stdout"],
         vec!["reference", "--out", "-"],
         vec!["reference", "--png", "-"],
     ] {

@@ -36,7 +36,13 @@ impl Target {
         }
         let mut current = path.to_owned();
         for _ in 0..MAX_SYMLINK_HOPS {
+            current = with_real_parent(current);
             match fs::symlink_metadata(&current) {
+                // /dev/stdout, /dev/fd/N: a link to an open file, pipe or terminal that only the
+                // kernel can follow (its text reads "pipe:[...]"); open it where it is.
+                Ok(meta) if meta.file_type().is_symlink() && current.starts_with("/proc") => {
+                    return Ok(Target::InPlace(path.to_owned()));
+                }
                 Ok(meta) if meta.file_type().is_symlink() => {
                     let link = fs::read_link(&current).map_err(|e| Error::io(&current, e))?;
                     current = match current.parent() {
@@ -53,6 +59,34 @@ impl Target {
         }
         Err(Error::io(path, format!("more than {MAX_SYMLINK_HOPS} symbolic links to follow")))
     }
+}
+
+/// The path with its folder's symlinks resolved (/dev/fd/1 is /proc/PID/fd/1), so that each hop
+/// is read from where the link really is; unchanged where the folder does not exist.
+fn with_real_parent(path: PathBuf) -> PathBuf {
+    let real = match (path.parent(), path.file_name()) {
+        (Some(parent), Some(name)) if !parent.as_os_str().is_empty() => {
+            fs::canonicalize(parent).ok().map(|p| p.join(name))
+        }
+        _ => None,
+    };
+    real.unwrap_or(path)
+}
+
+/// True for `-`, and for any path that names what standard output is open on (/dev/stdout, or
+/// the file the shell redirected it to): status lines must then keep off it.
+pub fn names_stdout(path: &Path) -> bool {
+    if is_stdout(path) {
+        return true;
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(ours), Ok(theirs)) = (fs::metadata("/dev/stdout"), fs::metadata(path)) {
+            return (ours.dev(), ours.ino()) == (theirs.dev(), theirs.ino());
+        }
+    }
+    false
 }
 
 /// Writes `bytes` to `path` as `Target::of` classifies it.
@@ -114,16 +148,17 @@ fn replace(asked: &Path, file: &Path, bytes: &[u8]) -> Result<()> {
 /// Which option took standard output, if any; status lines then go to standard error.
 static STDOUT_OWNER: Mutex<Option<String>> = Mutex::new(None);
 
-/// Reserves standard output for the output of `option` when its path is `-`. A second option
-/// asking for it is refused, and so is binary data for a terminal.
+/// Reserves standard output for the output of `option` when its path names it (`-`,
+/// /dev/stdout, ...). A second option asking for it is refused, and so is binary data for a
+/// terminal.
 pub fn claim_stdout(option: &str, path: &Path, binary: bool) -> Result<()> {
-    if !is_stdout(path) {
+    if !names_stdout(path) {
         return Ok(());
     }
     let mut owner = stdout_owner();
     if let Some(first) = owner.as_deref() {
         return Err(Error::Argument(format!(
-            "{first} and {option} both ask for standard output ('-'); only one output can go there"
+            "{first} and {option} both ask for standard output; only one output can go there"
         )));
     }
     if binary && std::io::IsTerminal::is_terminal(&std::io::stdout()) {
