@@ -94,6 +94,36 @@ enum Command {
         #[arg(long)]
         device: Option<String>,
     },
+    /// An image sequence: DIR/frame_00000.png, ... at --fps frames per second from the scene's
+    /// time_s; frames already written are skipped (resumable) unless --force.
+    Animate {
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Length of the sequence in seconds of scene time.
+        #[arg(long)]
+        seconds: f64,
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Folder for the frames (made if missing).
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 1024)]
+        width: u32,
+        #[arg(long, default_value_t = 768)]
+        height: u32,
+        /// Also write each frame's linear radiance as frame_NNNNN.exr.
+        #[arg(long)]
+        exr: bool,
+        /// Render every frame, also those already written.
+        #[arg(long)]
+        force: bool,
+        #[arg(long, value_enum, default_value_t = Method::Full)]
+        method: Method,
+        #[arg(long)]
+        validation: bool,
+        #[arg(long)]
+        device: Option<String>,
+    },
     /// Benchmarks that print their numbers and write them under --out.
     Bench {
         #[command(subcommand)]
@@ -292,6 +322,37 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 samples,
                 r.gpu_seconds,
                 r.unresolved_pixels,
+                r.validation_errors,
+                r.nonfinite_pixels
+            );
+            Ok(())
+        }
+        Command::Animate { scene, seconds, fps, out, width, height, exr, force, method, validation, device } => {
+            ocean::app::animate::frame_count(seconds, fps)?; // bad arguments before the GPU starts
+            let (scene, _) = load_scene(scene)?;
+            let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
+            let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ..Options::default() };
+            let request = ocean::app::animate::AnimateRequest {
+                scene,
+                seconds,
+                fps,
+                width,
+                height,
+                out_dir: out.clone(),
+                exr,
+                force,
+                options,
+                specialize: true,
+            };
+            let r = ocean::app::animate::animate(&gpu, &request)?;
+            let gpu_ms = r.gpu_ms_median.map_or("n/a".to_owned(), |ms| format!("{ms:.1} ms median"));
+            ocean::say!(
+                "{}: {} frames at {} fps, {} rendered, {} already there; GPU {gpu_ms}; {} validation errors, {} non-finite pixels",
+                out.display(),
+                r.frames,
+                r.fps,
+                r.rendered,
+                r.skipped,
                 r.validation_errors,
                 r.nonfinite_pixels
             );

@@ -1,4 +1,7 @@
-//! One render from a scene to files and a report: what the `ocean render` command does.
+//! What the commands do: one render from a scene to files and a report (`ocean render`), and
+//! image sequences (`ocean animate`, in `animate`).
+
+pub mod animate;
 
 use crate::error::Result;
 use crate::output;
