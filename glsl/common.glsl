@@ -5,7 +5,7 @@
 const float PI = 3.14159265358979;
 const float SQRT_PI = 1.77245385090552;
 // How the waves are split between geometry, normals and BRDF (specialization constant 3,
-// `Method` in src/passes/ocean.rs).
+// `Method` in src/render/passes/ocean.rs).
 layout(constant_id = 3) const int METHOD = 0;
 const int METHOD_FULL = 0;           // the paper
 const int METHOD_CONSTANT_BRDF = 1;  // baseline: unresolved slopes dropped, a constant roughness

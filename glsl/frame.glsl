@@ -1,5 +1,5 @@
 // Per-frame uniforms and the wave trains, shared by every pass.
-// Mirrors `FrameUniforms` and `GpuWave` in src/frame.rs (std140, vec4-packed).
+// Mirrors `FrameUniforms` and `GpuWave` in src/render/frame.rs (std140, vec4-packed).
 #ifndef FRAME_GLSL
 #define FRAME_GLSL
 

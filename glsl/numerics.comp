@@ -1,6 +1,6 @@
 #version 450
 // Evaluates the shading functions themselves on arrays of inputs, for comparison with f64
-// implementations of the same formulas (src/numerics.rs, tests/numerics.rs). Frames are the
+// implementations of the same formulas (src/measure/numerics.rs, tests/numerics.rs). Frames are the
 // identity (local = world), so directions are given in the tangent frame.
 #include "frame.glsl"
 #include "common.glsl"

@@ -1,5 +1,5 @@
 // Analytic clear sky: Preetham, Shirley & Smits, "A Practical Analytic Model for Daylight"
-// (SIGGRAPH 1999). Perez coefficients and zenith values come from the CPU (src/sky.rs).
+// (SIGGRAPH 1999). Perez coefficients and zenith values come from the CPU (src/model/sky.rs).
 #ifndef SKY_GLSL
 #define SKY_GLSL
 

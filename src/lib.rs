@@ -3,23 +3,22 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(clippy::undocumented_unsafe_blocks)]
 
-pub mod app;
-pub mod bench;
-pub mod error;
-pub mod frame;
-pub mod groundtruth;
-pub mod numerics;
-pub mod output;
-pub mod passes;
-pub mod reference;
-pub mod renderer;
-pub mod report;
-pub mod resources;
-pub mod scene;
-pub mod sky;
-pub mod specialize;
+// The layers, from the bottom: the Vulkan backend; the world in f64 (scene, waves, sky); the
+// frame and its passes; measurements (ground truth, the f64 reference, the shader harness, the
+// benches); what reaches the user (files, progress, plots); the commands.
 pub mod vk;
-pub mod waves;
+
+pub mod model;
+
+pub mod render;
+
+pub mod measure;
+
+pub mod output;
+
+pub mod app;
+
+pub mod error;
 
 /// SPIR-V of every shader in glsl/, compiled by build.rs.
 pub mod shaders {

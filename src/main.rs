@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use ocean::app::{self, RenderRequest};
-use ocean::passes::ocean::{Method, ShaderConfig, Terms};
+use ocean::render::passes::ocean::{Method, ShaderConfig, Terms};
 
 /// The sea's radiance terms, for --terms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -11,10 +11,10 @@ enum Term {
     Sky,
     Sea,
 }
+use ocean::model::scene::Scene;
 use ocean::output::progress::Progress;
 use ocean::output::target::is_stdout;
-use ocean::renderer::Options;
-use ocean::scene::Scene;
+use ocean::render::renderer::Options;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -288,7 +288,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
             let label = format!("ground truth {width}x{height}, {samples}x{samples} samples per pixel");
             let mut progress: Option<Progress> = None;
-            let truth = ocean::groundtruth::render(&gpu, &scene, width, height, samples, |done, total| {
+            let truth = ocean::measure::groundtruth::render(&gpu, &scene, width, height, samples, |done, total| {
                 // Work units are weighted by what a tile costs, so the time left holds.
                 progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
             })?;
@@ -361,7 +361,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
         Command::Bench { bench: Bench::ErrorVsTime { scene, reference, out, frames, device } } => {
             let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            ocean::bench::error_vs_time::run(&gpu, &scene, &name, &reference, frames, &out)?;
+            ocean::measure::bench::error_vs_time::run(&gpu, &scene, &name, &reference, frames, &out)?;
             ocean::say!(
                 "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg",
                 out.display()
@@ -370,13 +370,13 @@ fn run(cli: Cli) -> ocean::Result<()> {
         }
         Command::Bench { bench: Bench::Specialize { frames, out, device } } => {
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            ocean::bench::specialize(&gpu, &[Path::new("scenes"), Path::new("scenes/extreme")], frames, &out)?;
+            ocean::measure::bench::specialize(&gpu, &[Path::new("scenes"), Path::new("scenes/extreme")], frames, &out)?;
             ocean::say!("wrote {}/specialize.md and specialize.json", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Startup { runs, out, device } } => {
             let name = ocean::vk::gpu::Gpu::with_cache_dir(false, device.as_deref(), None)?.device.name.clone();
-            let report = ocean::bench::startup::run(&name, device.as_deref(), runs, &out)?;
+            let report = ocean::measure::bench::startup::run(&name, device.as_deref(), runs, &out)?;
             for row in &report.rows {
                 ocean::say!(
                     "{:<40} wall {:.3} s (fastest {:.3} s), first frame {:.1} ms GPU, {} cache bytes loaded",
@@ -392,7 +392,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
         }
         Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            ocean::bench::speed(&gpu, &scenes, frames, &out)?;
+            ocean::measure::bench::speed(&gpu, &scenes, frames, &out)?;
             ocean::say!("wrote {}/speed.md and speed.json", out.display());
             Ok(())
         }

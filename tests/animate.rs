@@ -5,8 +5,8 @@ mod common;
 
 use ocean::app::animate::{animate, frame_count, frame_path, AnimateRequest};
 use ocean::app::{render_on, RenderRequest};
-use ocean::renderer::Options;
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
+use ocean::render::renderer::Options;
 use std::path::Path;
 
 fn request(dir: &Path, force: bool) -> AnimateRequest {

@@ -1,15 +1,15 @@
-//! The GPU's shading against the f64 CPU reference (src/reference.rs) on chosen pixels, one BRDF
+//! The GPU's shading against the f64 CPU reference (src/measure/reference.rs) on chosen pixels, one BRDF
 //! term at a time through the shader's specialization constants.
 
 mod common;
 
 use common::{gpu, render_terms};
-use ocean::frame::{CameraFrame, GEOMETRY_STEPS};
-use ocean::passes::ocean::Terms;
-use ocean::reference::ReferenceScene;
-use ocean::scene::{LongestWave, Scene};
-use ocean::sky::SkyModel;
-use ocean::waves::generate;
+use ocean::measure::reference::ReferenceScene;
+use ocean::model::scene::{LongestWave, Scene};
+use ocean::model::sky::SkyModel;
+use ocean::model::waves::generate;
+use ocean::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use ocean::render::passes::ocean::Terms;
 
 const W: u32 = 160;
 const H: u32 = 120;

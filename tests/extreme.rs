@@ -4,8 +4,8 @@
 mod common;
 
 use common::{assert_clean, gpu, luminance, render};
-use ocean::renderer::RenderedFrame;
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
+use ocean::render::renderer::RenderedFrame;
 use std::path::Path;
 
 fn extreme_scenes() -> Vec<(String, Scene)> {

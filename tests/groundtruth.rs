@@ -4,9 +4,9 @@
 mod common;
 
 use common::gpu;
-use ocean::bench::error_vs_time as errorbench;
-use ocean::groundtruth;
-use ocean::scene::Scene;
+use ocean::measure::bench::error_vs_time as errorbench;
+use ocean::measure::groundtruth;
+use ocean::model::scene::Scene;
 use std::path::PathBuf;
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -47,7 +47,7 @@ fn the_reference_converges_as_samples_grow() {
     let floors: Vec<f64> = [&coarse[1], &coarse[2], &best].iter().map(|t| t.report.noise_floor_rmse.unwrap()).collect();
     assert!(coarse[0].report.noise_floor_rmse.is_none(), "one sample has no subset to compare with");
     assert!(floors[0] > floors[1] && floors[1] > floors[2] && floors[2] > 0.0, "noise floors for 2, 4, 8: {floors:?}");
-    let camera = ocean::frame::CameraFrame::new(&scene, &ocean::waves::generate(&scene), w, h);
+    let camera = ocean::render::frame::CameraFrame::new(&scene, &ocean::model::waves::generate(&scene), w, h);
     let sea: Vec<usize> =
         (0..w * h).filter(|i| camera.pixel_distance(i % w, i / w, w, h).is_some()).map(|i| i as usize).collect();
     let lum = ocean::output::luminance;

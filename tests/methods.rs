@@ -4,9 +4,9 @@
 mod common;
 
 use common::{assert_clean, gpu, luminance, render_with};
-use ocean::passes::ocean::{Method, ShaderConfig};
-use ocean::renderer::{Options, RenderedFrame};
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
+use ocean::render::passes::ocean::{Method, ShaderConfig};
+use ocean::render::renderer::{Options, RenderedFrame};
 use ocean::vk::gpu::Gpu;
 
 fn render(gpu: &Gpu, scene: &Scene, w: u32, h: u32, method: Method, ssaa: u32) -> RenderedFrame {

@@ -5,8 +5,8 @@
 mod common;
 
 use common::gpu;
-use ocean::numerics::{evaluate, Function};
-use ocean::reference;
+use ocean::measure::numerics::{evaluate, Function};
+use ocean::measure::reference;
 use std::f64::consts::{PI, TAU};
 
 /// Largest |gpu - cpu| / max(|cpu|, floor) over the sweep, with the arguments where it occurred.
@@ -109,7 +109,7 @@ fn trochoid_slope_variance_without_cancellation() {
     let args: Vec<[[f32; 4]; 2]> = sweep(1.0).iter().map(|&a| [[a as f32, 0.0, 0.0, 0.0], [0.0; 4]]).collect();
     let out = run(Function::TrochoidSlopeVariance, &args, 0.0);
     let g: Vec<f64> = out.iter().map(|r| r[0] as f64).collect();
-    let c: Vec<f64> = args.iter().map(|a| ocean::waves::trochoid_slope_variance(a[0][0] as f64)).collect();
+    let c: Vec<f64> = args.iter().map(|a| ocean::model::waves::trochoid_slope_variance(a[0][0] as f64)).collect();
     // Relative to the value itself down to 1e-30: the form a^2 / (1 + sqrt(1 - a^2)) keeps digits.
     let (e, i) = worst(&g, &c, 1e-30);
     eprintln!("trochoid variance: largest relative error {e:.2e} at {:?}", args[i][0]);
@@ -122,7 +122,7 @@ fn direction(elevation: f64, azimuth: f64) -> [f32; 3] {
 
 #[test]
 fn reflected_sun_at_grazing_and_glassy_limits() {
-    let sun_var = ocean::sky::SkyModel::sun_slope_variance() as f32;
+    let sun_var = ocean::model::sky::SkyModel::sun_slope_variance() as f32;
     let elevations = [0.0, 1e-6, 1e-3, 0.01, 0.05, 0.2, 0.5, 1.0, 1.5, PI / 2.0];
     let variances = [0.0, 1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.2, 1.0];
     let mut args = Vec::new();
@@ -182,10 +182,10 @@ fn normal_weights_across_the_screen() {
     // The default scene's camera at 64 x 64 (as numerics.rs sets up), trains of 2 cm to 30 m in
     // several directions, every pixel row from the horizon down: the GPU's weight against the f64
     // reference's (same footprint formula, same ramp).
-    let scene = ocean::scene::Scene::default();
-    let wave_set = ocean::waves::generate(&scene);
-    let camera = ocean::frame::CameraFrame::new(&scene, &wave_set, 64, 64);
-    let sky = ocean::sky::SkyModel::new(3.0, 0.0, 2.5);
+    let scene = ocean::model::scene::Scene::default();
+    let wave_set = ocean::model::waves::generate(&scene);
+    let camera = ocean::render::frame::CameraFrame::new(&scene, &wave_set, 64, 64);
+    let sky = ocean::model::sky::SkyModel::new(3.0, 0.0, 2.5);
     let reference =
         reference::ReferenceScene { camera: &camera, waves: &wave_set, sky: &sky, time_s: 0.0, width: 64, height: 64 };
     let mut args = Vec::new();

@@ -4,7 +4,7 @@
 mod common;
 
 use ocean::app::{render_on, RenderRequest};
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
 use ocean::vk::gpu::Gpu;
 use ocean::vk::pipeline_cache::{check_header, file_name};
 use std::path::{Path, PathBuf};

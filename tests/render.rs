@@ -4,8 +4,8 @@ mod common;
 
 use ash::vk;
 use common::{assert_clean, gpu, luminance, render};
-use ocean::renderer::RenderedFrame;
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
+use ocean::render::renderer::RenderedFrame;
 
 fn mean_luminance(frame: &RenderedFrame, rows: std::ops::Range<u32>, cols: std::ops::Range<u32>) -> f64 {
     let mut sum = 0.0;

@@ -1,6 +1,6 @@
 //! Scene files: defaults, presets, and one clear line for every kind of bad input.
 
-use ocean::scene::{wrap_degrees, LongestWave, Scene};
+use ocean::model::scene::{wrap_degrees, LongestWave, Scene};
 use std::path::Path;
 use std::process::Command;
 
@@ -122,7 +122,7 @@ fn the_longest_wave_can_come_from_the_wind() {
     assert!((scene.lambda_max_m() - expected).abs() < 1e-9 * expected, "{}", scene.lambda_max_m());
     assert!((scene.lambda_max_m() - 333.0).abs() < 1.0, "about 333 m at 20 m/s: {}", scene.lambda_max_m());
     // The longest train is the peak's wavelength.
-    let waves = ocean::waves::generate(&scene);
+    let waves = ocean::model::waves::generate(&scene);
     let longest = waves.trains.last().unwrap().wavelength;
     assert!((longest - expected).abs() < 1e-6 * expected, "{longest}");
     let e = parse_error("[wind]\nspeed_mps = 0.0\n[waves]\nlambda_max_m = \"peak\"\n");
@@ -142,7 +142,7 @@ fn every_preset_fits_its_wind() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     for name in ["calm", "storm", "sunset", "noon", "high_altitude"] {
         let scene = Scene::load(&dir.join(format!("{name}.toml"))).unwrap();
-        let peak = ocean::waves::peak_wavelength(scene.wind.speed_mps);
+        let peak = ocean::model::waves::peak_wavelength(scene.wind.speed_mps);
         let longest = scene.lambda_max_m();
         assert!(longest <= 2.0 * peak && longest >= 0.5 * peak, "{name}: longest {longest} m, peak {peak} m");
     }

@@ -4,10 +4,10 @@
 mod common;
 
 use common::{assert_clean, gpu};
+use ocean::app::report::Report;
 use ocean::app::{render_on, RenderRequest};
-use ocean::renderer::RenderedFrame;
-use ocean::report::Report;
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
+use ocean::render::renderer::RenderedFrame;
 use ocean::vk::gpu::Gpu;
 use std::path::Path;
 

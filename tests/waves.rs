@@ -1,8 +1,8 @@
 //! Wave generation: slope variance against its formula, determinism, the k h <= 1 clamp, the
 //! Cox-Munk order of magnitude, and the phase reduction for large times.
 
-use ocean::scene::{LongestWave, Scene};
-use ocean::waves::{cox_munk_total_variance, generate, G};
+use ocean::model::scene::{LongestWave, Scene};
+use ocean::model::waves::{cox_munk_total_variance, generate, G};
 use std::f64::consts::TAU;
 
 fn scene_with_wind(speed: f64) -> Scene {

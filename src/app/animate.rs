@@ -4,10 +4,10 @@
 //! exists is whole: an interrupted run resumes where it stopped.
 
 use crate::error::{Error, Result};
+use crate::model::scene::Scene;
 use crate::output::progress::Progress;
 use crate::output::{self, write_text};
-use crate::renderer::{Options, Renderer};
-use crate::scene::Scene;
+use crate::render::renderer::{Options, Renderer};
 use crate::vk::gpu::Gpu;
 use std::path::{Path, PathBuf};
 
@@ -76,9 +76,9 @@ pub fn animate(gpu: &Gpu, request: &AnimateRequest) -> Result<AnimateReport> {
     let before = gpu.validation_counts().error_total();
     let mut scene = request.scene.clone();
     let start = scene.render.time_s;
-    let wave_set = crate::waves::generate(&scene);
+    let wave_set = crate::model::waves::generate(&scene);
     let options = if request.specialize {
-        crate::specialize::plan(&scene, &wave_set, request.width, request.height, request.options).0
+        crate::render::specialize::plan(&scene, &wave_set, request.width, request.height, request.options).0
     } else {
         request.options
     };

@@ -2,12 +2,13 @@
 //! image sequences (`ocean animate`, in `animate`).
 
 pub mod animate;
+pub mod report;
 
+use crate::app::report::{GridReport, Report, WaveReport};
 use crate::error::Result;
+use crate::model::scene::Scene;
 use crate::output;
-use crate::renderer::{Options, RenderedFrame, Renderer};
-use crate::report::{GridReport, Report, WaveReport};
-use crate::scene::Scene;
+use crate::render::renderer::{Options, RenderedFrame, Renderer};
 use crate::vk::gpu::Gpu;
 use std::path::PathBuf;
 
@@ -60,9 +61,9 @@ pub fn render(request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
 pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
     let scene = &request.scene;
     let before = gpu.validation_counts();
-    let wave_set = crate::waves::generate(scene);
+    let wave_set = crate::model::waves::generate(scene);
     let (options, omitted) = if request.specialize {
-        crate::specialize::plan(scene, &wave_set, request.width, request.height, request.options)
+        crate::render::specialize::plan(scene, &wave_set, request.width, request.height, request.options)
     } else {
         (request.options, Vec::new())
     };
@@ -102,7 +103,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         pipeline_cache: gpu.device.pipeline_cache.report.clone(),
         eye_height_m: frame.frame.camera.eye_height,
         omitted,
-        pipelines: crate::specialize::pipelines(&options),
+        pipelines: crate::render::specialize::pipelines(&options),
         grid: GridReport {
             columns: frame.frame.grid.columns,
             rows: frame.frame.grid.rows,

@@ -2,7 +2,6 @@
 //! browser and in rendered markdown): titled, with labelled axes, units, tick values and a
 //! legend. Methods by colour: full blue, constant-brdf orange, no-filter red.
 
-use crate::bench::error_vs_time::{Row, BANDS_M};
 use crate::error::{Error, Result};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
@@ -58,17 +57,31 @@ fn value_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     }
 }
 
+/// One measured setting: its method (the colour), its label, GPU time (ms) and total RMSE.
+pub struct Point<'a> {
+    pub method: &'a str,
+    pub setting: &'a str,
+    pub gpu_ms: f64,
+    pub rmse: f64,
+}
+
 /// Total RMSE against GPU time, one point per method and setting (labelled with the setting),
 /// the Pareto front joined and ringed, and the ground truth's own noise floor as a dashed line:
 /// no method can measure below it. The RMSE axis is logarithmic where the values span more than
 /// a decade.
-pub fn error_vs_time(path: &Path, title: &str, rows: &[Row], front: &[usize], noise_floor: Option<f64>) -> Result<()> {
+pub fn error_vs_time(
+    path: &Path,
+    title: &str,
+    rows: &[Point],
+    front: &[usize],
+    noise_floor: Option<f64>,
+) -> Result<()> {
     let fail = plot_error(path);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
-        let (lo, hi) = value_range(rows.iter().map(|r| r.all.rmse[0]).chain(noise_floor));
+        let (lo, hi) = value_range(rows.iter().map(|r| r.rmse).chain(noise_floor));
         let plot = ErrorPlot { title, rows, front, noise_floor };
         if hi / lo > 10.0 {
             plot.draw(&root, (lo / 1.25..hi * 1.25).log_scale(), "log scale")
@@ -84,7 +97,7 @@ pub fn error_vs_time(path: &Path, title: &str, rows: &[Row], front: &[usize], no
 
 struct ErrorPlot<'a> {
     title: &'a str,
-    rows: &'a [Row],
+    rows: &'a [Point<'a>],
     front: &'a [usize],
     noise_floor: Option<f64>,
 }
@@ -97,7 +110,7 @@ impl ErrorPlot<'_> {
         Y::CoordDescType: ValueFormatter<f64>,
     {
         let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-        let rmse = |r: &Row| r.all.rmse[0];
+        let rmse = |r: &Point| r.rmse;
         let max_ms = self.rows.iter().map(|r| r.gpu_ms).fold(0.0, f64::max).max(1e-3) * 1.15;
         let mut chart = ChartBuilder::on(root)
             .caption(self.title, (FONT, 20))
@@ -124,7 +137,7 @@ impl ErrorPlot<'_> {
                 .label(format!("ground truth's noise floor ({})", three_digits(floor)))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], grey));
         }
-        let mut on_front: Vec<&Row> = self.front.iter().map(|&i| &self.rows[i]).collect();
+        let mut on_front: Vec<&Point> = self.front.iter().map(|&i| &self.rows[i]).collect();
         on_front.sort_by(|a, b| a.gpu_ms.total_cmp(&b.gpu_ms));
         chart
             .draw_series(LineSeries::new(on_front.iter().map(|r| (r.gpu_ms, rmse(r))), BLACK.stroke_width(1)))
@@ -135,7 +148,7 @@ impl ErrorPlot<'_> {
             .draw_series(on_front.iter().map(|r| Circle::new((r.gpu_ms, rmse(r)), 8, BLACK.stroke_width(1))))
             .map_err(e)?;
         for method in ["full", "constant-brdf", "no-filter"] {
-            let points: Vec<&Row> = self.rows.iter().filter(|r| r.method == method && rmse(r).is_finite()).collect();
+            let points: Vec<&Point> = self.rows.iter().filter(|r| r.method == method && rmse(r).is_finite()).collect();
             if points.is_empty() {
                 continue;
             }
@@ -150,7 +163,7 @@ impl ErrorPlot<'_> {
                 .draw_series(points.iter().enumerate().map(|(i, r)| {
                     let dy = if i % 2 == 0 { -16 } else { 6 };
                     EmptyElement::at((r.gpu_ms, rmse(r)))
-                        + Text::new(r.setting.clone(), (7, dy), (FONT, 11).into_font().color(&c))
+                        + Text::new(r.setting.to_owned(), (7, dy), (FONT, 11).into_font().color(&c))
                 }))
                 .map_err(e)?;
         }
@@ -158,33 +171,29 @@ impl ErrorPlot<'_> {
     }
 }
 
-/// "0–10", ..., "≥1000" (metres) for band `i` of BANDS_M.
-pub fn band_label(i: usize) -> String {
-    let (lo, hi) = (BANDS_M[i], BANDS_M[i + 1]);
-    if hi.is_finite() {
-        format!("{lo}–{hi}")
-    } else {
-        format!("≥{lo}")
-    }
-}
-
-/// Relative energy error per distance band of the reflected sun (left) and the reflected sky
-/// (right), one line per method, with the ±5% target shaded; bands without energy in the ground
-/// truth are gaps.
-pub fn energy_by_distance(path: &Path, title: &str, series: &[(&str, Vec<[f64; 2]>)]) -> Result<()> {
+/// Relative energy error per distance band (named by `band_labels`) of the reflected sun (left)
+/// and the reflected sky (right), one line per method, with the ±5% target shaded; bands without
+/// energy in the ground truth are gaps.
+pub fn energy_by_distance(
+    path: &Path,
+    title: &str,
+    band_labels: &[String],
+    series: &[(&str, Vec<[f64; 2]>)],
+) -> Result<()> {
     let mut svg = String::new();
-    draw_energy(SVGBackend::with_string(&mut svg, SIZE).into_drawing_area(), title, series)
-        .map_err(plot_error(path))?;
+    let area = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+    draw_energy(area, title, band_labels, series).map_err(plot_error(path))?;
     super::write_text(path, &svg)
 }
 
 fn draw_energy(
     root: DrawingArea<SVGBackend, Shift>,
     title: &str,
+    band_labels: &[String],
     series: &[(&str, Vec<[f64; 2]>)],
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-    let bands = BANDS_M.len() - 1;
+    let bands = band_labels.len();
     {
         root.fill(&WHITE).map_err(e)?;
         let root = root.titled(title, (FONT, 20)).map_err(e)?;
@@ -208,7 +217,7 @@ fn draw_energy(
                 .x_label_formatter(&|x| {
                     let i = x.round();
                     if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < bands {
-                        band_label(i as usize)
+                        band_labels[i as usize].clone()
                     } else {
                         String::new()
                     }

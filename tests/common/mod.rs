@@ -1,11 +1,11 @@
 //! Shared helpers for GPU tests: a validated context on the test device, renders with reports.
 #![allow(dead_code)]
 
+use ocean::app::report::Report;
 use ocean::app::{render_on, RenderRequest};
-use ocean::passes::ocean::{Method, ShaderConfig, Terms};
-use ocean::renderer::{Options, RenderedFrame, Renderer};
-use ocean::report::Report;
-use ocean::scene::Scene;
+use ocean::model::scene::Scene;
+use ocean::render::passes::ocean::{Method, ShaderConfig, Terms};
+use ocean::render::renderer::{Options, RenderedFrame, Renderer};
 use ocean::vk::gpu::Gpu;
 
 /// A context with the validation layer and synchronization validation on, its pipeline cache in

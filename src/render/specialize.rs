@@ -3,11 +3,11 @@
 //! general renderer would compute to zero (or to nothing visible), so the picture stays the same;
 //! the report lists each with its reason.
 
-use crate::frame::{CameraFrame, GEOMETRY_STEPS};
-use crate::renderer::Options;
-use crate::scene::Scene;
-use crate::sky::SkyModel;
-use crate::waves::WaveSet;
+use crate::model::scene::Scene;
+use crate::model::sky::SkyModel;
+use crate::model::waves::WaveSet;
+use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use crate::render::renderer::Options;
 use serde::Serialize;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -1,9 +1,9 @@
 //! What the CPU hands the shaders each frame: the camera, the sun and sky, the projected grid's
 //! extent and the wave trains. Layouts mirror glsl/frame.glsl (std140 / std430, vec4-packed).
 
-use crate::scene::{Scene, MAX_WAVES};
-use crate::sky::SkyModel;
-use crate::waves::WaveSet;
+use crate::model::scene::{Scene, MAX_WAVES};
+use crate::model::sky::SkyModel;
+use crate::model::waves::WaveSet;
 use glam::{DMat4, DVec3, Mat4};
 
 /// Phase step per sample (turns) up to which a train is fully resolved, and from which it is not
@@ -178,13 +178,12 @@ impl GridLayout {
 pub fn baseline_slope_variance(
     camera: &CameraFrame,
     waves: &WaveSet,
-    sky: &SkyModel,
     time_s: f64,
     width: u32,
     height: u32,
 ) -> [f64; 2] {
-    let reference = crate::reference::ReferenceScene { camera, waves, sky, time_s, width, height };
-    reference.resolved_surface(width as f64 / 2.0, height as f64 - 1.0).map_or(waves.sigma2, |(_, _, sigma2)| sigma2)
+    let footprint = super::footprint::Footprint { camera, waves, time_s, width, height };
+    footprint.resolved_surface(width as f64 / 2.0, height as f64 - 1.0).map_or(waves.sigma2, |(_, _, sigma2)| sigma2)
 }
 
 /// Everything derived from a scene for one frame.
@@ -240,7 +239,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         grid: [cell_px as f32, grid.top_ndc_y as f32, grid.margin_x as f32, grid.margin_y as f32],
         grid_dims: [grid.columns, grid.rows, waves.trains.len() as u32, 0],
         filter_steps: [GEOMETRY_STEPS[0], GEOMETRY_STEPS[1], NORMAL_STEPS[0], NORMAL_STEPS[1]],
-        sun_dir: v4(sky.sun_dir, crate::sky::SUN_ANGULAR_RADIUS.cos()),
+        sun_dir: v4(sky.sun_dir, crate::model::sky::SUN_ANGULAR_RADIUS.cos()),
         sun_radiance: v4(sky.sun_radiance, SkyModel::sun_slope_variance()),
         sun_irradiance: v4(sky.sun_irradiance(), sun_above),
         sky_irradiance: v4(sky.sky_irradiance(), 0.0),
@@ -256,7 +255,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         tone: [scene.render.exposure as f32, SKY_MAP_EXTENT, 0.0, 0.0],
         wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, 0.0, 0.0, 0.0],
         baseline_sigma2: {
-            let b = baseline_slope_variance(&camera, waves, &sky, scene.render.time_s, width, height);
+            let b = baseline_slope_variance(&camera, waves, scene.render.time_s, width, height);
             [b[0] as f32, b[1] as f32, 0.0, 0.0]
         },
     };

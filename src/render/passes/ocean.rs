@@ -3,7 +3,7 @@
 
 use super::{Pass, Recorder};
 use crate::error::Result;
-use crate::resources::Resources;
+use crate::render::resources::Resources;
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::{Device, DEPTH_FORMAT, HDR_FORMAT};

@@ -2,8 +2,9 @@
 //! tests can sweep their whole domains against f64 implementations of the same formulas.
 
 use crate::error::{Result, VkContext};
-use crate::frame::{self, FrameUniforms, GpuWaves};
-use crate::scene::Scene;
+use crate::model::scene::Scene;
+use crate::model::waves;
+use crate::render::frame::{self, FrameUniforms, GpuWaves};
 use crate::shaders;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
@@ -11,7 +12,6 @@ use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
 use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
-use crate::waves;
 use ash::vk;
 
 /// The functions numerics.comp evaluates, by index.

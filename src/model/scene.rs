@@ -203,7 +203,7 @@ impl Scene {
     pub fn lambda_max_m(&self) -> f64 {
         match self.waves.lambda_max_m {
             LongestWave::Metres(m) => m,
-            LongestWave::Peak => crate::waves::peak_wavelength(self.wind.speed_mps),
+            LongestWave::Peak => crate::model::waves::peak_wavelength(self.wind.speed_mps),
         }
     }
 

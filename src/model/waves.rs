@@ -1,7 +1,7 @@
 //! Wave trains on the CPU, in f64: wavelengths, directions, amplitudes from a wind spectrum,
 //! total slope variances and the mean-height offset. Deterministic from the scene's seed.
 
-use crate::scene::Scene;
+use crate::model::scene::Scene;
 use std::f64::consts::{PI, TAU};
 
 /// Standard gravity (m/s^2).

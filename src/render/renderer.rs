@@ -2,21 +2,21 @@
 //! the passes with declared-access barriers and timestamps, submits, waits and reads back.
 
 use crate::error::{Error, Result};
-use crate::frame::{self, FrameData};
-use crate::passes::ocean::{OceanPass, ShaderConfig};
-use crate::passes::readback::ReadbackPass;
-use crate::passes::resolve::ResolvePass;
-use crate::passes::sky_map::{SkyMapPass, SkyMipsPass};
-use crate::passes::tonemap::TonemapPass;
-use crate::passes::{Pass, Recorder};
-use crate::resources::Resources;
-use crate::scene::Scene;
+use crate::model::scene::Scene;
+use crate::model::waves;
+use crate::render::frame::{self, FrameData};
+use crate::render::passes::ocean::{OceanPass, ShaderConfig};
+use crate::render::passes::readback::ReadbackPass;
+use crate::render::passes::resolve::ResolvePass;
+use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
+use crate::render::passes::tonemap::TonemapPass;
+use crate::render::passes::{Pass, Recorder};
+use crate::render::resources::Resources;
 use crate::vk::barrier::Tracker;
 use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use crate::vk::profiler::Profiler;
-use crate::waves;
 
 /// A rendered frame, read back to the CPU.
 pub struct RenderedFrame {
@@ -63,7 +63,7 @@ pub struct Renderer<'g> {
     resources: Resources<'g>,
     tracker: Tracker,
     /// The sun and sky the sky map holds, once built: frames under the same sky skip rebuilding it.
-    sky_in_map: Option<(crate::scene::Sun, crate::scene::Sky)>,
+    sky_in_map: Option<(crate::model::scene::Sun, crate::model::scene::Sky)>,
 }
 
 impl<'g> Renderer<'g> {

@@ -8,10 +8,10 @@ pub mod startup;
 
 use crate::app::{median, minimum, pass_statistic};
 use crate::error::{Error, Result};
+use crate::model::scene::Scene;
 use crate::output::progress::Progress;
 use crate::output::write_text;
-use crate::renderer::{Options, Renderer};
-use crate::scene::Scene;
+use crate::render::renderer::{Options, Renderer};
 use crate::vk::gpu::Gpu;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -92,8 +92,8 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
     let mut progress = Progress::new("bench speed", scenes.len() as u64 + 1, "scenes", true);
     for (i, (name, scene)) in scenes.iter().enumerate() {
         progress.set(i as u64, Some(&format!("timing {name}, {} frames", frames + 1)));
-        let wave_set = crate::waves::generate(scene);
-        let (options, _) = crate::specialize::plan(scene, &wave_set, 1024, 768, Options::default());
+        let wave_set = crate::model::waves::generate(scene);
+        let (options, _) = crate::render::specialize::plan(scene, &wave_set, 1024, 768, Options::default());
         let row = time_scene(gpu, name, scene, 1024, 768, frames, options)?;
         progress.println(&format!(
             "{:<14} {}x{}  median {:7.1} ms  fastest {:7.1} ms",
@@ -205,8 +205,8 @@ pub fn specialize(gpu: &Gpu, dirs: &[&Path], frames: u32, out_dir: &Path) -> Res
         let scene = Scene::load(path)?;
         let name = path.display().to_string();
         progress.set(i as u64, Some(&format!("timing {name}, both pipelines, {} frames each", frames + 1)));
-        let wave_set = crate::waves::generate(&scene);
-        let (options, omitted) = crate::specialize::plan(&scene, &wave_set, 1024, 768, Options::default());
+        let wave_set = crate::model::waves::generate(&scene);
+        let (options, omitted) = crate::render::specialize::plan(&scene, &wave_set, 1024, 768, Options::default());
         let [general, special] = interleaved(gpu, &scene, frames, Options::default(), options)?;
         let row = SpecializeRow {
             scene: name,

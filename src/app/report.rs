@@ -9,7 +9,7 @@ pub struct Report {
     pub device: String,
     pub width: u32,
     pub height: u32,
-    pub method: crate::passes::ocean::Method,
+    pub method: crate::render::passes::ocean::Method,
     /// Supersampling: samples per pixel along each axis.
     pub ssaa: u32,
     /// GPU time per pass and in total (ms), from timestamp queries.
@@ -32,7 +32,7 @@ pub struct Report {
     /// The eye's height above mean sea level as rendered: the scene's, raised by a crest under it.
     pub eye_height_m: f64,
     /// What this scene did not need and was left out, with why (empty with --no-specialize).
-    pub omitted: Vec<crate::specialize::Omission>,
+    pub omitted: Vec<crate::render::specialize::Omission>,
     /// The pipelines the frame used.
     pub pipelines: Vec<String>,
     pub waves: WaveReport,

@@ -4,15 +4,16 @@
 
 use crate::app::median;
 use crate::error::{Error, Result};
-use crate::frame::CameraFrame;
-use crate::groundtruth::GroundTruthFiles;
+use crate::measure::groundtruth::GroundTruthFiles;
+use crate::model::scene::Scene;
+use crate::model::waves;
+use crate::output::plot::{self, Point};
 use crate::output::progress::Progress;
 use crate::output::{luminance, write_text};
-use crate::passes::ocean::{Method, ShaderConfig, Terms};
-use crate::renderer::{Options, Renderer};
-use crate::scene::Scene;
+use crate::render::frame::CameraFrame;
+use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
+use crate::render::renderer::{Options, Renderer};
 use crate::vk::gpu::Gpu;
-use crate::waves;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -248,7 +249,11 @@ fn write_outputs(
     }
     write_text(&dir.join("error_vs_time.md"), &md)?;
     let title = format!("Error against GPU time: {scene_name}, {w}x{h}");
-    crate::output::plot::error_vs_time(&dir.join("error_vs_time.svg"), &title, rows, &front, noise_floor)?;
+    let points: Vec<Point> = rows
+        .iter()
+        .map(|r| Point { method: &r.method, setting: &r.setting, gpu_ms: r.gpu_ms, rmse: r.all.rmse[0] })
+        .collect();
+    plot::error_vs_time(&dir.join("error_vs_time.svg"), &title, &points, &front, noise_floor)?;
     // Energy against distance of each method's default setting, sun and sky (indices 1 and 2).
     let series: Vec<(&str, Vec<[f64; 2]>)> = rows
         .iter()
@@ -256,7 +261,18 @@ fn write_outputs(
         .map(|r| (r.method.as_str(), r.bands.iter().map(|(_, _, e)| [e.energy_error[1], e.energy_error[2]]).collect()))
         .collect();
     let title = format!("Energy error by distance, default settings: {scene_name}, {w}x{h}");
-    crate::output::plot::energy_by_distance(&dir.join("energy_by_distance.svg"), &title, &series)
+    let bands: Vec<String> = (0..BANDS_M.len() - 1).map(band_label).collect();
+    plot::energy_by_distance(&dir.join("energy_by_distance.svg"), &title, &bands, &series)
+}
+
+/// "0–10", ..., "≥1000" (metres) for band `i` of BANDS_M.
+pub fn band_label(i: usize) -> String {
+    let (lo, hi) = (BANDS_M[i], BANDS_M[i + 1]);
+    if hi.is_finite() {
+        format!("{lo}–{hi}")
+    } else {
+        format!("≥{lo}")
+    }
 }
 
 /// Indices of rows no other row beats in both GPU time and total RMSE.

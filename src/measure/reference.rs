@@ -6,11 +6,12 @@
 //! Only valid where the grid is not displaced (no train resolved at the grid's scale): the
 //! visible point is then the ray's intersection with the rest plane.
 
-use crate::frame::{CameraFrame, NORMAL_STEPS, SEA_ALBEDO};
-use crate::sky::SkyModel;
-use crate::waves::{trochoid_slope_variance, WaveSet};
+use crate::model::sky::SkyModel;
+use crate::model::waves::WaveSet;
+use crate::render::footprint::{normal_weight, Footprint};
+use crate::render::frame::{CameraFrame, SEA_ALBEDO};
 use glam::{DVec2, DVec3};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 
 /// Schlick's R0 for water (paper, section 5).
 const R0: f64 = 0.02;
@@ -36,43 +37,30 @@ pub struct ReferenceScene<'a> {
     pub height: u32,
 }
 
-fn smoothstep01(t: f64) -> f64 {
-    let t = t.clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
-}
-
 impl ReferenceScene<'_> {
-    /// Camera ray through the centre of pixel (px, py), y down.
-    pub fn pixel_ray(&self, px: f64, py: f64) -> DVec3 {
-        let ndc = [(px + 0.5) / self.width as f64 * 2.0 - 1.0, (py + 0.5) / self.height as f64 * 2.0 - 1.0];
-        self.camera.ray(ndc)
+    fn footprint(&self) -> Footprint<'_> {
+        Footprint {
+            camera: self.camera,
+            waves: self.waves,
+            time_s: self.time_s,
+            width: self.width,
+            height: self.height,
+        }
     }
 
-    /// Rest-plane position hit by `ray`, and its derivatives per pixel along screen u and v,
-    /// from differentiating x(s) = H r(s).xy / (-r(s).z) with r linear in pixels.
+    /// Camera ray through the centre of pixel (px, py), y down.
+    pub fn pixel_ray(&self, px: f64, py: f64) -> DVec3 {
+        self.footprint().pixel_ray(px, py)
+    }
+
+    /// Rest-plane position hit by `ray` and its derivatives per pixel (`footprint::plane_hit`).
     pub fn plane_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
-        let h = self.camera.plane_height;
-        let w = -ray.z;
-        if w <= 0.0 {
-            return None;
-        }
-        let dr_du = self.camera.right * self.camera.tan_half_x * (2.0 / self.width as f64);
-        let dr_dv = -self.camera.up * self.camera.tan_half_y * (2.0 / self.height as f64);
-        let x = |r: DVec3| DVec2::new(r.x, r.y) * (h / -r.z);
-        let derivative = |dr: DVec3| {
-            let r_xy = DVec2::new(ray.x, ray.y);
-            let dr_xy = DVec2::new(dr.x, dr.y);
-            (dr_xy * w + r_xy * dr.z) * (h / (w * w))
-        };
-        Some((x(ray), derivative(dr_du), derivative(dr_dv)))
+        self.footprint().plane_hit(ray)
     }
 
     /// Weight of a train resolved by the per-pixel normal (see glsl/waves.glsl).
     pub fn normal_weight(&self, k_turns: DVec2, kh: f64, a_u: DVec2, a_v: DVec2, v_z: f64) -> f64 {
-        let [resolved, unresolved] = NORMAL_STEPS.map(|s| s as f64);
-        let nonlinearity = (kh * TAU / v_z).max(1.0);
-        let step = k_turns.dot(a_u).abs().max(k_turns.dot(a_v).abs()) * nonlinearity;
-        1.0 - smoothstep01((step - resolved) / (unresolved - resolved))
+        normal_weight(k_turns, kh, a_u, a_v, v_z)
     }
 
     pub fn shade(&self, px: f64, py: f64) -> Option<PixelRadiance> {
@@ -81,32 +69,9 @@ impl ReferenceScene<'_> {
     }
 
     /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
-    /// where the pixel sees no sea.
+    /// where the pixel sees no sea (`footprint::resolved_surface`).
     pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
-        let ray = self.pixel_ray(px, py);
-        let (x, a_u, a_v) = self.plane_hit(ray)?;
-        let v = -ray.normalize();
-        let wind = DVec2::from(self.waves.wind_direction);
-        let mut tx = DVec3::X;
-        let mut ty = DVec3::Y;
-        let mut sigma2 = [0.0; 2];
-        for t in &self.waves.trains {
-            let dir = DVec2::from(t.direction);
-            let k_turns = dir / t.wavelength;
-            let kh = t.k * t.amplitude;
-            let wn = if v.z > 0.0 { self.normal_weight(k_turns, kh, a_u, a_v, v.z) } else { 0.0 };
-            let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
-            let (s, c) = theta.sin_cos();
-            let (c, s) = (wn * kh * c, wn * kh * s);
-            tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
-            ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
-            let (along, across) = (dir.dot(wind), dir.perp_dot(wind));
-            let residual = trochoid_slope_variance((1.0 - wn) * kh);
-            sigma2[0] += along * along * residual;
-            sigma2[1] += across * across * residual;
-        }
-        let n = tx.cross(ty).try_normalize().unwrap_or(DVec3::Z);
-        Some((n, v, sigma2))
+        self.footprint().resolved_surface(px, py)
     }
 
     /// The three terms for resolved normal `n`, view `v` and residual variance `sigma2`.

@@ -2,7 +2,7 @@
 //! (the tone-mapped one is written by the tonemap pass) visible to the host.
 
 use super::{Pass, Recorder};
-use crate::resources::Resources;
+use crate::render::resources::Resources;
 use crate::vk::barrier::{Access, Tracker};
 use ash::vk;
 

@@ -4,15 +4,15 @@
 //! cannot resolve the shortest wave.
 
 use crate::error::{Error, Result};
-use crate::frame;
-use crate::scene::Scene;
+use crate::model::scene::Scene;
+use crate::model::waves;
+use crate::render::frame;
 use crate::shaders;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
-use crate::waves;
 use ash::vk;
 use std::time::Instant;
 

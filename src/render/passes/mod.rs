@@ -8,7 +8,7 @@ pub mod resolve;
 pub mod sky_map;
 pub mod tonemap;
 
-use crate::resources::Resources;
+use crate::render::resources::Resources;
 use crate::vk::barrier::Tracker;
 use crate::vk::device::Device;
 use crate::vk::pipeline::Bindings;

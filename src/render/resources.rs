@@ -2,7 +2,7 @@
 //! dropped (also when a later one fails to be created).
 
 use crate::error::{Error, Result, VkContext};
-use crate::frame::{FrameUniforms, GpuWaves};
+use crate::render::frame::{FrameUniforms, GpuWaves};
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT};
 use crate::vk::gpu::Gpu;

@@ -1,0 +1,8 @@
+//! How the product measures itself: the exact-geometry ground truth (`groundtruth`), the f64
+//! CPU evaluation of the shading that tests compare the GPU with (`reference`), the shader-function
+//! harness (`numerics`), and the benchmarks (`bench`).
+
+pub mod bench;
+pub mod groundtruth;
+pub mod numerics;
+pub mod reference;

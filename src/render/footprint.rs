@@ -1,0 +1,92 @@
+//! The method's split of the trains at one pixel, in f64 on the CPU: the rest-plane point a
+//! pixel sees and its footprint (derivatives per pixel), each train's weight in the per-pixel
+//! normal, the resolved normal and the residual slope variance left to the BRDF (paper, sections
+//! 4-5; glsl/waves.glsl does the same on the GPU). The frame uses it for the baseline's roughness,
+//! the f64 reference (`measure::reference`) to shade a pixel.
+//!
+//! Only valid where the grid is not displaced: the visible point is the ray's intersection with
+//! the rest plane.
+
+use super::frame::{CameraFrame, NORMAL_STEPS};
+use crate::model::waves::{trochoid_slope_variance, WaveSet};
+use glam::{DVec2, DVec3};
+use std::f64::consts::TAU;
+
+fn smoothstep01(t: f64) -> f64 {
+    let t = t.clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// Weight of a train resolved by the per-pixel normal: 1 while its phase steps less than
+/// NORMAL_STEPS[0] turns per pixel (times its nonlinearity kh 2 pi / v_z), 0 from NORMAL_STEPS[1].
+pub fn normal_weight(k_turns: DVec2, kh: f64, a_u: DVec2, a_v: DVec2, v_z: f64) -> f64 {
+    let [resolved, unresolved] = NORMAL_STEPS.map(|s| s as f64);
+    let nonlinearity = (kh * TAU / v_z).max(1.0);
+    let step = k_turns.dot(a_u).abs().max(k_turns.dot(a_v).abs()) * nonlinearity;
+    1.0 - smoothstep01((step - resolved) / (unresolved - resolved))
+}
+
+/// A frame's camera and waves at one time, on an image of `width` x `height` pixels.
+pub struct Footprint<'a> {
+    pub camera: &'a CameraFrame,
+    pub waves: &'a WaveSet,
+    pub time_s: f64,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Footprint<'_> {
+    /// Camera ray through the centre of pixel (px, py), y down.
+    pub fn pixel_ray(&self, px: f64, py: f64) -> DVec3 {
+        let ndc = [(px + 0.5) / self.width as f64 * 2.0 - 1.0, (py + 0.5) / self.height as f64 * 2.0 - 1.0];
+        self.camera.ray(ndc)
+    }
+
+    /// Rest-plane position hit by `ray`, and its derivatives per pixel along screen u and v,
+    /// from differentiating x(s) = H r(s).xy / (-r(s).z) with r linear in pixels.
+    pub fn plane_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
+        let h = self.camera.plane_height;
+        let w = -ray.z;
+        if w <= 0.0 {
+            return None;
+        }
+        let dr_du = self.camera.right * self.camera.tan_half_x * (2.0 / self.width as f64);
+        let dr_dv = -self.camera.up * self.camera.tan_half_y * (2.0 / self.height as f64);
+        let x = |r: DVec3| DVec2::new(r.x, r.y) * (h / -r.z);
+        let derivative = |dr: DVec3| {
+            let r_xy = DVec2::new(ray.x, ray.y);
+            let dr_xy = DVec2::new(dr.x, dr.y);
+            (dr_xy * w + r_xy * dr.z) * (h / (w * w))
+        };
+        Some((x(ray), derivative(dr_du), derivative(dr_dv)))
+    }
+
+    /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
+    /// where the pixel sees no sea.
+    pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
+        let ray = self.pixel_ray(px, py);
+        let (x, a_u, a_v) = self.plane_hit(ray)?;
+        let v = -ray.normalize();
+        let wind = DVec2::from(self.waves.wind_direction);
+        let mut tx = DVec3::X;
+        let mut ty = DVec3::Y;
+        let mut sigma2 = [0.0; 2];
+        for t in &self.waves.trains {
+            let dir = DVec2::from(t.direction);
+            let k_turns = dir / t.wavelength;
+            let kh = t.k * t.amplitude;
+            let wn = if v.z > 0.0 { normal_weight(k_turns, kh, a_u, a_v, v.z) } else { 0.0 };
+            let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
+            let (s, c) = theta.sin_cos();
+            let (c, s) = (wn * kh * c, wn * kh * s);
+            tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
+            ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
+            let (along, across) = (dir.dot(wind), dir.perp_dot(wind));
+            let residual = trochoid_slope_variance((1.0 - wn) * kh);
+            sigma2[0] += along * along * residual;
+            sigma2[1] += across * across * residual;
+        }
+        let n = tx.cross(ty).try_normalize().unwrap_or(DVec3::Z);
+        Some((n, v, sigma2))
+    }
+}
