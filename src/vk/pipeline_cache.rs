@@ -56,6 +56,8 @@ pub fn check_header(data: &[u8], properties: &vk::PhysicalDeviceProperties) -> R
     Ok(())
 }
 
+const LOADED: &str = "loaded";
+
 /// What the run started from, for the report.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CacheReport {
@@ -70,6 +72,8 @@ pub struct CacheReport {
 pub struct PipelineCache {
     pub raw: vk::PipelineCache,
     pub report: CacheReport,
+    /// The driver was given the file's data (so an unchanged size means nothing was added).
+    loaded: bool,
 }
 
 impl PipelineCache {
@@ -80,7 +84,7 @@ impl PipelineCache {
             None => (Vec::new(), "disabled".to_owned()),
             Some(path) => match std::fs::read(path) {
                 Ok(data) => match check_header(&data, properties) {
-                    Ok(()) => (data, "loaded".to_owned()),
+                    Ok(()) => (data, LOADED.to_owned()),
                     Err(why) => (Vec::new(), format!("ignored: {why}")),
                 },
                 Err(e) if e.kind() == std::io::ErrorKind::NotFound => (Vec::new(), "none yet".to_owned()),
@@ -91,8 +95,9 @@ impl PipelineCache {
         // SAFETY: `data` is empty or starts with a header that matches this device and driver;
         // the driver checks the rest and starts empty when it does not accept it.
         let cache = unsafe { raw.create_pipeline_cache(&info, None) }.during("vkCreatePipelineCache")?;
+        let loaded = status == LOADED;
         let report = CacheReport { file, loaded_bytes: data.len() as u64, status };
-        Ok(PipelineCache { raw: cache, report })
+        Ok(PipelineCache { raw: cache, report, loaded })
     }
 
     /// Writes the cache's data to its file (atomically) where it differs from what was loaded;
@@ -101,7 +106,7 @@ impl PipelineCache {
         let Some(path) = &self.report.file else { return Ok(None) };
         // SAFETY: the cache is live and owned by this device.
         let data = unsafe { device.raw.get_pipeline_cache_data(self.raw) }.during("vkGetPipelineCacheData")?;
-        if data.len() as u64 == self.report.loaded_bytes && self.report.status == "loaded" {
+        if self.loaded && data.len() as u64 == self.report.loaded_bytes {
             return Ok(None); // nothing was added to what the file holds
         }
         if let Some(dir) = path.parent() {
