@@ -25,17 +25,30 @@ struct Cli {
     command: Command,
 }
 
+/// What `render`, `reference` and `animate` all take: the scene, the image size, the device.
+#[derive(clap::Args)]
+struct ViewArgs {
+    /// Scene file (TOML); without it, the built-in defaults (scenes/default.toml).
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    #[arg(long, default_value_t = 1024)]
+    width: u32,
+    #[arg(long, default_value_t = 768)]
+    height: u32,
+    /// Enable the Khronos validation layer with synchronization validation.
+    #[arg(long)]
+    validation: bool,
+    /// Use the first device whose name contains this text.
+    #[arg(long)]
+    device: Option<String>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a PNG (and optionally a linear EXR and a JSON report).
     Render {
-        /// Scene file (TOML); without it, the built-in defaults (scenes/default.toml).
-        #[arg(long)]
-        scene: Option<PathBuf>,
-        #[arg(long, default_value_t = 1024)]
-        width: u32,
-        #[arg(long, default_value_t = 768)]
-        height: u32,
+        #[command(flatten)]
+        view: ViewArgs,
         /// Output PNG (tone-mapped sRGB); `-` for standard output.
         #[arg(long, default_value = "out.png")]
         out: PathBuf,
@@ -46,12 +59,6 @@ enum Command {
         /// standard output.
         #[arg(long)]
         report: Option<PathBuf>,
-        /// Enable the Khronos validation layer with synchronization validation.
-        #[arg(long)]
-        validation: bool,
-        /// Use the first device whose name contains this text.
-        #[arg(long)]
-        device: Option<String>,
         /// How waves are split between geometry, normals and BRDF.
         #[arg(long, value_enum, default_value_t = Method::Full)]
         method: Method,
@@ -72,12 +79,8 @@ enum Command {
     /// (alpha 0 marks pixels whose samples cannot resolve the shortest wave), with the reflected
     /// sun, reflected sky and refracted sea light beside it (NAME.sun.exr, ...) and NAME.exr.json.
     Reference {
-        #[arg(long)]
-        scene: Option<PathBuf>,
-        #[arg(long, default_value_t = 1024)]
-        width: u32,
-        #[arg(long, default_value_t = 768)]
-        height: u32,
+        #[command(flatten)]
+        view: ViewArgs,
         /// Samples per pixel along each axis (N x N per pixel).
         #[arg(long, default_value_t = 8)]
         samples: u32,
@@ -89,16 +92,12 @@ enum Command {
         png: Option<PathBuf>,
         #[arg(long)]
         report: Option<PathBuf>,
-        #[arg(long)]
-        validation: bool,
-        #[arg(long)]
-        device: Option<String>,
     },
     /// An image sequence: DIR/frame_00000.png, ... at --fps frames per second from the scene's
     /// time_s; frames already written are skipped (resumable) unless --force.
     Animate {
-        #[arg(long)]
-        scene: Option<PathBuf>,
+        #[command(flatten)]
+        view: ViewArgs,
         /// Length of the sequence in seconds of scene time.
         #[arg(long)]
         seconds: f64,
@@ -107,10 +106,6 @@ enum Command {
         /// Folder for the frames (made if missing).
         #[arg(long)]
         out: PathBuf,
-        #[arg(long, default_value_t = 1024)]
-        width: u32,
-        #[arg(long, default_value_t = 768)]
-        height: u32,
         /// Also write each frame's linear radiance as frame_NNNNN.exr.
         #[arg(long)]
         exr: bool,
@@ -119,10 +114,6 @@ enum Command {
         force: bool,
         #[arg(long, value_enum, default_value_t = Method::Full)]
         method: Method,
-        #[arg(long)]
-        validation: bool,
-        #[arg(long)]
-        device: Option<String>,
     },
     /// Benchmarks that print their numbers and write them under --out.
     Bench {
@@ -213,14 +204,10 @@ fn load_scene(path: Option<PathBuf>) -> ocean::Result<(Scene, String)> {
 fn run(cli: Cli) -> ocean::Result<()> {
     match cli.command {
         Command::Render {
-            scene,
-            width,
-            height,
+            view: ViewArgs { scene, width, height, validation, device },
             out,
             exr,
             report,
-            validation,
-            device,
             method,
             ssaa,
             terms,
@@ -274,7 +261,13 @@ fn run(cli: Cli) -> ocean::Result<()> {
             );
             Ok(())
         }
-        Command::Reference { scene, width, height, samples, out, png, report, validation, device } => {
+        Command::Reference {
+            view: ViewArgs { scene, width, height, validation, device },
+            samples,
+            out,
+            png,
+            report,
+        } => {
             // The per-term images and the metadata are named after these files.
             for (option, path) in [("--out", Some(&out)), ("--png", png.as_ref())] {
                 if path.is_some_and(|p| is_stdout(p)) {
@@ -327,7 +320,15 @@ fn run(cli: Cli) -> ocean::Result<()> {
             );
             Ok(())
         }
-        Command::Animate { scene, seconds, fps, out, width, height, exr, force, method, validation, device } => {
+        Command::Animate {
+            view: ViewArgs { scene, width, height, validation, device },
+            seconds,
+            fps,
+            out,
+            exr,
+            force,
+            method,
+        } => {
             ocean::app::animate::frame_count(seconds, fps)?; // bad arguments before the GPU starts
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;

@@ -8,6 +8,7 @@ use ocean::measure::reference::ReferenceScene;
 use ocean::model::scene::{LongestWave, Scene};
 use ocean::model::sky::SkyModel;
 use ocean::model::waves::generate;
+use ocean::render::footprint::Footprint;
 use ocean::render::frame::{CameraFrame, GEOMETRY_STEPS};
 use ocean::render::passes::ocean::Terms;
 
@@ -39,8 +40,10 @@ fn gpu_shading_matches_the_f64_reference() {
     let waves = generate(&scene);
     let camera = CameraFrame::new(&scene, &waves, W, H);
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
-    let reference =
-        ReferenceScene { camera: &camera, waves: &waves, sky: &sky, time_s: scene.render.time_s, width: W, height: H };
+    let reference = ReferenceScene {
+        footprint: Footprint { camera: &camera, waves: &waves, time_s: scene.render.time_s, width: W, height: H },
+        sky: &sky,
+    };
 
     // Precondition: nothing is displaced anywhere on screen (every train unresolved per grid cell).
     let cells = scene.render.grid_cell_px;

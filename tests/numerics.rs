@@ -7,6 +7,7 @@ mod common;
 use common::gpu;
 use ocean::measure::numerics::{evaluate, Function};
 use ocean::measure::reference;
+use ocean::render::footprint::Footprint;
 use std::f64::consts::{PI, TAU};
 
 /// Largest |gpu - cpu| / max(|cpu|, floor) over the sweep, with the arguments where it occurred.
@@ -186,8 +187,10 @@ fn normal_weights_across_the_screen() {
     let wave_set = ocean::model::waves::generate(&scene);
     let camera = ocean::render::frame::CameraFrame::new(&scene, &wave_set, 64, 64);
     let sky = ocean::model::sky::SkyModel::new(3.0, 0.0, 2.5);
-    let reference =
-        reference::ReferenceScene { camera: &camera, waves: &wave_set, sky: &sky, time_s: 0.0, width: 64, height: 64 };
+    let reference = reference::ReferenceScene {
+        footprint: Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: 64, height: 64 },
+        sky: &sky,
+    };
     let mut args = Vec::new();
     let mut cpu = Vec::new();
     for py in (30..64).step_by(2) {

@@ -96,25 +96,20 @@ pub struct GroundTruth {
 const SKY_PIXEL_COST: u64 = 1;
 const SEA_PIXEL_COST: u64 = 16;
 
-/// Each tile's share of the work, in units of one sky pixel: for an estimate of the time left
-/// that holds while the top rows (sky) go fast and the rows near the eye go slow.
-fn tile_costs(camera: &frame::CameraFrame, width: u32, height: u32) -> Vec<u64> {
+/// Each tile's share of the work, in units of one sky pixel (`sees_sea[y * width + x]` marks the
+/// pixels that see the sea): for an estimate of the time left that holds while the top rows
+/// (sky) go fast and the rows near the eye go slow.
+fn tile_costs(sees_sea: &[bool], width: u32, height: u32) -> Vec<u64> {
     let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
     let mut costs = Vec::with_capacity((tiles_x * tiles_y) as usize);
     for ty in 0..tiles_y {
         for tx in 0..tiles_x {
             let xs = tx * TILE..((tx + 1) * TILE).min(width);
             let ys = ty * TILE..((ty + 1) * TILE).min(height);
-            let cost =
-                ys.flat_map(|y| xs.clone().map(move |x| (x, y)))
-                    .map(|(x, y)| {
-                        if camera.pixel_distance(x, y, width, height).is_some() {
-                            SEA_PIXEL_COST
-                        } else {
-                            SKY_PIXEL_COST
-                        }
-                    })
-                    .sum();
+            let cost = ys
+                .flat_map(|y| xs.clone().map(move |x| (y * width + x) as usize))
+                .map(|i| if sees_sea[i] { SEA_PIXEL_COST } else { SKY_PIXEL_COST })
+                .sum();
             costs.push(cost);
         }
     }
@@ -207,7 +202,12 @@ pub fn render(
     let tiles_x = width.div_ceil(TILE);
     let tiles_y = height.div_ceil(TILE);
     let camera = frame::CameraFrame::new(scene, &wave_set, width, height);
-    let costs = tile_costs(&camera, width, height);
+    // Which pixels see the sea: for the tiles' costs and the noise floor.
+    let sees_sea: Vec<bool> = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| camera.pixel_distance(x, y, width, height).is_some())
+        .collect();
+    let costs = tile_costs(&sees_sea, width, height);
     let total: u64 = costs.iter().sum();
     let mut done = 0;
     progress(0, total);
@@ -282,11 +282,7 @@ pub fn render(
     let stats = crate::output::stats(&radiance);
     let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
     let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
-    let sea_pixels: Vec<usize> = (0..height)
-        .flat_map(|y| (0..width).map(move |x| (x, y)))
-        .filter(|&(x, y)| camera.pixel_distance(x, y, width, height).is_some())
-        .map(|(x, y)| (y * width + x) as usize)
-        .collect();
+    let sea_pixels: Vec<usize> = (0..sees_sea.len()).filter(|&i| sees_sea[i]).collect();
     let noise_floor_rmse = (samples >= 2).then(|| noise_floor(&radiance, &subset, &sea_pixels));
     let report = GroundTruthReport {
         device: device.name.clone(),

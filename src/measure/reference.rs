@@ -7,9 +7,8 @@
 //! visible point is then the ray's intersection with the rest plane.
 
 use crate::model::sky::SkyModel;
-use crate::model::waves::WaveSet;
 use crate::render::footprint::{normal_weight, Footprint};
-use crate::render::frame::{CameraFrame, SEA_ALBEDO};
+use crate::render::frame::SEA_ALBEDO;
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 
@@ -27,35 +26,22 @@ pub struct PixelRadiance {
     pub sigma2: [f64; 2],
 }
 
-/// What the reference needs from the frame.
+/// What the reference needs from the frame: the camera, waves and image of the footprint, and
+/// the sky.
 pub struct ReferenceScene<'a> {
-    pub camera: &'a CameraFrame,
-    pub waves: &'a WaveSet,
+    pub footprint: Footprint<'a>,
     pub sky: &'a SkyModel,
-    pub time_s: f64,
-    pub width: u32,
-    pub height: u32,
 }
 
 impl ReferenceScene<'_> {
-    fn footprint(&self) -> Footprint<'_> {
-        Footprint {
-            camera: self.camera,
-            waves: self.waves,
-            time_s: self.time_s,
-            width: self.width,
-            height: self.height,
-        }
-    }
-
     /// Camera ray through the centre of pixel (px, py), y down.
     pub fn pixel_ray(&self, px: f64, py: f64) -> DVec3 {
-        self.footprint().pixel_ray(px, py)
+        self.footprint.pixel_ray(px, py)
     }
 
     /// Rest-plane position hit by `ray` and its derivatives per pixel (`footprint::plane_hit`).
     pub fn plane_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
-        self.footprint().plane_hit(ray)
+        self.footprint.plane_hit(ray)
     }
 
     /// Weight of a train resolved by the per-pixel normal (see glsl/waves.glsl).
@@ -71,14 +57,14 @@ impl ReferenceScene<'_> {
     /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
     /// where the pixel sees no sea (`footprint::resolved_surface`).
     pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
-        self.footprint().resolved_surface(px, py)
+        self.footprint.resolved_surface(px, py)
     }
 
     /// The three terms for resolved normal `n`, view `v` and residual variance `sigma2`.
     pub fn brdf(&self, n: DVec3, v: DVec3, sigma2: [f64; 2]) -> PixelRadiance {
         let vn = v.dot(n);
         let n = if vn < 0.0 { (n - vn * v).try_normalize().unwrap_or(DVec3::Z) } else { n };
-        let wind = DVec3::new(self.waves.wind_direction[0], self.waves.wind_direction[1], 0.0);
+        let wind = DVec3::new(self.footprint.waves.wind_direction[0], self.footprint.waves.wind_direction[1], 0.0);
         let t = wind - n * n.dot(wind);
         let t_x = t.try_normalize().unwrap_or_else(|| DVec3::new(-wind.y, wind.x, 0.0).cross(n).normalize());
         let t_y = n.cross(t_x);
