@@ -17,6 +17,8 @@ pub enum Error {
     MissingFeature { device: String, feature: String },
     #[error("validation layer requested but {0}")]
     ValidationUnavailable(String),
+    #[error("no window surface: {0}")]
+    NoSurface(String),
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan { call: &'static str, result: vk::Result },
     #[error("out of GPU memory for {name} ({bytes} bytes)")]

@@ -18,6 +18,8 @@ pub mod output;
 
 pub mod app;
 
+pub mod window;
+
 pub mod error;
 
 /// SPIR-V of every shader in glsl/, compiled by build.rs.

@@ -15,6 +15,7 @@ use ocean::model::scene::Scene;
 use ocean::output::progress::Progress;
 use ocean::output::target::is_stdout;
 use ocean::render::renderer::Options;
+use ocean::window::view::PresentMode;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -115,6 +116,47 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Method::Full)]
         method: Method,
     },
+    /// A window on the sea: animated with the wall clock, interactive (press H for the controls),
+    /// presented through our own swapchain; the automation flags script a session for tests.
+    View {
+        /// Scene file (TOML), watched: saving it reloads it.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        width: u32,
+        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        height: u32,
+        /// Present mode; a mode the surface lacks falls back to fifo (logged).
+        #[arg(long, value_enum, default_value_t = PresentMode::Fifo)]
+        present: PresentMode,
+        /// Enable the Khronos validation layer with synchronization validation.
+        #[arg(long)]
+        validation: bool,
+        /// Use the first device whose name contains this text.
+        #[arg(long)]
+        device: Option<String>,
+        #[arg(long, value_enum, default_value_t = Method::Full)]
+        method: Method,
+        /// Scene seconds per second of wall time (0: a still frame at the scene's time_s).
+        #[arg(long, default_value_t = 1.0, value_parser = parse_time_scale)]
+        time_scale: f64,
+        /// Exit after N presented frames.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        frames: Option<u64>,
+        /// Save the last presented frame (PNG of what is shown).
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// FRAME:WIDTHxHEIGHT: ask the window for a new size after FRAME frames (repeatable).
+        #[arg(long, value_parser = ocean::window::script::parse_resize)]
+        resize_at: Vec<ocean::window::script::ResizeAt>,
+        /// FRAME:FRAMES: minimize after FRAME frames, restore FRAMES frame periods later (repeatable).
+        #[arg(long, value_parser = ocean::window::script::parse_minimize)]
+        minimize_at: Vec<ocean::window::script::MinimizeAt>,
+        /// Write a JSON report (device, present mode, surface format, frames, recreations, fps,
+        /// CPU and GPU times, validation counts).
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
     /// Benchmarks that print their numbers and write them under --out.
     Bench {
         #[command(subcommand)]
@@ -194,6 +236,13 @@ fn shown(path: &Path) -> String {
 }
 
 /// The scene from `--scene`, or the built-in defaults (scenes/default.toml), with its name.
+fn parse_time_scale(text: &str) -> Result<f64, String> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite() && s.abs() <= 1e4)
+        .ok_or_else(|| format!("{text:?}: the time scale must be a number in [-10000, 10000]"))
+}
+
 fn load_scene(path: Option<PathBuf>) -> ocean::Result<(Scene, String)> {
     match path {
         Some(path) => Ok((Scene::load(&path)?, path.display().to_string())),
@@ -356,6 +405,53 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 r.skipped,
                 r.validation_errors,
                 r.nonfinite_pixels
+            );
+            Ok(())
+        }
+        Command::View {
+            scene,
+            width,
+            height,
+            present,
+            validation,
+            device,
+            method,
+            time_scale,
+            frames,
+            screenshot,
+            resize_at,
+            minimize_at,
+            report,
+        } => {
+            let (loaded, _) = load_scene(scene.clone())?;
+            let options = ocean::window::view::ViewOptions {
+                scene_path: scene,
+                scene: loaded,
+                width,
+                height,
+                present,
+                validation,
+                device,
+                method,
+                time_scale,
+                frames,
+                screenshot,
+                resize_at,
+                minimize_at,
+            };
+            let r = ocean::window::view::run(&options)?;
+            if let Some(path) = report {
+                let json = serde_json::to_string_pretty(&r).expect("report serializes");
+                ocean::output::write_text(&path, &json)?;
+            }
+            ocean::say!(
+                "{} frames at {:.1} fps ({}, {}), {} swapchain recreations, {} validation errors",
+                r.frames,
+                r.summary.fps,
+                r.present_mode,
+                r.surface_format,
+                r.swapchain_recreations,
+                r.validation_errors
             );
             Ok(())
         }

@@ -221,7 +221,7 @@ pub fn render(
             unsafe {
                 let raw = &device.raw;
                 raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
-                bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
+                bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &[]);
                 // One dispatch per stratum, each adding to the pixels the previous one wrote.
                 let accumulate = vk::MemoryBarrier2::default()
                     .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)

@@ -136,7 +136,7 @@ pub fn evaluate(
             &vk::DependencyInfo::default().image_memory_barriers(std::slice::from_ref(&to_sampled)),
         );
         raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
-        bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
+        bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &[]);
         let bytes = std::slice::from_raw_parts(push.as_ptr() as *const u8, 8);
         raw.cmd_push_constants(cmd, bindings.layout(), s, 0, bytes);
         raw.cmd_dispatch(cmd, (count as u32).div_ceil(64), 1, 1);

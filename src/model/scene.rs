@@ -19,6 +19,10 @@ pub struct Camera {
     pub yaw_deg: f64,
     /// Vertical field of view.
     pub fov_y_deg: f64,
+    /// Where the eye stands over the sea (east, north). The sea is the same everywhere, so this
+    /// only moves the waves past the eye (`ocean view` walks with it).
+    pub x_m: f64,
+    pub y_m: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
@@ -135,7 +139,7 @@ pub struct Scene {
 
 impl Default for Camera {
     fn default() -> Self {
-        Self { height_m: 6.0, pitch_deg: 0.0, yaw_deg: 0.0, fov_y_deg: 60.0 }
+        Self { height_m: 6.0, pitch_deg: 0.0, yaw_deg: 0.0, fov_y_deg: 60.0, x_m: 0.0, y_m: 0.0 }
     }
 }
 impl Default for Sun {
@@ -211,6 +215,9 @@ impl Scene {
         let c = &self.camera;
         in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(100_000.0))?;
         in_range("camera.pitch_deg", c.pitch_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
+        // Phases k.x are reduced in f64: at 1e7 m and k = 314 rad/m that keeps 3e-5 rad.
+        in_range("camera.x_m", c.x_m, Bound::Closed(-1e7), Bound::Closed(1e7))?;
+        in_range("camera.y_m", c.y_m, Bound::Closed(-1e7), Bound::Closed(1e7))?;
         finite_angle("camera.yaw_deg", c.yaw_deg)?;
         // Beyond these the projection loses single precision (tan overflows or 1/tan does).
         in_range("camera.fov_y_deg", c.fov_y_deg, Bound::Closed(0.01), Bound::Closed(179.0))?;

@@ -143,7 +143,9 @@ pub fn generate(scene: &Scene) -> WaveSet {
         let narrowing = 1.0 + SPREAD_NARROWING * (omega0 / omega).powi(4);
         let angle_from_wind = spread / narrowing;
         let angle = wind_angle + angle_from_wind;
-        let phase0 = rng.next_f64() * TAU;
+        // The world frame's origin is the eye: a train's phase there is its phase at (x_m, y_m).
+        let eye = [scene.camera.x_m, scene.camera.y_m];
+        let phase0 = (rng.next_f64() * TAU - k * (angle.cos() * eye[0] + angle.sin() * eye[1])).rem_euclid(TAU);
         trains.push(Train {
             wavelength: lambda,
             k,

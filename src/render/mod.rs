@@ -1,9 +1,11 @@
 //! One frame on the GPU: what the CPU hands the shaders (`frame`), the images and buffers
 //! between passes (`resources`), the passes themselves (`passes`), what a scene needs
-//! (`specialize`) and the renderer that records and submits them (`renderer`).
+//! (`specialize`), the per-frame-in-flight slots (`in_flight`) and the renderer that records
+//! and submits frames to a target (`renderer`).
 
 pub mod footprint;
 pub mod frame;
+pub mod in_flight;
 pub mod passes;
 pub mod renderer;
 pub mod resources;

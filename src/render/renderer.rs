@@ -1,22 +1,28 @@
-//! The headless renderer: builds the frame's resources and passes for one image size, records
-//! the passes with declared-access barriers and timestamps, submits, waits and reads back.
+//! The renderer: the frame's shared resources and passes for one image size, and its frames in
+//! flight. A frame is recorded against a target: offscreen (tone-mapped and read back to the
+//! host, `render`) or a window's swapchain image (displayed, then presented by the caller,
+//! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
-use crate::model::scene::Scene;
+use crate::model::scene::{Scene, Sky, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
+use crate::render::in_flight::FrameSlot;
+use crate::render::passes::display::DisplayPass;
 use crate::render::passes::ocean::{OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
 use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::render::passes::tonemap::TonemapPass;
-use crate::render::passes::{Pass, Recorder};
-use crate::render::resources::Resources;
-use crate::vk::barrier::Tracker;
-use crate::vk::commands::Commands;
+use crate::render::passes::{Frame, Pass, Recorder};
+use crate::render::resources::{ResourceSpec, Resources};
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::buffer::Buffer;
+use crate::vk::commands::Wait;
 use crate::vk::gpu::Gpu;
-use crate::vk::memory::MemoryReport;
-use crate::vk::profiler::Profiler;
+use crate::vk::memory::{Location, MemoryReport};
+use crate::vk::swapchain::SwapImage;
+use ash::vk;
 
 /// A rendered frame, read back to the CPU.
 pub struct RenderedFrame {
@@ -31,6 +37,16 @@ pub struct RenderedFrame {
     pub frame: FrameData,
 }
 
+/// Where a frame ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// Tone-mapped into a host buffer and read back with the HDR radiance.
+    Readback,
+    /// Tone-mapped into a window's swapchain images of `format`; `encode_srgb`: the format is
+    /// UNORM, so the shader applies the sRGB encoding.
+    Window { format: vk::Format, encode_srgb: bool },
+}
+
 /// How a renderer renders: the ocean shaders' specialization and the supersampling factor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Options {
@@ -40,12 +56,46 @@ pub struct Options {
     /// Whether the sky map is built (without it, a 1x1 placeholder keeps the descriptor valid
     /// and its passes are left out); only a shader without the sky term may do without.
     pub sky_map: bool,
+    pub output: Output,
+    /// Frames the CPU may prepare while the GPU runs earlier ones (1: each frame waits).
+    pub frames_in_flight: u32,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { shader: ShaderConfig::default(), ssaa: 1, sky_map: true }
+        Options {
+            shader: ShaderConfig::default(),
+            ssaa: 1,
+            sky_map: true,
+            output: Output::Readback,
+            frames_in_flight: 1,
+        }
     }
+}
+
+/// What a window frame copies out for the host besides showing it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Capture {
+    None,
+    /// The swapchain image as shown (8-bit, in the swapchain's format).
+    Shown,
+    /// The linear HDR radiance (RGBA16F).
+    Radiance,
+}
+
+/// Pixels copied out of a window frame, row-major from the top-left.
+pub enum Captured {
+    /// RGBA8 as shown (BGRA swapchain formats already swizzled).
+    Shown {
+        width: u32,
+        height: u32,
+        rgba: Vec<u8>,
+    },
+    Radiance {
+        width: u32,
+        height: u32,
+        rgba: Vec<[f32; 4]>,
+    },
 }
 
 pub struct Renderer<'g> {
@@ -54,16 +104,20 @@ pub struct Renderer<'g> {
     height: u32,
     ssaa: u32,
     anisotropy: f64,
-    // Field order is drop order (after Drop::drop waits for the device): the command buffer, the
-    // passes, then the resources they refer to.
-    commands: Commands<'g>,
-    profiler: Profiler<'g>,
+    output: Output,
+    // Field order is drop order (after Drop::drop waits for the device): the slots (command
+    // buffers, queries, grids), the passes, then the resources they refer to.
+    slots: Vec<FrameSlot<'g>>,
+    next_slot: usize,
+    /// GPU time per pass of the last frame whose fence was waited (no wait added to read them).
+    last_pass_ms: Vec<(&'static str, f64)>,
+    capture: Option<Buffer<'g>>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
     tracker: Tracker,
     /// The sun and sky the sky map holds, once built: frames under the same sky skip rebuilding it.
-    sky_in_map: Option<(crate::model::scene::Sun, crate::model::scene::Sky)>,
+    sky_in_map: Option<(Sun, Sky)>,
 }
 
 impl<'g> Renderer<'g> {
@@ -72,8 +126,17 @@ impl<'g> Renderer<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         let device = &gpu.device;
         assert!(options.sky_map || !options.shader.terms.sky, "the sky term samples the sky map");
-        let resources =
-            Resources::new(gpu, width, height, options.ssaa, options.sky_map, scene.render.sky_anisotropy as f32)?;
+        let frames_in_flight = options.frames_in_flight.max(1);
+        let spec = ResourceSpec {
+            width,
+            height,
+            ssaa: options.ssaa,
+            sky_map: options.sky_map,
+            anisotropy: scene.render.sky_anisotropy as f32,
+            slots: frames_in_flight,
+            readback: options.output == Output::Readback,
+        };
+        let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
         if options.sky_map {
             passes.push(Box::new(SkyMapPass::new(device, &resources)?));
@@ -83,18 +146,32 @@ impl<'g> Renderer<'g> {
         if let Some(resolved) = &resources.resolved {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }
-        passes.push(Box::new(TonemapPass::new(device, &resources)?));
-        passes.push(Box::new(ReadbackPass));
-        let profiler = Profiler::new(device, passes.len() as u32)?;
-        let commands = Commands::new(device, "frame")?;
+        match options.output {
+            Output::Readback => {
+                passes.push(Box::new(TonemapPass::new(device, &resources)?));
+                passes.push(Box::new(ReadbackPass));
+            }
+            Output::Window { format, encode_srgb } => {
+                passes.push(Box::new(DisplayPass::new(device, &resources, format, encode_srgb)?));
+            }
+        }
+        let window = matches!(options.output, Output::Window { .. });
+        // One more timestamp scope than passes: a window frame's capture copy.
+        let scopes = passes.len() as u32 + 1;
+        let slots = (0..frames_in_flight as usize)
+            .map(|i| FrameSlot::new(gpu, i, scopes, window))
+            .collect::<Result<Vec<_>>>()?;
         Ok(Renderer {
             gpu,
             width,
             height,
             ssaa: options.ssaa,
             anisotropy: scene.render.sky_anisotropy,
-            commands,
-            profiler,
+            output: options.output,
+            slots,
+            next_slot: 0,
+            last_pass_ms: Vec::new(),
+            capture: None,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -106,7 +183,110 @@ impl<'g> Renderer<'g> {
         self.gpu.allocator.borrow().report()
     }
 
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    pub fn output(&self) -> Output {
+        self.output
+    }
+
+    /// The names of the passes, in execution order.
+    pub fn pass_names(&self) -> Vec<&'static str> {
+        self.passes.iter().map(|p| p.name()).collect()
+    }
+
+    /// GPU time per pass (ms) of the most recent frame known to be finished.
+    pub fn last_pass_ms(&self) -> &[(&'static str, f64)] {
+        &self.last_pass_ms
+    }
+
+    /// Renders `scene` offscreen, waits for it and reads it back.
     pub fn render(&mut self, scene: &Scene) -> Result<RenderedFrame> {
+        assert_eq!(self.output, Output::Readback, "render() needs an offscreen renderer");
+        let slot = self.begin_frame()?;
+        let data = self.record(slot, scene, None, Capture::None)?;
+        self.slots[slot].commands.submit(&[], None)?;
+        self.finish(slot)?;
+        let readback = self.resources.readback.as_ref().expect("an offscreen renderer has readback buffers");
+        let pixels = self.width as usize * self.height as usize;
+        let hdr_bits: Vec<u16> = readback.hdr.read(4 * pixels)?;
+        let hdr =
+            hdr_bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
+        let ldr = readback.ldr.read(4 * pixels)?;
+        let pass_ms = self.last_pass_ms.iter().map(|&(n, ms)| (n.to_owned(), ms)).collect();
+        Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data })
+    }
+
+    /// Takes the next frame slot, waiting for the frame that last used it (and only that one), and
+    /// keeps that frame's GPU times. Returns the slot for `image_available` and `draw`.
+    pub fn begin_frame(&mut self) -> Result<usize> {
+        let slot = self.next_slot;
+        self.next_slot = (slot + 1) % self.slots.len();
+        self.finish(slot)?;
+        Ok(slot)
+    }
+
+    /// The semaphore a window frame in `slot` must have its swapchain image acquired with.
+    pub fn image_available(&self, slot: usize) -> vk::Semaphore {
+        self.slots[slot].image_available.as_ref().expect("a window renderer").raw
+    }
+
+    /// Records and submits a window frame into `image` (acquired with `image_available(slot)`),
+    /// signalling `rendered` for its present. With a capture, waits for the frame and returns
+    /// the pixels.
+    pub fn draw(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        image: SwapImage,
+        rendered: vk::Semaphore,
+        capture: Capture,
+    ) -> Result<Option<Captured>> {
+        assert!(matches!(self.output, Output::Window { .. }), "draw() needs a window renderer");
+        self.record(slot, scene, Some(image), capture)?;
+        let wait =
+            Wait { semaphore: self.image_available(slot), stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT };
+        self.slots[slot].commands.submit(&[wait], Some(rendered))?;
+        if capture == Capture::None {
+            return Ok(None);
+        }
+        self.finish(slot)?;
+        let buffer = self.capture.as_ref().expect("made by record");
+        let (width, height) = (image.extent.width, image.extent.height);
+        let pixels = width as usize * height as usize;
+        Ok(Some(match capture {
+            Capture::Shown => {
+                let mut rgba: Vec<u8> = buffer.read(4 * pixels)?;
+                if matches!(image.format, vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM) {
+                    rgba.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+                }
+                Captured::Shown { width, height, rgba }
+            }
+            _ => {
+                let (width, height) = (self.width, self.height);
+                let bits: Vec<u16> = buffer.read(4 * width as usize * height as usize)?;
+                let rgba = bits
+                    .chunks_exact(4)
+                    .map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32()))
+                    .collect();
+                Captured::Radiance { width, height, rgba }
+            }
+        }))
+    }
+
+    /// Waits for the frame in `slot` (if one is pending) and keeps its GPU times.
+    fn finish(&mut self, slot: usize) -> Result<()> {
+        let s = &self.slots[slot];
+        s.commands.wait()?;
+        if let Some(times) = s.profiler.read(&self.gpu.device.raw)? {
+            self.last_pass_ms = times;
+        }
+        Ok(())
+    }
+
+    /// Writes the slot's uniforms and grid and records the frame into its command buffer.
+    fn record(&mut self, slot: usize, scene: &Scene, image: Option<SwapImage>, capture: Capture) -> Result<FrameData> {
         if scene.render.sky_anisotropy != self.anisotropy {
             return Err(Error::Argument(format!(
                 "this renderer's sky sampler was built for sky_anisotropy = {}, the scene asks {}",
@@ -117,45 +297,114 @@ impl<'g> Renderer<'g> {
         let k = self.ssaa;
         let data =
             frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
-        let resources = &mut self.resources;
-        resources.set_grid(data.grid.columns, data.grid.rows)?;
-        resources.frame_uniforms.write(std::slice::from_ref(&data.uniforms))?;
-        resources.waves.write(std::slice::from_ref(data.waves.as_ref()))?;
+        self.resources.frame_uniforms.write(slot, &data.uniforms)?;
+        self.resources.waves.write(slot, data.waves.as_ref())?;
+        let s = &mut self.slots[slot];
+        s.grid.set(data.grid.columns, data.grid.rows)?;
         let sky = (scene.sun.clone(), scene.sky.clone());
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
-        self.submit_frame(sky_current)?;
         self.sky_in_map = Some(sky);
-
-        let pixels = self.width as usize * self.height as usize;
-        let hdr_bits: Vec<u16> = self.resources.hdr_readback.read(4 * pixels)?;
-        let hdr =
-            hdr_bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
-        let ldr = self.resources.ldr_readback.read(4 * pixels)?;
-        let pass_ms = self
-            .profiler
-            .read(&self.gpu.device.raw)?
-            .unwrap_or_default()
-            .into_iter()
-            .map(|(n, ms)| (n.to_owned(), ms))
-            .collect();
-        Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data })
-    }
-
-    /// Records and runs one frame; `sky_current`: the sky map already holds this frame's sky.
-    fn submit_frame(&mut self, sky_current: bool) -> Result<()> {
-        let device = &self.gpu.device;
-        let cmd = self.commands.cmd;
-        self.commands.begin()?;
-        self.profiler.reset(&device.raw, cmd);
-        for pass in self.passes.iter().filter(|p| !(sky_current && p.builds_sky_map())) {
-            self.profiler.begin(device, cmd, pass.name());
-            pass.declare(&self.resources, &mut self.tracker);
-            self.tracker.flush(&device.raw, cmd);
-            pass.record(&mut Recorder { device, cmd, tracker: &mut self.tracker }, &self.resources);
-            self.profiler.end(device, cmd);
+        let frame = Frame {
+            uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
+            grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
+            swap_image: image,
+        };
+        if capture != Capture::None {
+            self.prepare_capture(capture, image)?;
         }
-        self.commands.submit_and_wait()
+
+        let device = &self.gpu.device;
+        let s = &mut self.slots[slot];
+        let cmd = s.commands.cmd;
+        s.commands.begin()?;
+        s.profiler.reset(&device.raw, cmd);
+        if let Some(image) = &image {
+            self.tracker.acquired(image, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
+        }
+        for pass in self.passes.iter().filter(|p| !(sky_current && p.builds_sky_map())) {
+            s.profiler.begin(device, cmd, pass.name());
+            pass.declare(&self.resources, &frame, &mut self.tracker);
+            self.tracker.flush(&device.raw, cmd);
+            pass.record(&mut Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame }, &self.resources);
+            s.profiler.end(device, cmd);
+        }
+        if let (Some(buffer), true) = (&self.capture, capture != Capture::None) {
+            s.profiler.begin(device, cmd, "capture");
+            let source = match capture {
+                Capture::Shown => image.map(|i| (i.raw, i.extent)),
+                _ => Some((self.resources.output().raw, self.resources.output().extent)),
+            };
+            if let (Capture::Shown, Some(image)) = (capture, &image) {
+                self.tracker.image(image, 0, 1, Access::TransferRead, false);
+            } else {
+                self.tracker.image(self.resources.output(), 0, 1, Access::TransferRead, false);
+            }
+            self.tracker.buffer(buffer, Access::TransferWrite);
+            self.tracker.flush(&device.raw, cmd);
+            if let Some((raw, extent)) = source {
+                copy_to_buffer(&device.raw, cmd, raw, extent, buffer.raw);
+            }
+            self.tracker.buffer(buffer, Access::HostRead);
+            self.tracker.flush(&device.raw, cmd);
+            s.profiler.end(device, cmd);
+        }
+        if let Some(image) = &image {
+            // The present waits on the render-finished semaphore, signalled after all commands.
+            self.tracker.image(image, 0, 1, Access::Present, false);
+            self.tracker.flush(&device.raw, cmd);
+        }
+        Ok(data)
     }
+
+    /// Makes (or keeps) the host buffer a capture is copied into.
+    fn prepare_capture(&mut self, capture: Capture, image: Option<SwapImage>) -> Result<()> {
+        let bytes = match (capture, image) {
+            (Capture::Shown, Some(i)) => 4 * i.extent.width as u64 * i.extent.height as u64,
+            _ => 8 * self.width as u64 * self.height as u64,
+        };
+        if self.capture.as_ref().is_none_or(|b| b.size != bytes) {
+            if let Some(old) = self.capture.take() {
+                self.tracker.forget_buffer(old.raw);
+            }
+            let usage = vk::BufferUsageFlags::TRANSFER_DST;
+            self.capture = Some(Buffer::new(self.gpu, "capture", bytes, usage, Location::Readback)?);
+        }
+        Ok(())
+    }
+
+    /// Waits for every frame in flight.
+    pub fn wait_idle(&mut self) -> Result<()> {
+        for slot in 0..self.slots.len() {
+            self.finish(slot)?;
+        }
+        Ok(())
+    }
+}
+
+/// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
+fn copy_to_buffer(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    buffer: vk::Buffer,
+) {
+    let region = vk::BufferImageCopy {
+        buffer_offset: 0,
+        buffer_row_length: 0,
+        buffer_image_height: 0,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        },
+        image_offset: vk::Offset3D::default(),
+        image_extent: vk::Extent3D { width: extent.width, height: extent.height, depth: 1 },
+    };
+    // SAFETY: the image was declared TransferRead (TRANSFER_SRC_OPTIMAL) and the buffer
+    // TransferWrite, and the buffer holds the whole image.
+    unsafe { device.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region]) };
 }
 
 impl Drop for Renderer<'_> {

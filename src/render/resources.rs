@@ -1,5 +1,5 @@
-//! Every GPU resource of a frame, created once for an image size; each releases itself when
-//! dropped (also when a later one fails to be created).
+//! The GPU resources the frames share, created once for an image size (the per-frame ones are in
+//! in_flight.rs); each releases itself when dropped (also when a later one fails to be created).
 
 use crate::error::{Error, Result, VkContext};
 use crate::render::frame::{FrameUniforms, GpuWaves};
@@ -13,15 +13,56 @@ use ash::vk;
 
 /// Sky map resolution (texels per side) and thus mip levels: log2(512) + 1.
 pub const SKY_MAP_SIZE: u32 = 512;
-/// Most grid nodes a frame may draw: 2^24 nodes need 400 MB of indices; finer grids are an error.
-pub const MAX_GRID_NODES: u64 = 1 << 24;
+/// Binding numbers of the two per-frame uniform blocks (glsl/frame.glsl).
+pub const FRAME_BINDING: u32 = 0;
+pub const WAVES_BINDING: u32 = 1;
+
+/// What the resources are made for.
+#[derive(Clone, Copy, Debug)]
+pub struct ResourceSpec {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel along each axis.
+    pub ssaa: u32,
+    /// Whether the sky map is built (else a 1x1 placeholder keeps its binding valid).
+    pub sky_map: bool,
+    pub anisotropy: f32,
+    /// Frames in flight: the uniform ring's slots.
+    pub slots: u32,
+    /// Whether frames are read back to the host (offscreen rendering).
+    pub readback: bool,
+}
+
+/// Host-written uniform blocks, one window per frame in flight, bound with a dynamic offset.
+pub struct UniformRing<'g> {
+    pub buffer: Buffer<'g>,
+    /// Bytes per slot: the block's size rounded up to minUniformBufferOffsetAlignment.
+    pub stride: u64,
+    /// The block's size (the descriptor's range).
+    pub size: u64,
+}
+
+impl<'g> UniformRing<'g> {
+    fn new(gpu: &'g Gpu, name: &str, size: u64, slots: u32) -> Result<Self> {
+        let align = gpu.device.properties.limits.min_uniform_buffer_offset_alignment.max(1);
+        let stride = size.div_ceil(align) * align;
+        let buffer =
+            Buffer::new(gpu, name, stride * slots as u64, vk::BufferUsageFlags::UNIFORM_BUFFER, Location::Upload)?;
+        Ok(UniformRing { buffer, stride, size })
+    }
+
+    pub fn write<T: Copy>(&self, slot: usize, value: &T) -> Result<()> {
+        self.buffer.write_at(self.stride * slot as u64, std::slice::from_ref(value))
+    }
+
+    pub fn offset(&self, slot: usize) -> u32 {
+        (self.stride * slot as u64) as u32
+    }
+}
 
 pub struct Resources<'g> {
-    gpu: &'g Gpu,
-    pub frame_uniforms: Buffer<'g>,
-    pub waves: Buffer<'g>,
-    /// Triangle list of the current grid, grown when a larger grid is needed.
-    pub grid_indices: Option<Buffer<'g>>,
+    pub frame_uniforms: UniformRing<'g>,
+    pub waves: UniformRing<'g>,
     pub sky_map: Image<'g>,
     pub sky_sampler: Owned<'g, vk::Sampler>,
     /// HDR radiance at the rendering size (the output size times the supersampling factor).
@@ -29,16 +70,19 @@ pub struct Resources<'g> {
     pub depth: Image<'g>,
     /// With supersampling, the resolved HDR radiance at the output size.
     pub resolved: Option<Image<'g>>,
-    pub hdr_readback: Buffer<'g>,
-    pub ldr_readback: Buffer<'g>,
-    /// Indices of the current grid layout (rewritten when the layout changes).
-    pub grid_index_count: u32,
-    pub grid_layout: Option<(u32, u32)>,
+    /// Offscreen rendering only: the HDR radiance and the tone-mapped pixels for the host.
+    pub readback: Option<Readback<'g>>,
+}
+
+pub struct Readback<'g> {
+    pub hdr: Buffer<'g>,
+    pub ldr: Buffer<'g>,
 }
 
 impl<'g> Resources<'g> {
     /// Resources for `width` x `height` output images rendered with `ssaa` x `ssaa` samples per pixel.
-    pub fn new(gpu: &'g Gpu, width: u32, height: u32, ssaa: u32, sky_map: bool, anisotropy: f32) -> Result<Self> {
+    pub fn new(gpu: &'g Gpu, spec: &ResourceSpec) -> Result<Self> {
+        let ResourceSpec { width, height, ssaa, sky_map, anisotropy, slots, readback } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > side || height > side {
@@ -68,25 +112,31 @@ impl<'g> Resources<'g> {
         let extent = vk::Extent2D { width, height };
         use vk::BufferUsageFlags as B;
         use vk::ImageUsageFlags as I;
-        let uniforms_size = std::mem::size_of::<FrameUniforms>() as u64;
-        let frame_uniforms = Buffer::new(gpu, "frame uniforms", uniforms_size, B::UNIFORM_BUFFER, Location::Upload)?;
-        let waves_size = std::mem::size_of::<GpuWaves>() as u64;
-        let waves = Buffer::new(gpu, "wave trains", waves_size, B::UNIFORM_BUFFER, Location::Upload)?;
+        let frame_uniforms =
+            UniformRing::new(gpu, "frame uniforms", std::mem::size_of::<FrameUniforms>() as u64, slots)?;
+        let waves = UniformRing::new(gpu, "wave trains", std::mem::size_of::<GpuWaves>() as u64, slots)?;
         // Without the sky term nothing samples the map: a 1x1 placeholder keeps its binding valid.
         let sky_size = if sky_map { SKY_MAP_SIZE } else { 1 };
         let sky_extent = vk::Extent2D { width: sky_size, height: sky_size };
         let sky_usage = I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, sky_size.ilog2() + 1, sky_usage)?;
-        let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::TRANSFER_SRC;
+        // Sampled: the window's display pass reads the radiance with texelFetch.
+        let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC;
         let hdr = Image::new(gpu, "hdr radiance", HDR_FORMAT, render_extent, 1, hdr_usage)?;
         let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
         let resolved = if ssaa > 1 {
-            Some(Image::new(gpu, "hdr resolved", HDR_FORMAT, extent, 1, I::STORAGE | I::TRANSFER_SRC)?)
+            Some(Image::new(gpu, "hdr resolved", HDR_FORMAT, extent, 1, I::STORAGE | I::SAMPLED | I::TRANSFER_SRC)?)
         } else {
             None
         };
-        let hdr_readback = Buffer::new(gpu, "hdr readback", pixels * 8, B::TRANSFER_DST, Location::Readback)?;
-        let ldr_readback = Buffer::new(gpu, "ldr readback", pixels * 4, B::STORAGE_BUFFER, Location::Readback)?;
+        let readback = if readback {
+            Some(Readback {
+                hdr: Buffer::new(gpu, "hdr readback", pixels * 8, B::TRANSFER_DST, Location::Readback)?,
+                ldr: Buffer::new(gpu, "ldr readback", pixels * 4, B::STORAGE_BUFFER, Location::Readback)?,
+            })
+        } else {
+            None
+        };
         let anisotropic = anisotropy > 1.0 && gpu.device.anisotropy;
         let max_anisotropy = if anisotropic { anisotropy.min(limits.max_sampler_anisotropy) } else { 1.0 };
         let sampler_info = vk::SamplerCreateInfo::default()
@@ -103,58 +153,19 @@ impl<'g> Resources<'g> {
         // SAFETY: valid create info; anisotropy only when the feature was enabled.
         let sky_sampler = unsafe { gpu.raw().create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
         Ok(Resources {
-            gpu,
             frame_uniforms,
             waves,
-            grid_indices: None,
             sky_map,
             sky_sampler: Owned::new(&gpu.device, sky_sampler, "sky map sampler"),
             hdr,
             depth,
             resolved,
-            hdr_readback,
-            ldr_readback,
-            grid_index_count: 0,
-            grid_layout: None,
+            readback,
         })
     }
 
     /// The HDR radiance at the output size: the resolved image with supersampling, else `hdr`.
     pub fn output(&self) -> &Image<'g> {
         self.resolved.as_ref().unwrap_or(&self.hdr)
-    }
-
-    /// Writes the triangle list of a columns x rows grid (row-major nodes) if it changed. Called
-    /// between frames (the previous frame's fence waited), so the buffer may be replaced.
-    pub fn set_grid(&mut self, columns: u32, rows: u32) -> Result<()> {
-        if self.grid_layout == Some((columns, rows)) {
-            return Ok(());
-        }
-        let nodes = columns as u64 * rows as u64;
-        if nodes > MAX_GRID_NODES {
-            return Err(Error::Argument(format!(
-                "a {columns}x{rows} projected grid has more than {MAX_GRID_NODES} nodes: raise render.grid_cell_px"
-            )));
-        }
-        let mut indices = Vec::with_capacity(6 * columns.saturating_sub(1) as usize * rows.saturating_sub(1) as usize);
-        for row in 0..rows.saturating_sub(1) {
-            for col in 0..columns.saturating_sub(1) {
-                let a = row * columns + col;
-                let (b, c, d) = (a + 1, a + columns, a + columns + 1);
-                indices.extend_from_slice(&[a, c, b, b, c, d]);
-            }
-        }
-        let bytes = std::mem::size_of_val(indices.as_slice()) as u64;
-        if self.grid_indices.as_ref().is_none_or(|b| b.size < bytes) {
-            self.grid_indices = None; // free the old buffer before placing the larger one
-            let usage = vk::BufferUsageFlags::INDEX_BUFFER;
-            self.grid_indices = Some(Buffer::new(self.gpu, "grid indices", bytes, usage, Location::Upload)?);
-        }
-        if let Some(buffer) = &self.grid_indices {
-            buffer.write(&indices)?;
-        }
-        self.grid_index_count = indices.len() as u32;
-        self.grid_layout = Some((columns, rows));
-        Ok(())
     }
 }

@@ -9,6 +9,25 @@ use super::image::Image;
 use ash::vk;
 use std::collections::HashMap;
 
+/// An image the tracker can follow: ours, or a swapchain's.
+pub trait TrackedImage {
+    fn raw(&self) -> vk::Image;
+    fn mip_levels(&self) -> u32;
+    fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange;
+}
+
+impl TrackedImage for Image<'_> {
+    fn raw(&self) -> vk::Image {
+        self.raw
+    }
+    fn mip_levels(&self) -> u32 {
+        self.mip_levels
+    }
+    fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange {
+        Image::levels(self, base, count)
+    }
+}
+
 /// One way a pass touches a resource. All mapping to stages, accesses and layouts lives here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Access {
@@ -22,6 +41,9 @@ pub enum Access {
     ColorAttachmentWrite,
     DepthAttachmentReadWrite,
     HostRead,
+    /// Handed to the presentation engine (a swapchain image after the frame's last write); the
+    /// render-finished semaphore, signalled after every command, orders the present.
+    Present,
 }
 
 impl Access {
@@ -35,6 +57,7 @@ impl Access {
             Access::ColorAttachmentWrite => S::COLOR_ATTACHMENT_OUTPUT,
             Access::DepthAttachmentReadWrite => S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
             Access::HostRead => S::HOST,
+            Access::Present => S::NONE,
         }
     }
 
@@ -50,6 +73,7 @@ impl Access {
             Access::ColorAttachmentWrite => A::COLOR_ATTACHMENT_WRITE,
             Access::DepthAttachmentReadWrite => A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
             Access::HostRead => A::HOST_READ,
+            Access::Present => A::NONE,
         }
     }
 
@@ -65,6 +89,7 @@ impl Access {
             // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
             Access::DepthAttachmentReadWrite => L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
             Access::HostRead => L::GENERAL,
+            Access::Present => L::PRESENT_SRC_KHR,
         }
     }
 
@@ -176,9 +201,9 @@ pub struct Tracker {
 impl Tracker {
     /// Declares that levels [base, base + count) of `image` are next accessed as `next`.
     /// `discard`: the previous contents are not needed (the layout may start from UNDEFINED).
-    pub fn image(&mut self, image: &Image, base: u32, count: u32, next: Access, discard: bool) {
+    pub fn image(&mut self, image: &impl TrackedImage, base: u32, count: u32, next: Access, discard: bool) {
         debug_assert!(next != Access::HostRead, "the host reads buffers, not images");
-        let levels = self.images.entry(image.raw).or_insert_with(|| vec![State::NEW; image.mip_levels as usize]);
+        let levels = self.images.entry(image.raw()).or_insert_with(|| vec![State::NEW; image.mip_levels() as usize]);
         let mut level = base;
         while level < base + count {
             // Batch consecutive levels that share their state into one barrier.
@@ -199,7 +224,7 @@ impl Tracker {
                         .new_layout(dep.new_layout)
                         .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                         .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                        .image(image.raw)
+                        .image(image.raw())
                         .subresource_range(image.levels(level, end - level)),
                 );
             }
@@ -208,6 +233,24 @@ impl Tracker {
             }
             level = end;
         }
+    }
+
+    /// A swapchain image just acquired: its contents are undefined and the semaphore that the
+    /// frame's submission waits on at `wait_stage` makes it available there, so the first access
+    /// needs a barrier from that stage (the dependency chain the acquire semaphore starts).
+    pub fn acquired(&mut self, image: &impl TrackedImage, wait_stage: vk::PipelineStageFlags2) {
+        let state = State { write_stage: wait_stage, ..State::NEW };
+        self.images.insert(image.raw(), vec![state; image.mip_levels() as usize]);
+    }
+
+    /// Forgets an image (destroyed, or a swapchain's that was replaced).
+    pub fn forget(&mut self, image: vk::Image) {
+        self.images.remove(&image);
+    }
+
+    /// Forgets a buffer about to be destroyed (its handle may be reused).
+    pub fn forget_buffer(&mut self, buffer: vk::Buffer) {
+        self.buffers.remove(&buffer);
     }
 
     /// Declares that `buffer` is next accessed as `next`.

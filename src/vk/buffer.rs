@@ -55,13 +55,22 @@ impl<'g> Buffer<'g> {
 
     /// Copies `data` to the start of a mapped buffer.
     pub fn write<T: Copy>(&self, data: &[T]) -> Result<()> {
+        self.write_at(0, data)
+    }
+
+    /// Copies `data` to byte `offset` of a mapped buffer.
+    pub fn write_at<T: Copy>(&self, offset: u64, data: &[T]) -> Result<()> {
         let allocation = self.allocation.as_ref().expect("live buffer");
         let bytes = std::mem::size_of_val(data);
-        assert!(bytes as u64 <= self.size, "write of {bytes} bytes into a {}-byte buffer", self.size);
+        assert!(
+            offset + bytes as u64 <= self.size,
+            "write of {bytes} bytes at {offset} into a {}-byte buffer",
+            self.size
+        );
         let ptr = allocation.mapped().expect("write to an unmapped buffer");
-        // SAFETY: the mapping covers `size` >= `bytes` bytes, and the GPU is not reading it (the
-        // previous frame's fence was waited on).
-        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr() as *const u8, ptr, bytes) };
+        // SAFETY: the mapping covers [offset, offset + bytes) (asserted), and the GPU is not
+        // reading that range (the fence of the frame that last used it was waited on).
+        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr() as *const u8, ptr.add(offset as usize), bytes) };
         self.gpu.allocator.borrow().flush(allocation)
     }
 

@@ -1,17 +1,28 @@
-//! One primary command buffer with its pool and fence: begin, record, submit and wait. Every
-//! frame, ground-truth tile and harness call goes through one of these.
+//! One primary command buffer with its pool and fence: begin, record, submit, and wait for the
+//! fence only when the buffer (or what it used) is about to be reused. Every frame, ground-truth
+//! tile and harness call goes through one of these.
 
 use super::device::Device;
 use super::owned::Owned;
+use super::sync::fence;
 use crate::error::{Result, VkContext};
 use ash::vk;
+use std::cell::Cell;
 
 pub struct Commands<'g> {
     device: &'g Device,
     pub cmd: vk::CommandBuffer,
+    /// Submitted and not yet waited for: the fence will signal when the GPU is done.
+    pending: Cell<bool>,
     // Drop order: the fence, then the pool (which frees `cmd`).
     fence: Owned<'g, vk::Fence>,
     _pool: Owned<'g, vk::CommandPool>,
+}
+
+/// A semaphore a submission waits on, and the stages that wait.
+pub struct Wait {
+    pub semaphore: vk::Semaphore,
+    pub stages: vk::PipelineStageFlags2,
 }
 
 impl<'g> Commands<'g> {
@@ -29,33 +40,64 @@ impl<'g> Commands<'g> {
         // SAFETY: one primary buffer from the pool just made.
         let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
         device.set_name(cmd, name);
-        // SAFETY: a plain fence on a live device.
-        let fence =
-            unsafe { device.raw.create_fence(&vk::FenceCreateInfo::default(), None) }.during("vkCreateFence")?;
-        let fence = Owned::new(device, fence, &format!("{name} done"));
-        Ok(Commands { device, cmd, fence, _pool: pool })
+        let fence = fence(device, &format!("{name} done"), false)?;
+        Ok(Commands { device, cmd, pending: Cell::new(false), fence, _pool: pool })
     }
 
-    /// Begins a one-time recording; the previous submission has completed (submit_and_wait).
+    /// Begins a one-time recording.
     pub fn begin(&self) -> Result<()> {
+        assert!(!self.pending.get(), "begin on a command buffer the GPU may still run: wait() first");
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the buffer is not pending: every submission is waited on before the next begin.
+        // SAFETY: the buffer is not pending (checked above: every submission is waited on first).
         unsafe { self.device.raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")
     }
 
-    /// Ends the recording, submits it and waits until the GPU has finished it.
-    pub fn submit_and_wait(&self) -> Result<()> {
+    /// Ends the recording and submits it: after `waits`, signalling `signal` and the fence.
+    pub fn submit(&self, waits: &[Wait], signal: Option<vk::Semaphore>) -> Result<()> {
         let raw = &self.device.raw;
-        let cmds = [self.cmd];
-        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        let wait_infos: Vec<_> = waits
+            .iter()
+            .map(|w| vk::SemaphoreSubmitInfo::default().semaphore(w.semaphore).stage_mask(w.stages))
+            .collect();
+        let signal_infos: Vec<_> = signal
+            .iter()
+            .map(|&s| vk::SemaphoreSubmitInfo::default().semaphore(s).stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS))
+            .collect();
+        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
+        let submit = vk::SubmitInfo2::default()
+            .wait_semaphore_infos(&wait_infos)
+            .command_buffer_infos(&cmds)
+            .signal_semaphore_infos(&signal_infos);
         // SAFETY: recording began in `begin`; the fence is unsignalled (reset after every wait);
         // host writes to mapped memory made before the submit are visible to the device
         // (vkQueueSubmit's implicit host-write ordering).
         unsafe {
             raw.end_command_buffer(self.cmd).during("vkEndCommandBuffer")?;
-            raw.queue_submit(self.device.queue, &[submit], self.fence.raw).during("vkQueueSubmit")?;
-            raw.wait_for_fences(&[self.fence.raw], true, u64::MAX).during("vkWaitForFences")?;
-            raw.reset_fences(&[self.fence.raw]).during("vkResetFences")
+            raw.queue_submit2(self.device.queue, &[submit], self.fence.raw).during("vkQueueSubmit2")?;
         }
+        self.pending.set(true);
+        Ok(())
+    }
+
+    /// Waits until the last submission has finished (at once if nothing is pending), so that the
+    /// buffer and everything it used may be reused.
+    pub fn wait(&self) -> Result<()> {
+        if !self.pending.get() {
+            return Ok(());
+        }
+        let raw = &self.device.raw;
+        // SAFETY: the fence was given to the pending submission; it is reset only after it signals.
+        unsafe {
+            raw.wait_for_fences(&[self.fence.raw], true, u64::MAX).during("vkWaitForFences")?;
+            raw.reset_fences(&[self.fence.raw]).during("vkResetFences")?;
+        }
+        self.pending.set(false);
+        Ok(())
+    }
+
+    /// Ends the recording, submits it and waits until the GPU has finished it.
+    pub fn submit_and_wait(&self) -> Result<()> {
+        self.submit(&[], None)?;
+        self.wait()
     }
 }

@@ -2,8 +2,9 @@
 
 use super::instance::Instance;
 use super::pipeline_cache::PipelineCache;
+use super::surface::Surface;
 use crate::error::{Error, Result, VkContext};
-use ash::{ext, vk};
+use ash::{ext, khr, vk};
 use std::path::Path;
 
 /// Formats the renderer uses and the features each must offer with optimal tiling.
@@ -38,6 +39,8 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     pub anisotropy: bool,
     pub debug_utils: Option<ext::debug_utils::Device>,
+    /// VK_KHR_swapchain's functions, when the device was opened for a window.
+    pub swapchain: Option<khr::swapchain::Device>,
     /// Every pipeline is created through it; kept on disk between runs (pipeline_cache.rs).
     pub pipeline_cache: PipelineCache,
 }
@@ -61,8 +64,9 @@ struct Candidate {
     anisotropy: bool,
 }
 
-/// Checks one physical device; Err names the first thing it lacks.
-fn check(instance: &Instance, physical: vk::PhysicalDevice) -> Result<Candidate> {
+/// Checks one physical device; Err names the first thing it lacks. With a surface, the queue must
+/// present to it and the device must have VK_KHR_swapchain.
+fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Surface>) -> Result<Candidate> {
     let raw = &instance.raw;
     // SAFETY: `physical` comes from vkEnumeratePhysicalDevices on this instance.
     let properties = unsafe { raw.get_physical_device_properties(physical) };
@@ -97,6 +101,18 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice) -> Result<Candidate>
         .enumerate()
         .find(|(_, f)| f.queue_flags.contains(wanted))
         .ok_or_else(|| missing("a graphics and compute queue"))?;
+    if let Some(surface) = surface {
+        // SAFETY: as above.
+        let extensions = unsafe { raw.enumerate_device_extension_properties(physical) }
+            .during("vkEnumerateDeviceExtensionProperties")?;
+        if !extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(khr::swapchain::NAME)) {
+            return Err(missing("VK_KHR_swapchain"));
+        }
+        // One queue does everything; a device whose graphics queue cannot present is passed over.
+        if !surface.supports(physical, queue_family as u32) {
+            return Err(missing("presentation to this window from its graphics queue"));
+        }
+    }
     Ok(Candidate {
         physical,
         name,
@@ -111,7 +127,13 @@ impl Device {
     /// Picks discrete > integrated > virtual > CPU among devices that have what we need, or the
     /// first device whose name contains `name_filter` (case-insensitive).
     /// `cache_dir` holds the pipeline cache files (None: the cache lives for this run only).
-    pub fn new(instance: &Instance, name_filter: Option<&str>, cache_dir: Option<&Path>) -> Result<Device> {
+    /// `surface`: the device must present to it (and is opened with VK_KHR_swapchain).
+    pub fn new(
+        instance: &Instance,
+        name_filter: Option<&str>,
+        cache_dir: Option<&Path>,
+        surface: Option<&Surface>,
+    ) -> Result<Device> {
         // SAFETY: enumeration on a live instance.
         let physicals = unsafe { instance.raw.enumerate_physical_devices() }.during("vkEnumeratePhysicalDevices")?;
         if physicals.is_empty() {
@@ -122,7 +144,7 @@ impl Device {
         let mut rejected = Vec::new();
         let mut candidates = Vec::new();
         for p in physicals {
-            match check(instance, p) {
+            match check(instance, p, surface) {
                 Ok(c) => candidates.push(c),
                 Err(e) => rejected.push(e.to_string()),
             }
@@ -138,17 +160,21 @@ impl Device {
         let Some(chosen) = candidates.into_iter().next() else {
             return Err(Error::NoDevice(rejected.join("; ")));
         };
-        Self::open(instance, chosen, cache_dir)
+        Self::open(instance, chosen, cache_dir, surface.is_some())
     }
 
-    fn open(instance: &Instance, c: Candidate, cache_dir: Option<&Path>) -> Result<Device> {
+    fn open(instance: &Instance, c: Candidate, cache_dir: Option<&Path>, present: bool) -> Result<Device> {
         let priorities = [1.0];
         let queue_info =
             [vk::DeviceQueueCreateInfo::default().queue_family_index(c.queue_family).queue_priorities(&priorities)];
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
         let base = vk::PhysicalDeviceFeatures::default().sampler_anisotropy(c.anisotropy);
-        let info =
-            vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).enabled_features(&base).push_next(&mut f13);
+        let extensions = if present { vec![khr::swapchain::NAME.as_ptr()] } else { vec![] };
+        let info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_extension_names(&extensions)
+            .enabled_features(&base)
+            .push_next(&mut f13);
         // SAFETY: the features requested were checked as supported; pointers refer to locals.
         let raw = unsafe { instance.raw.create_device(c.physical, &info, None) }.during("vkCreateDevice")?;
         // SAFETY: queue 0 of a family we created one queue in.
@@ -156,6 +182,7 @@ impl Device {
         // SAFETY: plain query on a live physical device.
         let memory_properties = unsafe { instance.raw.get_physical_device_memory_properties(c.physical) };
         let debug_utils = instance.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
+        let swapchain = present.then(|| khr::swapchain::Device::new(&instance.raw, &raw));
         let pipeline_cache = match PipelineCache::open(&raw, &c.properties, cache_dir) {
             Ok(cache) => cache,
             Err(e) => {
@@ -175,6 +202,7 @@ impl Device {
             timestamp_valid_bits: c.timestamp_valid_bits,
             anisotropy: c.anisotropy,
             debug_utils,
+            swapchain,
             pipeline_cache,
         };
         device.set_name(device.queue, "main queue");

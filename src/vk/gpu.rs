@@ -3,6 +3,7 @@
 use super::device::Device;
 use super::instance::Instance;
 use super::memory::Allocator;
+use super::surface::{self, Surface};
 use super::validation::MessageCounts;
 use crate::error::Result;
 use std::cell::RefCell;
@@ -12,6 +13,8 @@ pub struct Gpu {
     // Field order is drop order: allocator, then device, then instance.
     pub allocator: RefCell<Allocator>,
     pub device: Device,
+    /// The window's surface, for a context made with `for_window`.
+    pub surface: Option<Surface>,
     pub instance: Instance,
 }
 
@@ -24,10 +27,31 @@ impl Gpu {
     /// A context whose pipeline cache file lives in `cache_dir` (None: in memory for this run only).
     pub fn with_cache_dir(validation: bool, device_filter: Option<&str>, cache_dir: Option<&Path>) -> Result<Gpu> {
         let instance = Instance::new(validation)?;
-        let device = Device::new(&instance, device_filter, cache_dir)?;
+        let device = Device::new(&instance, device_filter, cache_dir, None)?;
+        Ok(Gpu::assemble(instance, None, device))
+    }
+
+    /// A context that presents to a window: its surface extensions on the instance, a device
+    /// whose queue presents to the window's surface. The window must outlive the context.
+    pub fn for_window(
+        validation: bool,
+        device_filter: Option<&str>,
+        display: raw_window_handle::RawDisplayHandle,
+        window: raw_window_handle::RawWindowHandle,
+    ) -> Result<Gpu> {
+        let entry = Instance::load()?;
+        let extensions = surface::required_extensions(&entry, display)?;
+        let instance = Instance::with_extensions(entry, validation, &extensions)?;
+        let surface = Surface::new(&instance, display, window)?;
+        let cache_dir = super::pipeline_cache::default_dir();
+        let device = Device::new(&instance, device_filter, cache_dir.as_deref(), Some(&surface))?;
+        Ok(Gpu::assemble(instance, Some(surface), device))
+    }
+
+    fn assemble(instance: Instance, surface: Option<Surface>, device: Device) -> Gpu {
         let allocator =
             RefCell::new(Allocator::new(device.raw.clone(), device.memory_properties, &device.properties.limits));
-        Ok(Gpu { allocator, device, instance })
+        Gpu { allocator, device, surface, instance }
     }
 
     pub fn raw(&self) -> &ash::Device {

@@ -19,8 +19,18 @@ pub struct Instance {
 
 impl Instance {
     pub fn new(validation: bool) -> Result<Instance> {
+        Self::with_extensions(Self::load()?, validation, &[])
+    }
+
+    /// Loads the system's Vulkan loader.
+    pub fn load() -> Result<ash::Entry> {
         // SAFETY: loading the system loader library; its symbols are only used through ash.
-        let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))?;
+        unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))
+    }
+
+    /// An instance with `extra` extensions enabled too (a window's surface extensions), each
+    /// checked to be available by the caller.
+    pub fn with_extensions(entry: ash::Entry, validation: bool, extra: &[&CStr]) -> Result<Instance> {
         // SAFETY: plain enumeration calls on a loaded entry.
         let layers =
             unsafe { entry.enumerate_instance_layer_properties() }.during("vkEnumerateInstanceLayerProperties")?;
@@ -45,7 +55,10 @@ impl Instance {
             .engine_name(c"ocean")
             .api_version(vk::API_VERSION_1_3);
         let layer_names = if validation { vec![VALIDATION_LAYER.as_ptr()] } else { vec![] };
-        let extension_names = if has_debug_utils { vec![ext::debug_utils::NAME.as_ptr()] } else { vec![] };
+        let mut extension_names: Vec<_> = extra.iter().map(|e| e.as_ptr()).collect();
+        if has_debug_utils {
+            extension_names.push(ext::debug_utils::NAME.as_ptr());
+        }
         let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
         let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
         let mut creation_messenger = messenger_info(&log);

@@ -13,4 +13,7 @@ pub mod owned;
 pub mod pipeline;
 pub mod pipeline_cache;
 pub mod profiler;
+pub mod surface;
+pub mod swapchain;
+pub mod sync;
 pub mod validation;

@@ -33,6 +33,8 @@ destroy_with! {
     vk::QueryPool => destroy_query_pool,
     vk::CommandPool => destroy_command_pool,
     vk::Fence => destroy_fence,
+    vk::Semaphore => destroy_semaphore,
+    vk::ImageView => destroy_image_view,
 }
 
 pub struct Owned<'g, H: Destroy> {

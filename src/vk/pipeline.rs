@@ -38,6 +38,9 @@ impl Specialization {
 pub struct Bindings<'g> {
     device: &'g Device,
     pub set: vk::DescriptorSet,
+    /// Binding numbers of the dynamic uniform buffers, in increasing order (the order in which
+    /// vkCmdBindDescriptorSets takes their offsets).
+    dynamic: Vec<u32>,
     // Declared so that they drop in reverse creation order; the set goes with its pool.
     _pool: Owned<'g, vk::DescriptorPool>,
     pipeline_layout: Owned<'g, vk::PipelineLayout>,
@@ -95,7 +98,13 @@ impl<'g> Bindings<'g> {
         // SAFETY: one set of the layout above from its own pool, sized for it.
         let set = unsafe { raw.allocate_descriptor_sets(&info) }.during("vkAllocateDescriptorSets")?[0];
         device.set_name(set, name);
-        Ok(Bindings { device, set, _pool: pool, pipeline_layout, _set_layout: set_layout })
+        let mut dynamic: Vec<u32> = bindings
+            .iter()
+            .filter(|&&(_, ty, _)| ty == vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC)
+            .map(|&(binding, _, _)| binding)
+            .collect();
+        dynamic.sort_unstable();
+        Ok(Bindings { device, set, dynamic, _pool: pool, pipeline_layout, _set_layout: set_layout })
     }
 
     pub fn layout(&self) -> vk::PipelineLayout {
@@ -103,7 +112,13 @@ impl<'g> Bindings<'g> {
     }
 
     pub fn write_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
-        let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }];
+        self.write_buffer_range(binding, ty, buffer, vk::WHOLE_SIZE);
+    }
+
+    /// Binds the first `range` bytes of `buffer` (a dynamic uniform buffer's window, moved by the
+    /// offset given at bind time).
+    pub fn write_buffer_range(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer, range: u64) {
+        let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)
@@ -131,9 +146,15 @@ impl<'g> Bindings<'g> {
         unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
     }
 
-    pub fn bind(&self, cmd: vk::CommandBuffer, point: vk::PipelineBindPoint) {
-        // SAFETY: `cmd` is recording with a pipeline made from this layout.
-        unsafe { self.device.raw.cmd_bind_descriptor_sets(cmd, point, self.pipeline_layout.raw, 0, &[self.set], &[]) };
+    /// Binds the set; `offsets[b]` is the offset of dynamic uniform buffer binding `b` (sets
+    /// without dynamic buffers take `&[]`).
+    pub fn bind(&self, cmd: vk::CommandBuffer, point: vk::PipelineBindPoint, offsets: &[u32]) {
+        let dynamic: Vec<u32> = self.dynamic.iter().map(|&b| offsets[b as usize]).collect();
+        // SAFETY: `cmd` is recording with a pipeline made from this layout; each offset keeps the
+        // bound window inside its buffer (the frame ring's slots).
+        unsafe {
+            self.device.raw.cmd_bind_descriptor_sets(cmd, point, self.pipeline_layout.raw, 0, &[self.set], &dynamic)
+        };
     }
 }
 
@@ -164,6 +185,7 @@ pub struct GraphicsDesc<'a> {
     /// Applied to both stages.
     pub specialization: Option<&'a Specialization>,
     pub color_format: vk::Format,
+    /// UNDEFINED: no depth attachment, no depth test.
     pub depth_format: vk::Format,
     pub depth_write: bool,
     pub depth_compare: vk::CompareOp,
@@ -196,8 +218,9 @@ pub fn graphics_pipeline<'g>(
         .line_width(1.0);
     let multisample =
         vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
+        .depth_test_enable(has_depth)
         .depth_write_enable(desc.depth_write)
         .depth_compare_op(desc.depth_compare);
     let blend_attachment =

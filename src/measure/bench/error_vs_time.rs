@@ -133,7 +133,7 @@ pub fn run(
         );
         let shader = ShaderConfig { method: setting.method, ..ShaderConfig::default() };
         let mut renderer =
-            Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, sky_map: true })?;
+            Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, ..Options::default() })?;
         let total = renderer.render(&setting.scene)?; // warm-up, and the image
         let mut times = Vec::new();
         for _ in 0..frames {
@@ -144,7 +144,7 @@ pub fn run(
         let only = |sun, sky, sea| -> Result<Vec<[f32; 4]>> {
             let shader = ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method);
             let mut r =
-                Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, sky_map: true })?;
+                Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, ..Options::default() })?;
             Ok(r.render(&setting.scene)?.hdr)
         };
         let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?];

@@ -2,32 +2,55 @@
 //! barriers from those declarations (vk::barrier), then records the pass inside a debug label
 //! and a timestamp scope of the pass's name.
 
+pub mod display;
 pub mod ocean;
 pub mod readback;
 pub mod resolve;
 pub mod sky_map;
 pub mod tonemap;
 
-use crate::render::resources::Resources;
+use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::vk::barrier::Tracker;
 use crate::vk::device::Device;
 use crate::vk::pipeline::Bindings;
+use crate::vk::swapchain::SwapImage;
 use ash::vk;
+
+/// What one frame's passes use beside the shared resources: its slot's uniform windows and grid,
+/// and the window's image when the frame ends on screen.
+pub struct Frame {
+    /// Offsets of the dynamic uniform buffers, indexed by binding number.
+    pub uniform_offsets: [u32; 2],
+    /// The grid's index buffer and index count (none when no sea is in view).
+    pub grid: Option<(vk::Buffer, u32)>,
+    pub swap_image: Option<SwapImage>,
+}
 
 pub struct Recorder<'a> {
     pub device: &'a Device,
     pub cmd: vk::CommandBuffer,
     pub tracker: &'a mut Tracker,
+    pub frame: &'a Frame,
 }
 
 pub trait Pass {
     fn name(&self) -> &'static str;
     /// Declares every resource access of the pass (queued as barriers on the tracker).
-    fn declare(&self, resources: &Resources, tracker: &mut Tracker);
+    fn declare(&self, resources: &Resources, frame: &Frame, tracker: &mut Tracker);
     fn record(&self, rec: &mut Recorder, resources: &Resources);
     /// Whether the pass only (re)builds the sky map, which a frame under the same sky can skip.
     fn builds_sky_map(&self) -> bool {
         false
+    }
+}
+
+/// Points binding `FRAME_BINDING` (and `WAVES_BINDING` with `waves`) at one slot's window of the
+/// uniform rings; the slot is chosen by the offsets at bind time.
+pub fn write_frame_uniforms(bindings: &Bindings, r: &Resources, waves: bool) {
+    let ty = vk::DescriptorType::UNIFORM_BUFFER_DYNAMIC;
+    bindings.write_buffer_range(FRAME_BINDING, ty, r.frame_uniforms.buffer.raw, r.frame_uniforms.size);
+    if waves {
+        bindings.write_buffer_range(WAVES_BINDING, ty, r.waves.buffer.raw, r.waves.size);
     }
 }
 
@@ -38,7 +61,7 @@ pub fn dispatch_over(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings
     // SAFETY: `cmd` is recording outside a rendering scope; the set was made for this pipeline's
     // layout and its resources were declared (and so transitioned) by the calling pass.
     unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
-    bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE);
+    bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
     // SAFETY: as above.
     unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
 }

@@ -1,9 +1,9 @@
 //! Ocean: the projected grid (displaced, shaded per pixel with the paper's BRDF) into HDR with
 //! reversed-Z depth, then the sky where no sea was drawn, from the same analytic model.
 
-use super::{Pass, Recorder};
+use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::Resources;
+use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::{Device, DEPTH_FORMAT, HDR_FORMAT};
@@ -86,13 +86,12 @@ impl<'g> OceanPass<'g> {
             device,
             "ocean",
             &[
-                (0, D::UNIFORM_BUFFER, both),
-                (1, D::UNIFORM_BUFFER, both),
+                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
+                (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
                 (2, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
             ],
         )?;
-        bindings.write_buffer(0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
-        bindings.write_buffer(1, D::UNIFORM_BUFFER, r.waves.raw);
+        write_frame_uniforms(&bindings, r, true);
         bindings.write_image(
             2,
             D::COMBINED_IMAGE_SAMPLER,
@@ -151,7 +150,7 @@ impl Pass for OceanPass<'_> {
         "ocean"
     }
 
-    fn declare(&self, r: &Resources, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::FragmentSampled, false);
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
@@ -188,16 +187,16 @@ impl Pass for OceanPass<'_> {
             max_depth: 1.0,
         };
         // SAFETY: attachments are in the layouts declared above; the pipelines were built for
-        // these formats; the index buffer holds `grid_index_count` valid indices.
+        // these formats; the slot's index buffer holds `count` valid indices.
         unsafe {
             device.cmd_begin_rendering(cmd, &info);
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[area]);
-            self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS);
-            if let (Some(indices), true) = (&r.grid_indices, r.grid_index_count > 0) {
+            self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
+            if let Some((indices, count)) = rec.frame.grid {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean.raw);
-                device.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
-                device.cmd_draw_indexed(cmd, r.grid_index_count, 1, 0, 0, 0);
+                device.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT32);
+                device.cmd_draw_indexed(cmd, count, 1, 0, 0, 0);
             }
             if let Some(sky) = &self.sky {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);

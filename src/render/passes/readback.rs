@@ -1,7 +1,7 @@
 //! Readback: copies the HDR radiance into a host-visible buffer and makes both readback buffers
 //! (the tone-mapped one is written by the tonemap pass) visible to the host.
 
-use super::{Pass, Recorder};
+use super::{Frame, Pass, Recorder};
 use crate::render::resources::Resources;
 use crate::vk::barrier::{Access, Tracker};
 use ash::vk;
@@ -13,13 +13,16 @@ impl Pass for ReadbackPass {
         "readback"
     }
 
-    fn declare(&self, r: &Resources, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(r.output(), 0, 1, Access::TransferRead, false);
-        t.buffer(&r.hdr_readback, Access::TransferWrite);
+        if let Some(readback) = &r.readback {
+            t.buffer(&readback.hdr, Access::TransferWrite);
+        }
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let Some(readback) = &r.readback else { return };
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
             buffer_row_length: 0,
@@ -39,13 +42,13 @@ impl Pass for ReadbackPass {
                 cmd,
                 r.output().raw,
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                r.hdr_readback.raw,
+                readback.hdr.raw,
                 &[region],
             );
         }
         // The CPU reads both buffers after the frame's fence.
-        rec.tracker.buffer(&r.hdr_readback, Access::HostRead);
-        rec.tracker.buffer(&r.ldr_readback, Access::HostRead);
+        rec.tracker.buffer(&readback.hdr, Access::HostRead);
+        rec.tracker.buffer(&readback.ldr, Access::HostRead);
         rec.tracker.flush(device, cmd);
     }
 }

@@ -1,7 +1,7 @@
 //! Supersampling resolve: box-averages K x K samples of the HDR radiance into the output image
 //! (compute). Only in the frame when supersampling is asked for.
 
-use super::{dispatch_over, Pass, Recorder};
+use super::{dispatch_over, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::Resources;
 use crate::shaders;
@@ -35,7 +35,7 @@ impl Pass for ResolvePass<'_> {
         "resolve"
     }
 
-    fn declare(&self, r: &Resources, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.hdr, 0, 1, Access::ComputeStorageRead, false);
         t.image(r.output(), 0, 1, Access::ComputeStorageWrite, true);
     }

@@ -1,9 +1,9 @@
 //! Sky map: level 0 of the stereographic sky texture from the analytic model (compute); then, in
 //! its own pass, the full mip chain by successive linear blits, each level a barrier from the one above.
 
-use super::{dispatch_over, Pass, Recorder};
+use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::Resources;
+use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -20,9 +20,12 @@ impl<'g> SkyMapPass<'g> {
     pub fn new(device: &'g Device, resources: &Resources) -> Result<Self> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
-        let bindings =
-            Bindings::new(device, "sky map", &[(0, D::UNIFORM_BUFFER, stages), (3, D::STORAGE_IMAGE, stages)])?;
-        bindings.write_buffer(0, D::UNIFORM_BUFFER, resources.frame_uniforms.raw);
+        let bindings = Bindings::new(
+            device,
+            "sky map",
+            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages), (3, D::STORAGE_IMAGE, stages)],
+        )?;
+        write_frame_uniforms(&bindings, resources, false);
         let sky = &resources.sky_map;
         bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
         let pipeline = compute_pipeline(device, bindings.layout(), shaders::SKY_MAP_COMP, "sky map")?;
@@ -39,7 +42,7 @@ impl Pass for SkyMapPass<'_> {
         true
     }
 
-    fn declare(&self, r: &Resources, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.sky_map, 0, 1, Access::ComputeStorageWrite, true);
     }
 
@@ -60,7 +63,7 @@ impl Pass for SkyMipsPass {
         true
     }
 
-    fn declare(&self, r: &Resources, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         // Level by level in `record`: each blit reads the level the previous one wrote.
         t.image(&r.sky_map, 0, 1, Access::TransferRead, false);
     }

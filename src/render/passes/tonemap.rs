@@ -1,9 +1,9 @@
 //! Tone mapping: HDR radiance to 8-bit sRGB with the scene's exposure (compute), written straight
 //! into the host-visible readback buffer.
 
-use super::{dispatch_over, Pass, Recorder};
+use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::Resources;
+use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -17,17 +17,23 @@ pub struct TonemapPass<'g> {
 }
 
 impl<'g> TonemapPass<'g> {
+    /// Needs the resources' readback buffers.
     pub fn new(device: &'g Device, r: &Resources) -> Result<Self> {
+        let readback = r.readback.as_ref().expect("an offscreen renderer's resources");
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
         let bindings = Bindings::new(
             device,
             "tonemap",
-            &[(0, D::UNIFORM_BUFFER, stages), (4, D::STORAGE_IMAGE, stages), (5, D::STORAGE_BUFFER, stages)],
+            &[
+                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages),
+                (4, D::STORAGE_IMAGE, stages),
+                (5, D::STORAGE_BUFFER, stages),
+            ],
         )?;
-        bindings.write_buffer(0, D::UNIFORM_BUFFER, r.frame_uniforms.raw);
+        write_frame_uniforms(&bindings, r, false);
         bindings.write_image(4, D::STORAGE_IMAGE, r.output().view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        bindings.write_buffer(5, D::STORAGE_BUFFER, r.ldr_readback.raw);
+        bindings.write_buffer(5, D::STORAGE_BUFFER, readback.ldr.raw);
         let pipeline = compute_pipeline(device, bindings.layout(), shaders::TONEMAP_COMP, "tonemap")?;
         Ok(TonemapPass { bindings, pipeline })
     }
@@ -38,9 +44,11 @@ impl Pass for TonemapPass<'_> {
         "tonemap"
     }
 
-    fn declare(&self, r: &Resources, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(r.output(), 0, 1, Access::ComputeStorageRead, false);
-        t.buffer(&r.ldr_readback, Access::ComputeStorageWrite);
+        if let Some(readback) = &r.readback {
+            t.buffer(&readback.ldr, Access::ComputeStorageWrite);
+        }
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {

@@ -1,0 +1,88 @@
+//! Frames in flight: what the CPU writes or records for one frame lives in a slot (command
+//! buffer and fence, timestamp queries, the grid's index buffer, the window's acquire semaphore,
+//! and a window of the uniform ring), so that the CPU prepares frame N+1 while the GPU runs N
+//! and waits only for the frame whose slot it is about to reuse.
+
+use crate::error::{Error, Result};
+use crate::vk::buffer::Buffer;
+use crate::vk::commands::Commands;
+use crate::vk::gpu::Gpu;
+use crate::vk::memory::Location;
+use crate::vk::owned::Owned;
+use crate::vk::profiler::Profiler;
+use crate::vk::sync::semaphore;
+use ash::vk;
+
+/// Most grid nodes a frame may draw: 2^24 nodes need 400 MB of indices; finer grids are an error.
+pub const MAX_GRID_NODES: u64 = 1 << 24;
+
+/// The triangle list of a columns x rows projected grid (row-major nodes).
+pub struct GridIndices<'g> {
+    gpu: &'g Gpu,
+    pub buffer: Option<Buffer<'g>>,
+    pub count: u32,
+    layout: Option<(u32, u32)>,
+}
+
+impl<'g> GridIndices<'g> {
+    pub fn new(gpu: &'g Gpu) -> Self {
+        GridIndices { gpu, buffer: None, count: 0, layout: None }
+    }
+
+    /// Writes the indices of a columns x rows grid if the layout changed. The slot's fence was
+    /// waited, so the buffer may be rewritten or replaced.
+    pub fn set(&mut self, columns: u32, rows: u32) -> Result<()> {
+        if self.layout == Some((columns, rows)) {
+            return Ok(());
+        }
+        let nodes = columns as u64 * rows as u64;
+        if nodes > MAX_GRID_NODES {
+            return Err(Error::Argument(format!(
+                "a {columns}x{rows} projected grid has more than {MAX_GRID_NODES} nodes: raise render.grid_cell_px"
+            )));
+        }
+        let mut indices = Vec::with_capacity(6 * columns.saturating_sub(1) as usize * rows.saturating_sub(1) as usize);
+        for row in 0..rows.saturating_sub(1) {
+            for col in 0..columns.saturating_sub(1) {
+                let a = row * columns + col;
+                let (b, c, d) = (a + 1, a + columns, a + columns + 1);
+                indices.extend_from_slice(&[a, c, b, b, c, d]);
+            }
+        }
+        let bytes = std::mem::size_of_val(indices.as_slice()) as u64;
+        if self.buffer.as_ref().is_none_or(|b| b.size < bytes) {
+            self.buffer = None; // free the old buffer before placing the larger one
+            let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+            self.buffer = Some(Buffer::new(self.gpu, "grid indices", bytes, usage, Location::Upload)?);
+        }
+        if let Some(buffer) = &self.buffer {
+            buffer.write(&indices)?;
+        }
+        self.count = indices.len() as u32;
+        self.layout = Some((columns, rows));
+        Ok(())
+    }
+}
+
+pub struct FrameSlot<'g> {
+    pub index: usize,
+    // Drop order: nothing here may go while the GPU uses it; the renderer waits for idle first.
+    pub commands: Commands<'g>,
+    pub profiler: Profiler<'g>,
+    pub grid: GridIndices<'g>,
+    /// Signalled when the window's image for this frame is acquired (window renderers only).
+    pub image_available: Option<Owned<'g, vk::Semaphore>>,
+}
+
+impl<'g> FrameSlot<'g> {
+    pub fn new(gpu: &'g Gpu, index: usize, timestamp_scopes: u32, window: bool) -> Result<Self> {
+        let device = &gpu.device;
+        Ok(FrameSlot {
+            index,
+            commands: Commands::new(device, &format!("frame {index}"))?,
+            profiler: Profiler::new(device, timestamp_scopes)?,
+            grid: GridIndices::new(gpu),
+            image_available: if window { Some(semaphore(device, &format!("image for frame {index}"))?) } else { None },
+        })
+    }
+}

@@ -1,0 +1,151 @@
+//! The window as a render target: the swapchain and a renderer whose frames end in its images,
+//! both recreated together when the surface changes (resize, out of date, suboptimal, restore
+//! after a minimize). While the window has no area there is no swapchain and nothing is drawn.
+
+use crate::error::Result;
+use crate::model::scene::Scene;
+use crate::render::passes::ocean::ShaderConfig;
+use crate::render::renderer::{Capture, Captured, Options, Output, Renderer};
+use crate::say;
+use crate::vk::gpu::Gpu;
+use crate::vk::swapchain::{present_mode_name, Acquired, Swapchain};
+use ash::vk;
+
+/// Frames the CPU prepares ahead of the GPU.
+pub const FRAMES_IN_FLIGHT: u32 = 2;
+
+pub struct Presenter<'g> {
+    gpu: &'g Gpu,
+    requested: vk::PresentModeKHR,
+    shader: ShaderConfig,
+    // Drop order: the renderer (waits for the device), then the swapchain.
+    pub renderer: Option<Renderer<'g>>,
+    pub swapchain: Option<Swapchain<'g>>,
+    /// Swapchains made after the first one.
+    pub recreations: u32,
+    made_one: bool,
+    /// The surface format and present mode were logged (once; again only if they change).
+    logged: Option<(vk::SurfaceFormatKHR, vk::PresentModeKHR)>,
+}
+
+/// How a frame went.
+pub enum Drawn {
+    /// Presented; the swapchain may want recreating (suboptimal or out of date at present).
+    Presented { stale: bool, captured: Option<Captured>, wait_ms: f64 },
+    /// The swapchain was out of date at acquire: nothing drawn, recreate and try again.
+    OutOfDate,
+}
+
+impl<'g> Presenter<'g> {
+    pub fn new(gpu: &'g Gpu, requested: vk::PresentModeKHR, shader: ShaderConfig) -> Presenter<'g> {
+        Presenter {
+            gpu,
+            requested,
+            shader,
+            renderer: None,
+            swapchain: None,
+            recreations: 0,
+            made_one: false,
+            logged: None,
+        }
+    }
+
+    /// Changes the ocean shaders (a method switch): the renderer is rebuilt.
+    pub fn set_shader(&mut self, shader: ShaderConfig, scene: &Scene) -> Result<()> {
+        self.shader = shader;
+        self.rebuild_renderer(scene)
+    }
+
+    /// (Re)creates the swapchain for a drawable area of `extent`, and the renderer if the image
+    /// size or format changed. Ok(false): the area is empty (minimized), nothing to draw into.
+    pub fn recreate(&mut self, extent: vk::Extent2D, scene: &Scene) -> Result<bool> {
+        if let Some(renderer) = &mut self.renderer {
+            renderer.wait_idle()?;
+        }
+        // The old swapchain's images may still be read by the presentation engine's last
+        // presents; the device idling covers the queue's semaphore waits.
+        self.gpu.device.wait_idle()?;
+        let old = self.swapchain.take();
+        let made = Swapchain::new(self.gpu, self.requested, extent, old.as_ref())?;
+        drop(old);
+        let Some((swapchain, fell_back)) = made else {
+            return Ok(false);
+        };
+        if self.made_one {
+            self.recreations += 1;
+        }
+        self.made_one = true;
+        let choice = swapchain.choice;
+        if self.logged != Some((choice.format, choice.present_mode)) {
+            if fell_back {
+                say!("present mode {} is not offered by this surface; using fifo", present_mode_name(self.requested));
+            }
+            say!(
+                "swapchain: {}x{} {:?} ({}), {} images, present mode {}",
+                swapchain.extent.width,
+                swapchain.extent.height,
+                choice.format.format,
+                if choice.encode_srgb_in_shader {
+                    "UNORM: sRGB encoded by the display shader"
+                } else {
+                    "sRGB: encoded on store"
+                },
+                swapchain.images.len(),
+                present_mode_name(choice.present_mode)
+            );
+            self.logged = Some((choice.format, choice.present_mode));
+        }
+        let rebuild = match &self.renderer {
+            Some(r) => {
+                r.size() != (swapchain.extent.width, swapchain.extent.height) || r.output() != self.output(&swapchain)
+            }
+            None => true,
+        };
+        self.swapchain = Some(swapchain);
+        if rebuild {
+            self.rebuild_renderer(scene)?;
+        }
+        Ok(true)
+    }
+
+    fn output(&self, swapchain: &Swapchain) -> Output {
+        Output::Window { format: swapchain.choice.format.format, encode_srgb: swapchain.choice.encode_srgb_in_shader }
+    }
+
+    /// Rebuilds the renderer for the current swapchain (a scene whose sky sampler changed).
+    pub fn rebuild(&mut self, scene: &Scene) -> Result<()> {
+        self.rebuild_renderer(scene)
+    }
+
+    fn rebuild_renderer(&mut self, scene: &Scene) -> Result<()> {
+        let Some(swapchain) = &self.swapchain else { return Ok(()) };
+        let options = Options {
+            shader: self.shader,
+            output: self.output(swapchain),
+            frames_in_flight: FRAMES_IN_FLIGHT,
+            ..Options::default()
+        };
+        self.renderer = None; // wait for and free the old one before placing the new one
+        let extent = swapchain.extent;
+        self.renderer = Some(Renderer::new(self.gpu, scene, extent.width, extent.height, options)?);
+        Ok(())
+    }
+
+    /// Draws and presents one frame of `scene`.
+    pub fn draw(&mut self, scene: &Scene, capture: Capture) -> Result<Drawn> {
+        let (Some(renderer), Some(swapchain)) = (&mut self.renderer, &self.swapchain) else {
+            return Ok(Drawn::OutOfDate);
+        };
+        let waited = std::time::Instant::now();
+        let slot = renderer.begin_frame()?;
+        let (image, suboptimal) = match swapchain.acquire(renderer.image_available(slot))? {
+            Acquired::Image { image, suboptimal } => (image, suboptimal),
+            Acquired::OutOfDate => return Ok(Drawn::OutOfDate),
+        };
+        let wait_ms = waited.elapsed().as_secs_f64() * 1e3;
+        let rendered = swapchain.render_finished[image.index as usize].raw;
+        let captured = renderer.draw(slot, scene, image, rendered, capture)?;
+        let current = swapchain.present(&image)?;
+        Ok(Drawn::Presented { stale: suboptimal || !current, captured, wait_ms })
+    }
+}
