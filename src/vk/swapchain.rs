@@ -262,9 +262,9 @@ impl<'g> Swapchain<'g> {
 
 impl Drop for Swapchain<'_> {
     fn drop(&mut self) {
-        // SAFETY: the owner waited for the device to idle; the views and semaphores drop after
-        // this (field order), and nothing else refers to the images.
         if let Some(loader) = &self.device.swapchain {
+            // SAFETY: the owner waited for the device to idle; the views and semaphores drop
+            // after this (field order), and nothing else refers to the images.
             unsafe { loader.destroy_swapchain(self.raw, None) };
         }
     }

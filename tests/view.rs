@@ -1,0 +1,207 @@
+//! `ocean view` under X11 with lavapipe and validation (synchronization validation included):
+//! a scripted session with a resize and a minimize, and a paused frame against `ocean render`.
+//! Without DISPLAY each test starts its own Xvfb and a window manager (an X server alone ignores
+//! minimize requests); when neither a display nor Xvfb can be had, the test fails and says so.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// An X display for one test: the user's (DISPLAY) or our own Xvfb with openbox, killed on drop.
+struct Display {
+    name: String,
+    children: Vec<Child>,
+}
+
+impl Display {
+    fn open() -> Display {
+        if let Ok(name) = std::env::var("DISPLAY") {
+            if !name.is_empty() {
+                return Display { name, children: Vec::new() };
+            }
+        }
+        let mut xvfb = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| {
+                panic!("no X display: DISPLAY is unset and Xvfb cannot start ({e}); run scripts/setup.sh")
+            });
+        let mut line = String::new();
+        BufReader::new(xvfb.stdout.take().expect("piped")).read_line(&mut line).expect("Xvfb prints its display");
+        let name = format!(":{}", line.trim());
+        let wm = Command::new("openbox")
+            .env("DISPLAY", &name)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| {
+                panic!("the minimize test needs a window manager: openbox cannot start ({e}); run scripts/setup.sh")
+            });
+        let display = Display { name, children: vec![xvfb, wm] };
+        display.wait_for_window_manager();
+        display
+    }
+
+    /// A window manager announces itself with _NET_SUPPORTING_WM_CHECK on the root window.
+    fn wait_for_window_manager(&self) {
+        let start = Instant::now();
+        while start.elapsed() < Duration::from_secs(10) {
+            let out = Command::new("xprop")
+                .args(["-display", &self.name, "-root", "_NET_SUPPORTING_WM_CHECK"])
+                .output()
+                .unwrap_or_else(|e| panic!("xprop (x11-utils) is needed to wait for the window manager: {e}"));
+            if String::from_utf8_lossy(&out.stdout).contains("window id") {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        panic!("openbox did not start on {} within 10 s", self.name);
+    }
+}
+
+impl Drop for Display {
+    fn drop(&mut self) {
+        for child in self.children.iter_mut().rev() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ocean-view-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn ocean(display: Option<&Display>, args: &[&str]) -> std::process::Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_ocean"));
+    command.args(args).env("OCEAN_CACHE_DIR", "");
+    match display {
+        Some(d) => command.env("DISPLAY", &d.name).env_remove("WAYLAND_DISPLAY"),
+        None => command.env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY"),
+    };
+    command.output().unwrap()
+}
+
+fn succeed(out: &std::process::Output, what: &str) {
+    assert!(
+        out.status.success(),
+        "{what} failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn report(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8()
+}
+
+fn mean_rows(img: &image::RgbImage, rows: std::ops::Range<u32>) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    let mut n = 0.0;
+    for y in rows {
+        for x in 0..img.width() {
+            let p = img.get_pixel(x, y);
+            (0..3).for_each(|c| sum[c] += p[c] as f64);
+            n += 1.0;
+        }
+    }
+    sum.map(|s| s / n)
+}
+
+#[test]
+fn a_session_with_a_resize_and_a_minimize_is_validation_clean() {
+    let display = Display::open();
+    let dir = scratch("session");
+    let (shot, json) = (dir.join("last.png"), dir.join("report.json"));
+    let out = ocean(
+        Some(&display),
+        &[
+            "view",
+            "--validation",
+            "--frames",
+            "60",
+            "--width",
+            "320",
+            "--height",
+            "200",
+            "--resize-at",
+            "10:400x240",
+            "--minimize-at",
+            "25:5",
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--report",
+            json.to_str().unwrap(),
+        ],
+    );
+    succeed(&out, "ocean view");
+    let r = report(&json);
+    assert_eq!(r["frames"], 60);
+    assert_eq!(r["validation_errors"], 0, "{}", r["validation_messages"]);
+    assert!(r["swapchain_recreations"].as_u64().unwrap() >= 1, "the resize recreates the swapchain: {r}");
+    assert!(r["minimized_seen"].as_u64().unwrap() >= 1, "the window manager minimized the window: {r}");
+    assert_eq!((r["width"].as_u64(), r["height"].as_u64()), (Some(400), Some(240)), "the window took the new size");
+    assert!(r["fps"].as_f64().unwrap() > 0.0 && r["gpu_ms"]["ocean"].as_f64().unwrap() > 0.0, "{r}");
+    for key in ["device", "present_mode", "surface_format", "cpu_frame_ms", "validation_warnings"] {
+        assert!(!r[key].is_null(), "report lacks {key}");
+    }
+    // The last frame, as shown at the new size: the sky above the sea, neither black.
+    let img = rgb(&shot);
+    assert_eq!(img.dimensions(), (400, 240));
+    let (sky, sea) = (mean_rows(&img, 0..60), mean_rows(&img, 180..240));
+    let luma = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    assert!(luma(sky) > 100.0, "the default scene's sky is bright: {sky:?}");
+    assert!(luma(sea) > 20.0, "the sea is not black: {sea:?}");
+    assert!(luma(sky) > luma(sea) + 20.0, "the sky above is brighter than the sea below: {sky:?} {sea:?}");
+}
+
+#[test]
+fn a_paused_frame_matches_ocean_render() {
+    let display = Display::open();
+    let dir = scratch("paused");
+    let (shown, rendered) = (dir.join("shown.png"), dir.join("rendered.png"));
+    let size = ["--width", "320", "--height", "200"];
+    let mut view = vec!["view", "--validation", "--time-scale", "0", "--frames", "3", "--screenshot"];
+    view.push(shown.to_str().unwrap());
+    view.extend(size);
+    succeed(&ocean(Some(&display), &view), "ocean view");
+    let mut render = vec!["render", "--out", rendered.to_str().unwrap()];
+    render.extend(size);
+    succeed(&ocean(None, &render), "ocean render");
+    let (a, b) = (rgb(&shown), rgb(&rendered));
+    assert_eq!(a.dimensions(), b.dimensions());
+    // The same passes and tone curve; an sRGB swapchain encodes on store and `render` in the
+    // shader, which round differently by at most one level.
+    let worst = a.pixels().zip(b.pixels()).flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]))).max();
+    assert!(worst <= Some(2), "largest difference {worst:?} levels of 255");
+}
+
+#[test]
+fn bad_view_input_is_one_clear_line() {
+    let cases: [(&[&str], &str); 4] = [
+        (&["view", "--resize-at", "10:0x360"], "[1, 16384]"),
+        (&["view", "--minimize-at", "20"], "FRAME:FRAMES"),
+        (&["view", "--present", "sometimes"], "sometimes"),
+        (&["view", "--time-scale", "inf"], "time scale"),
+    ];
+    for (args, needle) in cases {
+        let out = ocean(None, args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(needle), "{args:?}: {err}");
+    }
+    // No display at all: one line that says so, no panic.
+    let out = ocean(None, &["view", "--frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "a view without a display must fail");
+    assert!(err.contains("display") && !err.contains("panicked"), "{err}");
+}
