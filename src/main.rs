@@ -137,6 +137,9 @@ enum Command {
         device: Option<String>,
         #[arg(long, value_enum, default_value_t = Method::Full)]
         method: Method,
+        /// Frames the CPU may prepare while the GPU runs earlier ones.
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=4))]
+        frames_in_flight: u32,
         /// Scene seconds per second of wall time (0: a still frame at the scene's time_s).
         #[arg(long, default_value_t = 1.0, value_parser = parse_time_scale)]
         time_scale: f64,
@@ -201,6 +204,22 @@ enum Bench {
         out: PathBuf,
         #[arg(long)]
         device: Option<String>,
+    },
+    /// `ocean view` as new processes on the current display: fps, CPU frame time and waiting,
+    /// per present mode and frames in flight.
+    View {
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Presented frames per run.
+        #[arg(long, default_value_t = 120, value_parser = clap::value_parser!(u32).range(2..=100000))]
+        frames: u32,
+        /// Runs of each setup, interleaved.
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=100))]
+        rounds: u32,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
     },
     /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080.
     Speed {
@@ -416,6 +435,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             validation,
             device,
             method,
+            frames_in_flight,
             time_scale,
             frames,
             screenshot,
@@ -433,6 +453,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 validation,
                 device,
                 method,
+                frames_in_flight,
                 time_scale,
                 frames,
                 screenshot,
@@ -469,6 +490,23 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::measure::bench::specialize(&gpu, &[Path::new("scenes"), Path::new("scenes/extreme")], frames, &out)?;
             ocean::say!("wrote {}/specialize.md and specialize.json", out.display());
+            Ok(())
+        }
+        Command::Bench { bench: Bench::View { width, height, frames, rounds, out } } => {
+            let bench = ocean::measure::bench::view::run(width, height, frames, rounds, &out)?;
+            for r in &bench.rows {
+                ocean::say!(
+                    "{:<10} {} in flight: {:.1} fps, CPU frame {:.1} ms ({:.0}% waiting, {:.1} ms in present), GPU {:.1} ms",
+                    r.present_mode,
+                    r.frames_in_flight,
+                    r.fps,
+                    r.cpu_frame_ms,
+                    100.0 * r.cpu_wait_fraction,
+                    r.cpu_present_ms,
+                    r.gpu_total_ms
+                );
+            }
+            ocean::say!("wrote {}/view.md and view.json", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Startup { runs, out, device } } => {

@@ -11,13 +11,11 @@ use crate::vk::gpu::Gpu;
 use crate::vk::swapchain::{present_mode_name, Acquired, Swapchain};
 use ash::vk;
 
-/// Frames the CPU prepares ahead of the GPU.
-pub const FRAMES_IN_FLIGHT: u32 = 2;
-
 pub struct Presenter<'g> {
     gpu: &'g Gpu,
     requested: vk::PresentModeKHR,
     shader: ShaderConfig,
+    frames_in_flight: u32,
     // Drop order: the renderer (waits for the device), then the swapchain.
     pub renderer: Option<Renderer<'g>>,
     pub swapchain: Option<Swapchain<'g>>,
@@ -31,17 +29,26 @@ pub struct Presenter<'g> {
 /// How a frame went.
 pub enum Drawn {
     /// Presented; the swapchain may want recreating (suboptimal or out of date at present).
-    Presented { stale: bool, captured: Option<Captured>, wait_ms: f64 },
+    /// `wait_ms`: CPU time waiting for the frame slot and the image; `present_ms`: in the
+    /// present call (which a software presenter spends copying the finished frame out).
+    Presented { stale: bool, captured: Option<Captured>, wait_ms: f64, present_ms: f64 },
     /// The swapchain was out of date at acquire: nothing drawn, recreate and try again.
     OutOfDate,
 }
 
 impl<'g> Presenter<'g> {
-    pub fn new(gpu: &'g Gpu, requested: vk::PresentModeKHR, shader: ShaderConfig) -> Presenter<'g> {
+    /// `frames_in_flight`: frames the CPU may prepare while the GPU runs earlier ones.
+    pub fn new(
+        gpu: &'g Gpu,
+        requested: vk::PresentModeKHR,
+        shader: ShaderConfig,
+        frames_in_flight: u32,
+    ) -> Presenter<'g> {
         Presenter {
             gpu,
             requested,
             shader,
+            frames_in_flight,
             renderer: None,
             swapchain: None,
             recreations: 0,
@@ -122,7 +129,7 @@ impl<'g> Presenter<'g> {
         let options = Options {
             shader: self.shader,
             output: self.output(swapchain),
-            frames_in_flight: FRAMES_IN_FLIGHT,
+            frames_in_flight: self.frames_in_flight,
             ..Options::default()
         };
         self.renderer = None; // wait for and free the old one before placing the new one
@@ -145,7 +152,9 @@ impl<'g> Presenter<'g> {
         let wait_ms = waited.elapsed().as_secs_f64() * 1e3;
         let rendered = swapchain.render_finished[image.index as usize].raw;
         let captured = renderer.draw(slot, scene, image, rendered, capture)?;
+        let presenting = std::time::Instant::now();
         let current = swapchain.present(&image)?;
-        Ok(Drawn::Presented { stale: suboptimal || !current, captured, wait_ms })
+        let present_ms = presenting.elapsed().as_secs_f64() * 1e3;
+        Ok(Drawn::Presented { stale: suboptimal || !current, captured, wait_ms, present_ms })
     }
 }

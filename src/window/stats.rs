@@ -12,9 +12,12 @@ pub struct FrameStats {
     intervals: Vec<f64>,
     /// CPU time per frame spent waiting on the slot's fence and on acquire (ms).
     waits: Vec<f64>,
+    /// CPU time per frame inside vkQueuePresentKHR (ms).
+    presents: Vec<f64>,
     /// CPU time per frame from its start to its present, waits included (ms).
     frame_cpu: Vec<f64>,
     gpu: BTreeMap<&'static str, Vec<f64>>,
+    gpu_total: Vec<f64>,
     /// For the title: the last second's intervals.
     recent: Vec<f64>,
 }
@@ -30,7 +33,15 @@ fn sorted_median(values: &[f64]) -> f64 {
 }
 
 impl FrameStats {
-    pub fn frame(&mut self, interval_ms: Option<f64>, cpu_ms: f64, wait_ms: f64, gpu: &[(&'static str, f64)]) {
+    pub fn frame(
+        &mut self,
+        interval_ms: Option<f64>,
+        cpu_ms: f64,
+        wait_ms: f64,
+        present_ms: f64,
+        gpu: &[(&'static str, f64)],
+    ) {
+        self.presents.push(present_ms);
         if let Some(i) = interval_ms {
             self.intervals.push(i);
             self.recent.push(i);
@@ -39,6 +50,9 @@ impl FrameStats {
         self.waits.push(wait_ms);
         for &(name, ms) in gpu {
             self.gpu.entry(name).or_default().push(ms);
+        }
+        if !gpu.is_empty() {
+            self.gpu_total.push(gpu.iter().map(|(_, ms)| ms).sum());
         }
     }
 
@@ -67,6 +81,7 @@ impl FrameStats {
             frame_interval_ms: sorted_median(&self.intervals),
             cpu_frame_ms: sorted_median(&self.frame_cpu),
             cpu_wait_ms: sorted_median(&self.waits),
+            cpu_present_ms: sorted_median(&self.presents),
             cpu_wait_fraction: {
                 let cpu: f64 = self.frame_cpu.iter().sum();
                 if cpu > 0.0 {
@@ -76,6 +91,7 @@ impl FrameStats {
                 }
             },
             gpu_ms: self.gpu.iter().map(|(&n, v)| (n.to_owned(), sorted_median(v))).collect(),
+            gpu_total_ms: sorted_median(&self.gpu_total),
         }
     }
 }
@@ -90,8 +106,13 @@ pub struct Summary {
     pub cpu_frame_ms: f64,
     /// Median CPU time a frame spends waiting (the slot's fence, the next swapchain image).
     pub cpu_wait_ms: f64,
-    /// Share of all frames' CPU time spent waiting.
+    /// Median CPU time inside the present call.
+    pub cpu_present_ms: f64,
+    /// Share of all frames' CPU time spent waiting (fence and acquire; not the present call).
     pub cpu_wait_fraction: f64,
-    /// Median GPU time per pass (timestamps of finished frames).
+    /// Median GPU time per pass (timestamps of finished frames; a pass that runs only when
+    /// needed, such as the sky map's, over the frames that ran it).
     pub gpu_ms: BTreeMap<String, f64>,
+    /// Median GPU time of a whole frame.
+    pub gpu_total_ms: f64,
 }

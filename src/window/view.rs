@@ -64,6 +64,8 @@ pub struct ViewOptions {
     pub validation: bool,
     pub device: Option<String>,
     pub method: Method,
+    /// Frames the CPU may prepare while the GPU runs earlier ones (2 by default).
+    pub frames_in_flight: u32,
     /// Scene seconds per wall-clock second (0: a still frame at the scene's time).
     pub time_scale: f64,
     /// Exit after this many presented frames.
@@ -83,6 +85,7 @@ pub struct ViewReport {
     pub width: u32,
     pub height: u32,
     pub frames: u64,
+    pub frames_in_flight: u32,
     pub swapchain_recreations: u32,
     /// Times the window was seen minimized (or with no area).
     pub minimized_seen: u32,
@@ -145,7 +148,7 @@ pub fn run(options: &ViewOptions) -> Result<ViewReport> {
     let gpu = Gpu::for_window(options.validation, options.device.as_deref(), handles.0, handles.1)?;
     say!("ocean view on {}: press H for the controls", gpu.device.name);
     let shader = ShaderConfig { method: options.method, ..ShaderConfig::default() };
-    let mut presenter = Presenter::new(&gpu, options.present.vk(), shader);
+    let mut presenter = Presenter::new(&gpu, options.present.vk(), shader, options.frames_in_flight);
     let mut session = Session::new(options);
     let result = session.run(&mut event_loop, &mut events, &mut presenter);
     // Stop the GPU before reporting, whatever happened.
@@ -169,6 +172,7 @@ pub fn run(options: &ViewOptions) -> Result<ViewReport> {
         width: size.width,
         height: size.height,
         frames: session.frames,
+        frames_in_flight: options.frames_in_flight,
         swapchain_recreations: presenter.recreations,
         minimized_seen: session.minimized_seen,
         scene_reloads: session.reloads,
@@ -329,14 +333,14 @@ impl<'o> Session<'o> {
                     self.pending_capture = capture.filter(|_| !last_frame).or(self.pending_capture.take());
                     continue;
                 }
-                Drawn::Presented { stale, captured, wait_ms } => {
+                Drawn::Presented { stale, captured, wait_ms, present_ms } => {
                     let presented = Instant::now();
                     self.frames += 1;
                     let interval = last_present.map(|t| presented.duration_since(t).as_secs_f64() * 1e3);
                     last_present = Some(presented);
                     let cpu_ms = presented.duration_since(started).as_secs_f64() * 1e3;
                     let gpu = presenter.renderer.as_ref().map_or(&[][..], |r| r.last_pass_ms());
-                    self.stats.frame(interval, cpu_ms, wait_ms, gpu);
+                    self.stats.frame(interval, cpu_ms, wait_ms, present_ms, gpu);
                     if let (Some(captured), Some((_, path))) = (captured, capture) {
                         save(captured, &path)?;
                         say!("{}: screenshot of frame {}", path.display(), self.frames);

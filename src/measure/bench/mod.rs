@@ -5,6 +5,7 @@
 
 pub mod error_vs_time;
 pub mod startup;
+pub mod view;
 
 use crate::app::{median, minimum, pass_statistic};
 use crate::error::{Error, Result};
