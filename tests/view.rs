@@ -163,6 +163,7 @@ fn a_session_with_a_resize_and_a_minimize_is_validation_clean() {
     assert!(luma(sky) > 100.0, "the default scene's sky is bright: {sky:?}");
     assert!(luma(sea) > 20.0, "the sea is not black: {sea:?}");
     assert!(luma(sky) > luma(sea) + 20.0, "the sky above is brighter than the sea below: {sky:?} {sea:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -184,6 +185,7 @@ fn a_paused_frame_matches_ocean_render() {
     // shader, which round differently by at most one level.
     let worst = a.pixels().zip(b.pixels()).flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]))).max();
     assert!(worst <= Some(2), "largest difference {worst:?} levels of 255");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

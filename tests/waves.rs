@@ -123,3 +123,22 @@ fn water_height_under_the_eye_solves_the_trochoid() {
         assert!((got - expected).abs() < 1e-9, "t = {time}: {got} vs {expected} (direction {dir:?})");
     }
 }
+
+#[test]
+fn moving_the_eye_moves_the_waves_past_it() {
+    // The world frame's origin is the eye: the phase of every train at the origin, with the eye
+    // at p, is the phase the eye-at-zero waves have at p (omega t - k.p + phase0), mod 2 pi.
+    let mut moved = Scene::default();
+    moved.camera.x_m = 1234.5;
+    moved.camera.y_m = -678.25;
+    let (here, there) = (generate(&Scene::default()), generate(&moved));
+    let time = 17.0;
+    for (a, b) in here.trains.iter().zip(&there.trains) {
+        let k_dot_p = a.k * (a.direction[0] * moved.camera.x_m + a.direction[1] * moved.camera.y_m);
+        let expected = (a.phase_at(time) - k_dot_p).rem_euclid(TAU);
+        let diff = (b.phase_at(time) - expected).rem_euclid(TAU);
+        let diff = diff.min(TAU - diff);
+        assert!(diff < 1e-9, "train of {} m: phase off by {diff} rad", a.wavelength);
+        assert_eq!((a.k, a.amplitude, a.direction), (b.k, b.amplitude, b.direction), "only phases move");
+    }
+}

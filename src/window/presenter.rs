@@ -138,6 +138,11 @@ impl<'g> Presenter<'g> {
         Ok(())
     }
 
+    /// Whether the swapchain's images can be copied out (screenshots of what is shown).
+    pub fn can_copy_shown(&self) -> bool {
+        self.swapchain.as_ref().is_some_and(|s| s.choice.copyable)
+    }
+
     /// Draws and presents one frame of `scene`.
     pub fn draw(&mut self, scene: &Scene, capture: Capture) -> Result<Drawn> {
         let (Some(renderer), Some(swapchain)) = (&mut self.renderer, &self.swapchain) else {

@@ -326,6 +326,17 @@ impl<'o> Session<'o> {
                 (Some(path), true) => Some((Capture::Shown, path.clone())),
                 _ => self.pending_capture.take(),
             };
+            let capture = match capture {
+                Some((Capture::Shown, path)) if !presenter.can_copy_shown() => {
+                    let why = "this surface's images cannot be copied out (no TRANSFER_SRC usage)";
+                    if self.options.screenshot.as_ref() == Some(&path) {
+                        return Err(Error::NoSurface(format!("--screenshot {}: {why}", path.display())));
+                    }
+                    say!("no screenshot: {why}; Shift+F12 saves the radiance");
+                    None
+                }
+                capture => capture,
+            };
             let started = Instant::now();
             match presenter.draw(&frame_scene, capture.as_ref().map_or(Capture::None, |c| c.0))? {
                 Drawn::OutOfDate => {
