@@ -83,6 +83,14 @@ pub enum Capture {
     Radiance,
 }
 
+/// A frame's host-side work, done: see `Renderer::prepare`.
+pub struct Prepared {
+    data: FrameData,
+    capture: Capture,
+    /// The sun and sky the frame's sky map must hold.
+    sky: (Sun, Sky),
+}
+
 /// Pixels copied out of a window frame, row-major from the top-left.
 pub enum Captured {
     /// RGBA8 as shown (BGRA swapchain formats already swizzled).
@@ -205,7 +213,8 @@ impl<'g> Renderer<'g> {
     pub fn render(&mut self, scene: &Scene) -> Result<RenderedFrame> {
         assert_eq!(self.output, Output::Readback, "render() needs an offscreen renderer");
         let slot = self.begin_frame()?;
-        let data = self.record(slot, scene, None, Capture::None)?;
+        let prepared = self.prepare(slot, scene, Capture::None)?;
+        let data = self.record(slot, prepared, None)?;
         self.slots[slot].commands.submit(&[], None)?;
         self.finish(slot)?;
         let readback = self.resources.readback.as_ref().expect("an offscreen renderer has readback buffers");
@@ -219,7 +228,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// Takes the next frame slot, waiting for the frame that last used it (and only that one), and
-    /// keeps that frame's GPU times. Returns the slot for `image_available` and `draw`.
+    /// keeps that frame's GPU times. Returns the slot for `prepare`, `image_available` and `draw`.
     pub fn begin_frame(&mut self) -> Result<usize> {
         let slot = self.next_slot;
         self.next_slot = (slot + 1) % self.slots.len();
@@ -232,19 +241,19 @@ impl<'g> Renderer<'g> {
         self.slots[slot].image_available.as_ref().expect("a window renderer").raw
     }
 
-    /// Records and submits a window frame into `image` (acquired with `image_available(slot)`),
-    /// signalling `rendered` for its present. With a capture, waits for the frame and returns
-    /// the pixels.
+    /// Records and submits a window frame `prepared` for `slot` into `image` (acquired with
+    /// `image_available(slot)`), signalling `rendered` for its present. With a capture, waits for
+    /// the frame and returns the pixels.
     pub fn draw(
         &mut self,
         slot: usize,
-        scene: &Scene,
+        prepared: Prepared,
         image: SwapImage,
         rendered: vk::Semaphore,
-        capture: Capture,
     ) -> Result<Option<Captured>> {
         assert!(matches!(self.output, Output::Window { .. }), "draw() needs a window renderer");
-        self.record(slot, scene, Some(image), capture)?;
+        let capture = prepared.capture;
+        self.record(slot, prepared, Some(image))?;
         let wait =
             Wait { semaphore: self.image_available(slot), stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT };
         self.slots[slot].commands.submit(&[wait], Some(rendered))?;
@@ -278,15 +287,19 @@ impl<'g> Renderer<'g> {
     /// Waits for the frame in `slot` (if one is pending) and keeps its GPU times.
     fn finish(&mut self, slot: usize) -> Result<()> {
         let s = &self.slots[slot];
-        s.commands.wait()?;
+        if !s.commands.wait()? {
+            return Ok(()); // nothing ran since its queries were last read
+        }
         if let Some(times) = s.profiler.read(&self.gpu.device.raw)? {
             self.last_pass_ms = times;
         }
         Ok(())
     }
 
-    /// Writes the slot's uniforms and grid and records the frame into its command buffer.
-    fn record(&mut self, slot: usize, scene: &Scene, image: Option<SwapImage>, capture: Capture) -> Result<FrameData> {
+    /// The host's part of a frame in `slot`, done before a swapchain image is acquired so that
+    /// whatever can fail here leaves no image or semaphore signal pending: checks the scene
+    /// against the renderer, builds the frame and writes the slot's uniforms and grid.
+    pub fn prepare(&mut self, slot: usize, scene: &Scene, capture: Capture) -> Result<Prepared> {
         if scene.render.sky_anisotropy != self.anisotropy {
             return Err(Error::Argument(format!(
                 "this renderer's sky sampler was built for sky_anisotropy = {}, the scene asks {}",
@@ -299,19 +312,24 @@ impl<'g> Renderer<'g> {
             frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         self.resources.frame_uniforms.write(slot, &data.uniforms)?;
         self.resources.waves.write(slot, data.waves.as_ref())?;
-        let s = &mut self.slots[slot];
-        s.grid.set(data.grid.columns, data.grid.rows)?;
-        let sky = (scene.sun.clone(), scene.sky.clone());
+        self.slots[slot].grid.set(data.grid.columns, data.grid.rows)?;
+        if capture != Capture::None {
+            self.prepare_capture(capture)?;
+        }
+        Ok(Prepared { data, capture, sky: (scene.sun.clone(), scene.sky.clone()) })
+    }
+
+    /// Records the frame `prepared` for `slot` into the slot's command buffer.
+    fn record(&mut self, slot: usize, prepared: Prepared, image: Option<SwapImage>) -> Result<FrameData> {
+        let Prepared { data, capture, sky } = prepared;
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
         self.sky_in_map = Some(sky);
+        let s = &self.slots[slot];
         let frame = Frame {
             uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
             grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
             swap_image: image,
         };
-        if capture != Capture::None {
-            self.prepare_capture(capture, image)?;
-        }
 
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
@@ -356,12 +374,11 @@ impl<'g> Renderer<'g> {
         Ok(data)
     }
 
-    /// Makes (or keeps) the host buffer a capture is copied into.
-    fn prepare_capture(&mut self, capture: Capture, image: Option<SwapImage>) -> Result<()> {
-        let bytes = match (capture, image) {
-            (Capture::Shown, Some(i)) => 4 * i.extent.width as u64 * i.extent.height as u64,
-            _ => 8 * self.width as u64 * self.height as u64,
-        };
+    /// Makes (or keeps) the host buffer a capture is copied into (a window renderer's images
+    /// are its own size).
+    fn prepare_capture(&mut self, capture: Capture) -> Result<()> {
+        let texel_bytes = if capture == Capture::Shown { 4 } else { 8 };
+        let bytes = texel_bytes * self.width as u64 * self.height as u64;
         if self.capture.as_ref().is_none_or(|b| b.size != bytes) {
             if let Some(old) = self.capture.take() {
                 self.tracker.forget_buffer(old.raw);
@@ -370,6 +387,11 @@ impl<'g> Renderer<'g> {
             self.capture = Some(Buffer::new(self.gpu, "capture", bytes, usage, Location::Readback)?);
         }
         Ok(())
+    }
+
+    /// Forgets the barrier state of swapchain images that are being replaced.
+    pub fn forget_images(&mut self, images: &[SwapImage]) {
+        images.iter().for_each(|i| self.tracker.forget(i.raw));
     }
 
     /// Waits for every frame in flight.

@@ -80,10 +80,10 @@ impl<'g> Commands<'g> {
     }
 
     /// Waits until the last submission has finished (at once if nothing is pending), so that the
-    /// buffer and everything it used may be reused.
-    pub fn wait(&self) -> Result<()> {
+    /// buffer and everything it used may be reused. Returns whether a submission was pending.
+    pub fn wait(&self) -> Result<bool> {
         if !self.pending.get() {
-            return Ok(());
+            return Ok(false);
         }
         let raw = &self.device.raw;
         // SAFETY: the fence was given to the pending submission; it is reset only after it signals.
@@ -92,12 +92,12 @@ impl<'g> Commands<'g> {
             raw.reset_fences(&[self.fence.raw]).during("vkResetFences")?;
         }
         self.pending.set(false);
-        Ok(())
+        Ok(true)
     }
 
     /// Ends the recording, submits it and waits until the GPU has finished it.
     pub fn submit_and_wait(&self) -> Result<()> {
         self.submit(&[], None)?;
-        self.wait()
+        self.wait().map(|_| ())
     }
 }

@@ -1,6 +1,6 @@
 //! The window's swapchain: surface format and present mode choice, image views, one
 //! render-finished semaphore per image, acquire and present with their results mapped on purpose,
-//! and recreation (the old swapchain handed to the new one, then destroyed once the device idles).
+//! and recreation (the old swapchain handed to the new one; its owner destroys it later).
 
 use super::barrier::TrackedImage;
 use super::device::Device;
@@ -121,8 +121,8 @@ fn choose(gpu: &Gpu, surface: &Surface, requested: vk::PresentModeKHR) -> Result
 
 impl<'g> Swapchain<'g> {
     /// A swapchain for a window whose drawable area is `window_extent`; None while that area is
-    /// empty (minimized). `old`: the swapchain being replaced (the caller destroys it after the
-    /// device idles). The returned flag: the requested present mode was missing (FIFO instead).
+    /// empty (minimized). `old`: the swapchain being replaced (retired: the caller keeps it until
+    /// its last presents are done). The returned flag: the requested present mode was missing (FIFO instead).
     pub fn new(
         gpu: &'g Gpu,
         requested: vk::PresentModeKHR,
@@ -136,7 +136,11 @@ impl<'g> Swapchain<'g> {
         // SAFETY: as in `choose`.
         let caps = unsafe { surface.loader.get_physical_device_surface_capabilities(device.physical, surface.raw) }
             .during("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
-        // u32::MAX: the surface takes its size from the swapchain (Wayland), so use the window's.
+        // u32::MAX: the surface takes its size from the swapchain (Wayland), so use the window's
+        // (an empty one first: clamping would turn a minimized window into the minimum size).
+        if caps.current_extent.width == u32::MAX && (window_extent.width == 0 || window_extent.height == 0) {
+            return Ok(None);
+        }
         let extent = if caps.current_extent.width == u32::MAX {
             vk::Extent2D {
                 width: window_extent.width.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
@@ -263,8 +267,8 @@ impl<'g> Swapchain<'g> {
 impl Drop for Swapchain<'_> {
     fn drop(&mut self) {
         if let Some(loader) = &self.device.swapchain {
-            // SAFETY: the owner waited for the device to idle; the views and semaphores drop
-            // after this (field order), and nothing else refers to the images.
+            // SAFETY: the owner waited for every frame that rendered into the images and for their
+            // presents; the views and semaphores drop after this (field order).
             unsafe { loader.destroy_swapchain(self.raw, None) };
         }
     }

@@ -16,9 +16,14 @@ pub struct Presenter<'g> {
     requested: vk::PresentModeKHR,
     shader: ShaderConfig,
     frames_in_flight: u32,
-    // Drop order: the renderer (waits for the device), then the swapchain.
+    // Drop order: the renderer (waits for the device), then the swapchains.
     pub renderer: Option<Renderer<'g>>,
     pub swapchain: Option<Swapchain<'g>>,
+    /// Replaced swapchains, with the presents left until they are destroyed: without
+    /// VK_EXT_swapchain_maintenance1 nothing says when the presentation engine is done with a
+    /// present's semaphore, but it has been once as many later presents as the old chain had
+    /// images have gone through (no more than that can be queued).
+    retired: Vec<(Swapchain<'g>, usize)>,
     /// Swapchains made after the first one.
     pub recreations: u32,
     made_one: bool,
@@ -51,6 +56,7 @@ impl<'g> Presenter<'g> {
             frames_in_flight,
             renderer: None,
             swapchain: None,
+            retired: Vec::new(),
             recreations: 0,
             made_one: false,
             logged: None,
@@ -66,15 +72,19 @@ impl<'g> Presenter<'g> {
     /// (Re)creates the swapchain for a drawable area of `extent`, and the renderer if the image
     /// size or format changed. Ok(false): the area is empty (minimized), nothing to draw into.
     pub fn recreate(&mut self, extent: vk::Extent2D, scene: &Scene) -> Result<bool> {
+        // Every frame that rendered into the old images is done before they can go.
         if let Some(renderer) = &mut self.renderer {
             renderer.wait_idle()?;
         }
-        // The old swapchain's images may still be read by the presentation engine's last
-        // presents; the device idling covers the queue's semaphore waits.
-        self.gpu.device.wait_idle()?;
         let old = self.swapchain.take();
         let made = Swapchain::new(self.gpu, self.requested, extent, old.as_ref())?;
-        drop(old);
+        if let Some(old) = old {
+            if let Some(renderer) = &mut self.renderer {
+                renderer.forget_images(&old.images);
+            }
+            let presents_left = old.images.len();
+            self.retired.push((old, presents_left));
+        }
         let Some((swapchain, fell_back)) = made else {
             return Ok(false);
         };
@@ -125,7 +135,11 @@ impl<'g> Presenter<'g> {
     }
 
     fn rebuild_renderer(&mut self, scene: &Scene) -> Result<()> {
-        let Some(swapchain) = &self.swapchain else { return Ok(()) };
+        let Some(swapchain) = &self.swapchain else {
+            // Minimized: the next recreate builds one for the restored swapchain.
+            self.renderer = None;
+            return Ok(());
+        };
         let options = Options {
             shader: self.shader,
             output: self.output(swapchain),
@@ -148,18 +162,27 @@ impl<'g> Presenter<'g> {
         let (Some(renderer), Some(swapchain)) = (&mut self.renderer, &self.swapchain) else {
             return Ok(Drawn::OutOfDate);
         };
+        assert!(capture != Capture::Shown || swapchain.choice.copyable, "check can_copy_shown() first");
         let waited = std::time::Instant::now();
         let slot = renderer.begin_frame()?;
+        let mut wait_ms = waited.elapsed().as_secs_f64() * 1e3;
+        // Whatever can fail on the host fails here, before an image is acquired.
+        let prepared = renderer.prepare(slot, scene, capture)?;
+        let waited = std::time::Instant::now();
         let (image, suboptimal) = match swapchain.acquire(renderer.image_available(slot))? {
             Acquired::Image { image, suboptimal } => (image, suboptimal),
             Acquired::OutOfDate => return Ok(Drawn::OutOfDate),
         };
-        let wait_ms = waited.elapsed().as_secs_f64() * 1e3;
+        wait_ms += waited.elapsed().as_secs_f64() * 1e3;
         let rendered = swapchain.render_finished[image.index as usize].raw;
-        let captured = renderer.draw(slot, scene, image, rendered, capture)?;
+        let captured = renderer.draw(slot, prepared, image, rendered)?;
         let presenting = std::time::Instant::now();
         let current = swapchain.present(&image)?;
         let present_ms = presenting.elapsed().as_secs_f64() * 1e3;
+        self.retired.retain_mut(|(_, presents_left)| {
+            *presents_left = presents_left.saturating_sub(1);
+            *presents_left > 0
+        });
         Ok(Drawn::Presented { stale: suboptimal || !current, captured, wait_ms, present_ms })
     }
 }
