@@ -20,6 +20,27 @@ const float FAR_LIMIT = 1.0e7;
 // 87 keeps the result a normal float. Past it the exact value is 0 to f32 precision.
 const float EXP_UNDERFLOW = 87.0;
 
+// The visibility pass stores each pixel's rest position in the HDR image's 64 bits (two f32 as
+// four 16-bit words); pixels without sea keep the clear value, +Inf in x (NO_SEA_BITS), which no
+// stored position has (they are clamped to FAR_LIMIT). Mirrored by `NO_SEA_CLEAR` in
+// src/render/passes/ocean.rs.
+const uvec4 NO_SEA_BITS = uvec4(0x0000u, 0x7f80u, 0x0000u, 0x7f80u);
+
+uvec4 rest_position_to_bits(vec2 x) {
+    uvec2 b = floatBitsToUint(x);
+    return uvec4(b.x & 0xffffu, b.x >> 16, b.y & 0xffffu, b.y >> 16);
+}
+
+vec2 bits_to_rest_position(uvec4 w) {
+    return uintBitsToFloat(uvec2(w.x | (w.y << 16), w.z | (w.w << 16)));
+}
+
+// Radiance as the HDR image's RGBA16F texel bits (alpha 1).
+uvec4 radiance_to_bits(vec3 L) {
+    uvec2 p = uvec2(packHalf2x16(L.rg), packHalf2x16(vec2(L.b, 1.0)));
+    return uvec4(p.x & 0xffffu, p.x >> 16, p.y & 0xffffu, p.y >> 16);
+}
+
 vec3 store_radiance(vec3 L) {
     return min(max(L, vec3(0.0)), vec3(HDR_MAX));
 }

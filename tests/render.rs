@@ -38,7 +38,7 @@ fn default_scene_is_clean_and_plausible() {
     let (report, frame) = render(&gpu, &scene, 256, 192);
     assert_clean(&report, "default scene");
     assert_eq!(frame.hdr.len(), 256 * 192);
-    assert!(report.gpu_ms.contains_key("ocean") && report.gpu_ms.contains_key("total"));
+    assert!(report.gpu_ms.contains_key("shade") && report.gpu_ms.contains_key("total"));
 
     // Level camera: the horizon is the middle row. Sky above, sea below.
     let sky = mean_luminance(&frame, 0..80, 0..256);
@@ -117,4 +117,27 @@ fn the_validation_canary_catches_errors() {
     let after = gpu.validation_counts();
     assert!(after.error_total() > before, "size-0 buffer went unreported: {after:?}");
     assert!(after.errors.keys().any(|id| id.contains("VUID-VkBufferCreateInfo-size")), "{after:?}");
+}
+
+/// The shading pass gives the top rows to the sky's shader alone only where no sea can be.
+#[test]
+fn only_rows_no_crest_can_reach_are_left_to_the_sky() {
+    use ocean::model::waves;
+    use ocean::render::frame;
+    let rows = |scene: &Scene| frame::build(scene, &waves::generate(scene), 256, 192, 8.0).sky_rows;
+    // Level camera 6 m up: the horizon is the lower edge of row 95; rows 0..95 rise, and the
+    // last of them is left to the sea's shader.
+    assert_eq!(rows(&Scene::default()), 94);
+    // Looking up: the whole image rises.
+    let mut up = Scene::default();
+    up.camera.pitch_deg = 45.0;
+    assert_eq!(rows(&up), 191);
+    // An eye below the highest crest sees sea above the horizon: every row may hold sea.
+    let mut low = Scene::default();
+    low.camera.height_m = 0.05;
+    assert_eq!(rows(&low), 0);
+    // Looking down past the field of view: no row rises.
+    let mut down = Scene::default();
+    down.camera.pitch_deg = -60.0;
+    assert_eq!(rows(&down), 0);
 }

@@ -186,11 +186,34 @@ pub fn baseline_slope_variance(
     footprint.resolved_surface(width as f64 / 2.0, height as f64 - 1.0).map_or(waves.sigma2, |(_, _, sigma2)| sigma2)
 }
 
+/// Rows at the top of a `height`-row image that only sky can cover, so that the shading pass
+/// leaves the sea's shader out there: on a CPU driver a branch does not skip the code of the
+/// side no lane takes, so a sky pixel shaded by the sea's shader pays for all of it. Those rows'
+/// rays all rise, and no crest reaches the eye (the displaced grid then stays below the horizon
+/// line); the last such row is left to the sea's shader in case f32 rounding on the GPU puts a
+/// grid pixel there.
+pub fn sky_only_rows(camera: &CameraFrame, waves: &WaveSet, width: u32, height: u32) -> u32 {
+    let highest_crest: f64 = waves.trains.iter().map(|t| t.amplitude).sum();
+    if highest_crest >= camera.plane_height {
+        return 0;
+    }
+    // Ray z is linear in NDC: a row rises when both ends of its lower edge do. The camera has no
+    // roll, so with up.z >= 0 the rising rows are a prefix of the image.
+    let half_px = 1.0 / width as f64;
+    let rises = |row: u32| {
+        let y = (row + 1) as f64 / height as f64 * 2.0 - 1.0;
+        camera.ray([-1.0 + half_px, y]).z > 0.0 && camera.ray([1.0 - half_px, y]).z > 0.0
+    };
+    (0..height).take_while(|&row| rises(row)).count().saturating_sub(1) as u32
+}
+
 /// Everything derived from a scene for one frame.
 pub struct FrameData {
     pub uniforms: FrameUniforms,
     pub waves: Box<GpuWaves>,
     pub grid: GridLayout,
+    /// Top rows of the image that only sky covers (see `sky_only_rows`).
+    pub sky_rows: u32,
     pub camera: CameraFrame,
     pub sky: SkyModel,
 }
@@ -259,5 +282,6 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             [b[0] as f32, b[1] as f32, 0.0, 0.0]
         },
     };
-    FrameData { uniforms, waves: gpu_waves, grid, camera, sky }
+    let sky_rows = sky_only_rows(&camera, waves, width, height);
+    FrameData { uniforms, waves: gpu_waves, grid, sky_rows, camera, sky }
 }

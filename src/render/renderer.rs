@@ -12,6 +12,7 @@ use crate::render::passes::display::DisplayPass;
 use crate::render::passes::ocean::{OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
+use crate::render::passes::shade::ShadePass;
 use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::render::passes::tonemap::TonemapPass;
 use crate::render::passes::{Frame, Pass, Recorder};
@@ -151,6 +152,7 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(SkyMipsPass));
         }
         passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
+        passes.push(Box::new(ShadePass::new(device, &resources, options.shader)?));
         if let Some(resolved) = &resources.resolved {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }
@@ -328,6 +330,7 @@ impl<'g> Renderer<'g> {
         let frame = Frame {
             uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
             grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
+            sky_rows: data.sky_rows,
             swap_image: image,
         };
 

@@ -4,7 +4,7 @@
 use crate::error::{Error, Result, VkContext};
 use crate::render::frame::{FrameUniforms, GpuWaves};
 use crate::vk::buffer::Buffer;
-use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT};
+use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
 use crate::vk::gpu::Gpu;
 use crate::vk::image::Image;
 use crate::vk::memory::Location;
@@ -65,7 +65,9 @@ pub struct Resources<'g> {
     pub waves: UniformRing<'g>,
     pub sky_map: Image<'g>,
     pub sky_sampler: Owned<'g, vk::Sampler>,
-    /// HDR radiance at the rendering size (the output size times the supersampling factor).
+    /// HDR radiance at the rendering size (the output size times the supersampling factor). Its
+    /// `alias_view` sees the texels' bits as HDR_BITS_FORMAT: the visibility pass stores each
+    /// pixel's rest position there, which the shading pass replaces with the radiance.
     pub hdr: Image<'g>,
     pub depth: Image<'g>,
     /// With supersampling, the resolved HDR radiance at the output size.
@@ -122,7 +124,7 @@ impl<'g> Resources<'g> {
         let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, sky_size.ilog2() + 1, sky_usage)?;
         // Sampled: the window's display pass reads the radiance with texelFetch.
         let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC;
-        let hdr = Image::new(gpu, "hdr radiance", HDR_FORMAT, render_extent, 1, hdr_usage)?;
+        let hdr = Image::aliased(gpu, "hdr radiance", HDR_FORMAT, HDR_BITS_FORMAT, render_extent, hdr_usage)?;
         let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
         let resolved = if ssaa > 1 {
             Some(Image::new(gpu, "hdr resolved", HDR_FORMAT, extent, 1, I::STORAGE | I::SAMPLED | I::TRANSFER_SRC)?)

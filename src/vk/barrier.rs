@@ -35,6 +35,9 @@ pub enum Access {
     Undefined,
     ComputeStorageWrite,
     ComputeStorageRead,
+    /// Each invocation reads texels and writes them back (in place).
+    ComputeStorageReadWrite,
+    ComputeSampled,
     TransferRead,
     TransferWrite,
     FragmentSampled,
@@ -51,7 +54,10 @@ impl Access {
         use vk::PipelineStageFlags2 as S;
         match self {
             Access::Undefined => S::NONE,
-            Access::ComputeStorageWrite | Access::ComputeStorageRead => S::COMPUTE_SHADER,
+            Access::ComputeStorageWrite
+            | Access::ComputeStorageRead
+            | Access::ComputeStorageReadWrite
+            | Access::ComputeSampled => S::COMPUTE_SHADER,
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
             Access::FragmentSampled => S::FRAGMENT_SHADER,
             Access::ColorAttachmentWrite => S::COLOR_ATTACHMENT_OUTPUT,
@@ -67,6 +73,8 @@ impl Access {
             Access::Undefined => A::NONE,
             Access::ComputeStorageWrite => A::SHADER_STORAGE_WRITE,
             Access::ComputeStorageRead => A::SHADER_STORAGE_READ,
+            Access::ComputeStorageReadWrite => A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+            Access::ComputeSampled => A::SHADER_SAMPLED_READ,
             Access::TransferRead => A::TRANSFER_READ,
             Access::TransferWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
@@ -81,7 +89,8 @@ impl Access {
         use vk::ImageLayout as L;
         match self {
             Access::Undefined => L::UNDEFINED,
-            Access::ComputeStorageWrite | Access::ComputeStorageRead => L::GENERAL,
+            Access::ComputeStorageWrite | Access::ComputeStorageRead | Access::ComputeStorageReadWrite => L::GENERAL,
+            Access::ComputeSampled => L::SHADER_READ_ONLY_OPTIMAL,
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
             Access::TransferWrite => L::TRANSFER_DST_OPTIMAL,
             Access::FragmentSampled => L::SHADER_READ_ONLY_OPTIMAL,
@@ -97,6 +106,7 @@ impl Access {
         matches!(
             self,
             Access::ComputeStorageWrite
+                | Access::ComputeStorageReadWrite
                 | Access::TransferWrite
                 | Access::ColorAttachmentWrite
                 | Access::DepthAttachmentReadWrite

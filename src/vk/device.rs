@@ -10,8 +10,11 @@ use std::path::Path;
 /// Formats the renderer uses and the features each must offer with optimal tiling.
 pub const HDR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The HDR texels' bits as four 16-bit words: the visibility pass stores rest positions in them
+/// and the shading pass replaces those with radiance in place (glsl/common.glsl).
+pub const HDR_BITS_FORMAT: vk::Format = vk::Format::R16G16B16A16_UINT;
 
-fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static str); 2] {
+fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static str); 3] {
     use vk::FormatFeatureFlags as F;
     [
         (
@@ -25,6 +28,7 @@ fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static 
             "R16G16B16A16_SFLOAT as colour attachment, storage, linear-filtered blit source and destination",
         ),
         (DEPTH_FORMAT, F::DEPTH_STENCIL_ATTACHMENT, "D32_SFLOAT as depth attachment"),
+        (HDR_BITS_FORMAT, F::COLOR_ATTACHMENT | F::STORAGE_IMAGE, "R16G16B16A16_UINT as colour attachment and storage"),
     ]
 }
 

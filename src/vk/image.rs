@@ -13,6 +13,9 @@ pub struct Image<'g> {
     pub view: vk::ImageView,
     /// View of level 0 alone (storage writes need single-level views).
     pub level0_view: vk::ImageView,
+    /// View of level 0 in another format of the same texel size (see `Image::aliased`); null
+    /// for images made without one.
+    pub alias_view: vk::ImageView,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub mip_levels: u32,
@@ -29,7 +32,35 @@ impl<'g> Image<'g> {
         mip_levels: u32,
         usage: vk::ImageUsageFlags,
     ) -> Result<Self> {
+        Self::create(gpu, name, format, None, extent, mip_levels, usage)
+    }
+
+    /// A single-level image whose texels are also read and written as `alias` (a format of the
+    /// same size class, so the bits are reinterpreted, never converted) through `alias_view`.
+    pub fn aliased(
+        gpu: &'g Gpu,
+        name: &str,
+        format: vk::Format,
+        alias: vk::Format,
+        extent: vk::Extent2D,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
+        Self::create(gpu, name, format, Some(alias), extent, 1, usage)
+    }
+
+    fn create(
+        gpu: &'g Gpu,
+        name: &str,
+        format: vk::Format,
+        alias: Option<vk::Format>,
+        extent: vk::Extent2D,
+        mip_levels: u32,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
         let device = gpu.raw();
+        // The formats the views will use, so that a driver may keep compression it can share.
+        let formats = [format, alias.unwrap_or(format)];
+        let mut format_list = vk::ImageFormatListCreateInfo::default().view_formats(&formats);
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
@@ -41,6 +72,11 @@ impl<'g> Image<'g> {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        let info = if alias.is_some() {
+            info.flags(vk::ImageCreateFlags::MUTABLE_FORMAT).push_next(&mut format_list)
+        } else {
+            info
+        };
         // SAFETY: valid create info (formats checked at device choice); destroyed in Drop.
         let raw = unsafe { device.create_image(&info, None) }.during("vkCreateImage")?;
         gpu.device.set_name(raw, name);
@@ -71,6 +107,7 @@ impl<'g> Image<'g> {
             raw,
             view: vk::ImageView::null(),
             level0_view: vk::ImageView::null(),
+            alias_view: vk::ImageView::null(),
             format,
             extent,
             mip_levels,
@@ -80,7 +117,7 @@ impl<'g> Image<'g> {
         let (memory, offset) = image.allocation.as_ref().map(|a| (a.memory, a.offset)).expect("just placed");
         // SAFETY: the allocation satisfies the image's requirements.
         unsafe { device.bind_image_memory(raw, memory, offset) }.during("vkBindImageMemory")?;
-        let make_view = |base: u32, count: u32, label: &str| -> Result<vk::ImageView> {
+        let make_view = |format: vk::Format, base: u32, count: u32, label: &str| -> Result<vk::ImageView> {
             let info = vk::ImageViewCreateInfo::default()
                 .image(raw)
                 .view_type(vk::ImageViewType::TYPE_2D)
@@ -97,8 +134,11 @@ impl<'g> Image<'g> {
             gpu.device.set_name(view, &format!("{name} {label}"));
             Ok(view)
         };
-        image.view = make_view(0, mip_levels, "all levels")?;
-        image.level0_view = if mip_levels > 1 { make_view(0, 1, "level 0")? } else { image.view };
+        image.view = make_view(format, 0, mip_levels, "all levels")?;
+        image.level0_view = if mip_levels > 1 { make_view(format, 0, 1, "level 0")? } else { image.view };
+        if let Some(alias) = alias {
+            image.alias_view = make_view(alias, 0, 1, &format!("as {alias:?}"))?;
+        }
         Ok(image)
     }
 
@@ -125,6 +165,7 @@ impl Drop for Image<'_> {
             if self.level0_view != self.view {
                 device.destroy_image_view(self.level0_view, None);
             }
+            device.destroy_image_view(self.alias_view, None); // a null handle is ignored
             device.destroy_image_view(self.view, None);
             device.destroy_image(self.raw, None);
         }

@@ -164,12 +164,32 @@ pub fn compute_pipeline<'g>(
     spirv: &[u8],
     name: &str,
 ) -> Result<Owned<'g, vk::Pipeline>> {
+    specialized_compute_pipeline(device, layout, spirv, None, name)
+}
+
+/// A compute pipeline with specialization constants. Compute pipelines may be dispatched with a
+/// base group (vkCmdDispatchBase: a pass can run over part of an image).
+pub fn specialized_compute_pipeline<'g>(
+    device: &'g Device,
+    layout: vk::PipelineLayout,
+    spirv: &[u8],
+    specialization: Option<&Specialization>,
+    name: &str,
+) -> Result<Owned<'g, vk::Pipeline>> {
     let module = shader_module(device, spirv, name)?;
+    let spec_info = specialization.map(|s| s.info());
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module.raw)
         .name(c"main");
-    let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
+    let stage = match spec_info.as_ref() {
+        Some(spec) => stage.specialization_info(spec),
+        None => stage,
+    };
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)
+        .flags(vk::PipelineCreateFlags::DISPATCH_BASE);
     // SAFETY: valid create info; the module outlives the call.
     let pipelines = unsafe { device.raw.create_compute_pipelines(device.pipeline_cache.raw, &[info], None) }
         .map_err(|(_, e)| e)

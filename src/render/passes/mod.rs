@@ -6,6 +6,7 @@ pub mod display;
 pub mod ocean;
 pub mod readback;
 pub mod resolve;
+pub mod shade;
 pub mod sky_map;
 pub mod tonemap;
 
@@ -23,6 +24,8 @@ pub struct Frame {
     pub uniform_offsets: [u32; 2],
     /// The grid's index buffer and index count (none when no sea is in view).
     pub grid: Option<(vk::Buffer, u32)>,
+    /// Top rows of the rendered image that only sky covers.
+    pub sky_rows: u32,
     pub swap_image: Option<SwapImage>,
 }
 

@@ -1,12 +1,14 @@
-//! Ocean: the projected grid (displaced, shaded per pixel with the paper's BRDF) into HDR with
-//! reversed-Z depth, then the sky where no sea was drawn, from the same analytic model.
+//! The ocean's visibility pass: the projected grid, displaced by the trains it resolves, with
+//! reversed-Z depth; each pixel keeps the rest position of the surface point it sees (in the HDR
+//! image's bits, see glsl/ocean.frag), for the shading pass (shade.rs). Also the ocean shaders'
+//! configuration, shared by both passes.
 
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
-use crate::vk::device::{Device, DEPTH_FORMAT, HDR_FORMAT};
+use crate::vk::device::{Device, DEPTH_FORMAT, HDR_BITS_FORMAT};
 use crate::vk::owned::Owned;
 use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc, Specialization};
 use ash::vk;
@@ -65,49 +67,48 @@ impl Default for ShaderConfig {
 }
 
 impl ShaderConfig {
+    /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
+    /// shade.comp): the terms (0-2), the method (3), geometry (4), the background (5) and
+    /// whether the pixels may hold sea (6; false for the rows only sky covers).
+    pub fn specialization(&self, may_hold_sea: bool) -> Specialization {
+        Specialization::words(&[
+            self.terms.sun as u32,
+            self.terms.sky as u32,
+            self.terms.sea as u32,
+            self.method as u32,
+            self.geometry as u32,
+            self.background as u32,
+            may_hold_sea as u32,
+        ])
+    }
+
     /// Only `terms`, on black (for comparing terms one by one).
     pub fn terms_only(terms: Terms, method: Method) -> ShaderConfig {
         ShaderConfig { terms, method, geometry: true, background: false }
     }
 }
 
+/// The clear value of pixels no grid triangle covers: +Inf as the rest position's x, the bits of
+/// `NO_SEA_BITS` in glsl/common.glsl.
+const NO_SEA_CLEAR: [u32; 4] = [0x0000, 0x7f80, 0x0000, 0x7f80];
+
 pub struct OceanPass<'g> {
     bindings: Bindings<'g>,
-    ocean: Owned<'g, vk::Pipeline>,
-    /// The sky where no sea was drawn; absent when only some terms are rendered.
-    sky: Option<Owned<'g, vk::Pipeline>>,
+    pipeline: Owned<'g, vk::Pipeline>,
 }
 
 impl<'g> OceanPass<'g> {
     pub fn new(device: &'g Device, r: &Resources, config: ShaderConfig) -> Result<Self> {
         use vk::DescriptorType as D;
-        let both = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let vertex = vk::ShaderStageFlags::VERTEX;
         let bindings = Bindings::new(
             device,
             "ocean",
-            &[
-                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
-                (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
-                (2, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
-            ],
+            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, vertex), (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, vertex)],
         )?;
         write_frame_uniforms(&bindings, r, true);
-        bindings.write_image(
-            2,
-            D::COMBINED_IMAGE_SAMPLER,
-            r.sky_map.view,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            r.sky_sampler.raw,
-        );
-        let terms = config.terms;
-        let spec = Specialization::words(&[
-            terms.sun as u32,
-            terms.sky as u32,
-            terms.sea as u32,
-            config.method as u32,
-            config.geometry as u32,
-        ]);
-        let ocean = graphics_pipeline(
+        let spec = config.specialization(true);
+        let pipeline = graphics_pipeline(
             device,
             bindings.layout(),
             &GraphicsDesc {
@@ -115,33 +116,13 @@ impl<'g> OceanPass<'g> {
                 vertex: shaders::OCEAN_VERT,
                 fragment: shaders::OCEAN_FRAG,
                 specialization: Some(&spec),
-                color_format: HDR_FORMAT,
+                color_format: HDR_BITS_FORMAT,
                 depth_format: DEPTH_FORMAT,
                 depth_write: true,
                 depth_compare: vk::CompareOp::GREATER, // reversed Z
             },
         )?;
-        // The sky behind the sea belongs to a full picture; a render of some terms only leaves
-        // it out (and clears instead), so that its pixels hold just those terms.
-        let sky = if config.background {
-            Some(graphics_pipeline(
-                device,
-                bindings.layout(),
-                &GraphicsDesc {
-                    name: "sky",
-                    vertex: shaders::FULLSCREEN_VERT,
-                    fragment: shaders::SKY_FRAG,
-                    specialization: None,
-                    color_format: HDR_FORMAT,
-                    depth_format: DEPTH_FORMAT,
-                    depth_write: false,
-                    depth_compare: vk::CompareOp::GREATER_OR_EQUAL, // only where depth is still the far clear
-                },
-            )?)
-        } else {
-            None
-        };
-        Ok(OceanPass { bindings, ocean, sky })
+        Ok(OceanPass { bindings, pipeline })
     }
 }
 
@@ -151,7 +132,6 @@ impl Pass for OceanPass<'_> {
     }
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
-        t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::FragmentSampled, false);
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
     }
@@ -160,11 +140,10 @@ impl Pass for OceanPass<'_> {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         let extent = r.hdr.extent;
         let color = [vk::RenderingAttachmentInfo::default()
-            .image_view(r.hdr.view)
+            .image_view(r.hdr.alias_view)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            // With the sky every pixel is written (sea or sky); without it the rest is cleared.
-            .load_op(if self.sky.is_some() { vk::AttachmentLoadOp::DONT_CARE } else { vk::AttachmentLoadOp::CLEAR })
-            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: [0.0; 4] } })
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { uint32: NO_SEA_CLEAR } })
             .store_op(vk::AttachmentStoreOp::STORE)];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(r.depth.view)
@@ -186,21 +165,17 @@ impl Pass for OceanPass<'_> {
             min_depth: 0.0,
             max_depth: 1.0,
         };
-        // SAFETY: attachments are in the layouts declared above; the pipelines were built for
+        // SAFETY: attachments are in the layouts declared above; the pipeline was built for
         // these formats; the slot's index buffer holds `count` valid indices.
         unsafe {
             device.cmd_begin_rendering(cmd, &info);
-            device.cmd_set_viewport(cmd, 0, &[viewport]);
-            device.cmd_set_scissor(cmd, 0, &[area]);
-            self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
             if let Some((indices, count)) = rec.frame.grid {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.ocean.raw);
+                device.cmd_set_viewport(cmd, 0, &[viewport]);
+                device.cmd_set_scissor(cmd, 0, &[area]);
+                self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
                 device.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, count, 1, 0, 0, 0);
-            }
-            if let Some(sky) = &self.sky {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);
-                device.cmd_draw(cmd, 3, 1, 0, 0);
             }
             device.cmd_end_rendering(cmd);
         }

@@ -1,0 +1,63 @@
+#version 450
+// Per-pixel shading of the sea and the sky, once per pixel: resolved normals from the trains
+// longer than the pixel footprint, the rest as BRDF slope variance (paper, sections 4-5), at the
+// rest position the visibility pass (ocean.frag) left in the pixel; the sky where it left none.
+// The result replaces those bits in place, as the RGBA16F radiance.
+#include "frame.glsl"
+#include "common.glsl"
+WAVES_BLOCK;
+layout(set = 0, binding = 2) uniform sampler2D sky_map;
+layout(set = 0, binding = 3, rgba16ui) uniform restrict uimage2D hdr_bits;
+layout(constant_id = 0) const bool TERM_SUN = true;
+layout(constant_id = 1) const bool TERM_SKY = true;
+layout(constant_id = 2) const bool TERM_SEA = true;
+// Whether pixels without sea show the sky (else black: renders of single terms).
+layout(constant_id = 5) const bool BACKGROUND = true;
+// False for the rows the CPU proved sea-free (frame.rs, sky_only_rows): there the sea's code is
+// left out, since a CPU driver runs both sides of a branch for a group whose lanes disagree
+// and all of the sea's side masked off even when none takes it.
+layout(constant_id = 6) const bool MAY_HOLD_SEA = true;
+#include "waves.glsl"
+#include "sky.glsl"
+#include "brdf.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+vec3 sea(vec2 frag, vec2 x) {
+    if (!TERM_SUN && !TERM_SKY && !TERM_SEA) return vec3(0.0);   // nothing to shade, no normal needed
+    vec3 ray = camera_ray(pixel_to_ndc(frag));
+    vec3 v = -normalize(ray);
+    SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
+    vec3 n = vec3(0.0, 0.0, 1.0);
+    // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror).
+    vec2 sigma2 = METHOD == METHOD_NO_FILTER ? vec2(0.0) : frame.wind.zw;
+    // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
+    // FAR_LIMIT (stored for pixels too far for any train) nothing is resolvable either.
+    if (pixel.any && v.z > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)))) {
+        SurfaceSample s = surface_sample(x, pixel, frame.filter_steps.zw, 2.0 * PI / v.z);
+        // A fully steep train (k h = 1) has a cusp at its crest, where the tangents are parallel:
+        // the two sides' normals average to the vertical there.
+        vec3 c = cross(s.tangent_x, s.tangent_y);
+        float len2 = dot(c, c);
+        n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+        sigma2 = s.sigma2;
+    }
+    // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
+    if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
+    return sea_radiance(n, v, sigma2);
+}
+
+vec3 sky(vec2 frag) {
+    if (!BACKGROUND) return vec3(0.0);
+    vec3 dir = normalize(camera_ray(pixel_to_ndc(frag)));
+    return sky_radiance(dir) + sun_disc(dir);
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, imageSize(hdr_bits)))) return;
+    vec2 frag = vec2(p) + 0.5;   // the pixel's centre, as gl_FragCoord
+    uvec4 bits = imageLoad(hdr_bits, p);
+    vec3 radiance = !MAY_HOLD_SEA || bits == NO_SEA_BITS ? sky(frag) : sea(frag, bits_to_rest_position(bits));
+    imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
+}
