@@ -33,7 +33,7 @@ void main() {
     case 4u: r.xyz = reflected_sun(identity, a.xyz, b.xyz, vec2(a.w, b.w)); break;  // v, l, sigma^2
     case 5u: r.xy = reflected_u(identity, a.xyz, b.xy); break;             // v, zeta
     case 6u: {                                                             // (ndc, k turns), (k h)
-        // A train's weight for the per-pixel normal, as ocean.frag computes it.
+        // A train's weight for the per-pixel normal, as shade.comp computes it.
         vec3 ray = camera_ray(a.xy);
         vec3 v = -normalize(ray);
         SampleScale s = sample_scale(ray, 1.0, frame.filter_steps.zw);

@@ -2,6 +2,8 @@
 // Per-pixel shading of the sea and the sky, once per pixel: resolved normals from the trains
 // longer than the pixel footprint, the rest as BRDF slope variance (paper, sections 4-5), at the
 // rest position the visibility pass (ocean.frag) left in the pixel; the sky where it left none.
+// The rows above the horizon that no crest reaches were shaded by the visibility pass already
+// (sky.frag) and are not dispatched.
 // The result replaces those bits in place, as the RGBA16F radiance.
 #include "frame.glsl"
 #include "common.glsl"
@@ -13,10 +15,6 @@ layout(constant_id = 1) const bool TERM_SKY = true;
 layout(constant_id = 2) const bool TERM_SEA = true;
 // Whether pixels without sea show the sky (else black: renders of single terms).
 layout(constant_id = 5) const bool BACKGROUND = true;
-// False for the rows the CPU proved sea-free (frame.rs, sky_only_rows): there the sea's code is
-// left out, since a CPU driver runs both sides of a branch for a group whose lanes disagree
-// and all of the sea's side masked off even when none takes it.
-layout(constant_id = 6) const bool MAY_HOLD_SEA = true;
 #include "waves.glsl"
 #include "sky.glsl"
 #include "brdf.glsl"
@@ -58,6 +56,6 @@ void main() {
     if (any(greaterThanEqual(p, imageSize(hdr_bits)))) return;
     vec2 frag = vec2(p) + 0.5;   // the pixel's centre, as gl_FragCoord
     uvec4 bits = imageLoad(hdr_bits, p);
-    vec3 radiance = !MAY_HOLD_SEA || bits == NO_SEA_BITS ? sky(frag) : sea(frag, bits_to_rest_position(bits));
+    vec3 radiance = bits == NO_SEA_BITS ? sky(frag) : sea(frag, bits_to_rest_position(bits));
     imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
 }

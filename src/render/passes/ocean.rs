@@ -68,9 +68,8 @@ impl Default for ShaderConfig {
 
 impl ShaderConfig {
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
-    /// shade.comp): the terms (0-2), the method (3), geometry (4), the background (5) and
-    /// whether the pixels may hold sea (6; false for the rows only sky covers).
-    pub fn specialization(&self, may_hold_sea: bool) -> Specialization {
+    /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5).
+    pub fn specialization(&self) -> Specialization {
         Specialization::words(&[
             self.terms.sun as u32,
             self.terms.sky as u32,
@@ -78,7 +77,6 @@ impl ShaderConfig {
             self.method as u32,
             self.geometry as u32,
             self.background as u32,
-            may_hold_sea as u32,
         ])
     }
 
@@ -95,19 +93,28 @@ const NO_SEA_CLEAR: [u32; 4] = [0x0000, 0x7f80, 0x0000, 0x7f80];
 pub struct OceanPass<'g> {
     bindings: Bindings<'g>,
     pipeline: Owned<'g, vk::Pipeline>,
+    /// The sky in the top rows only sky covers (`sky_shaded_rows`), where the shading pass
+    /// does not run; absent when the picture has no background (renders of some terms).
+    sky: Option<Owned<'g, vk::Pipeline>>,
+}
+
+/// The top rows that the visibility pass shades with the sky itself: the rows only sky covers
+/// (frame::sky_only_rows), down to whole 8-row groups of the shading pass.
+pub fn sky_shaded_rows(sky_rows: u32) -> u32 {
+    sky_rows / 8 * 8
 }
 
 impl<'g> OceanPass<'g> {
     pub fn new(device: &'g Device, r: &Resources, config: ShaderConfig) -> Result<Self> {
         use vk::DescriptorType as D;
-        let vertex = vk::ShaderStageFlags::VERTEX;
+        let both = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = Bindings::new(
             device,
             "ocean",
-            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, vertex), (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, vertex)],
+            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both), (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both)],
         )?;
         write_frame_uniforms(&bindings, r, true);
-        let spec = config.specialization(true);
+        let spec = config.specialization();
         let pipeline = graphics_pipeline(
             device,
             bindings.layout(),
@@ -122,7 +129,25 @@ impl<'g> OceanPass<'g> {
                 depth_compare: vk::CompareOp::GREATER, // reversed Z
             },
         )?;
-        Ok(OceanPass { bindings, pipeline })
+        let sky = if config.background {
+            Some(graphics_pipeline(
+                device,
+                bindings.layout(),
+                &GraphicsDesc {
+                    name: "sky",
+                    vertex: shaders::FULLSCREEN_VERT,
+                    fragment: shaders::SKY_FRAG,
+                    specialization: None,
+                    color_format: HDR_BITS_FORMAT,
+                    depth_format: DEPTH_FORMAT,
+                    depth_write: false,
+                    depth_compare: vk::CompareOp::ALWAYS, // the rows hold no sea
+                },
+            )?)
+        } else {
+            None
+        };
+        Ok(OceanPass { bindings, pipeline, sky })
     }
 }
 
@@ -165,17 +190,24 @@ impl Pass for OceanPass<'_> {
             min_depth: 0.0,
             max_depth: 1.0,
         };
-        // SAFETY: attachments are in the layouts declared above; the pipeline was built for
+        let sky_rows = sky_shaded_rows(rec.frame.sky_rows).min(extent.height);
+        // SAFETY: attachments are in the layouts declared above; the pipelines were built for
         // these formats; the slot's index buffer holds `count` valid indices.
         unsafe {
             device.cmd_begin_rendering(cmd, &info);
+            device.cmd_set_viewport(cmd, 0, &[viewport]);
+            self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
             if let Some((indices, count)) = rec.frame.grid {
-                device.cmd_set_viewport(cmd, 0, &[viewport]);
                 device.cmd_set_scissor(cmd, 0, &[area]);
-                self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
                 device.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, count, 1, 0, 0, 0);
+            }
+            if let (Some(sky), true) = (&self.sky, sky_rows > 0) {
+                let rows = vk::Rect2D { extent: vk::Extent2D { height: sky_rows, ..extent }, ..area };
+                device.cmd_set_scissor(cmd, 0, &[rows]);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);
+                device.cmd_draw(cmd, 3, 1, 0, 0);
             }
             device.cmd_end_rendering(cmd);
         }

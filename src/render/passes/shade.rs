@@ -2,7 +2,7 @@
 //! visibility pass (ocean.rs) left in the pixel, the sky where it left none; the radiance
 //! replaces those bits in the HDR image.
 
-use super::ocean::ShaderConfig;
+use super::ocean::{sky_shaded_rows, ShaderConfig};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
@@ -15,10 +15,9 @@ use ash::vk;
 
 pub struct ShadePass<'g> {
     bindings: Bindings<'g>,
-    /// The sea's shader (and the sky where no sea was drawn).
-    sea: Owned<'g, vk::Pipeline>,
-    /// The sky's alone, for the top rows that only sky covers.
-    sky: Owned<'g, vk::Pipeline>,
+    pipeline: Owned<'g, vk::Pipeline>,
+    /// Whether the visibility pass shades the rows only sky covers (a picture with a background).
+    sky_done_above: bool,
 }
 
 impl<'g> ShadePass<'g> {
@@ -44,11 +43,10 @@ impl<'g> ShadePass<'g> {
             r.sky_sampler.raw,
         );
         bindings.write_image(3, D::STORAGE_IMAGE, r.hdr.alias_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        let pipeline = |may_hold_sea: bool, name: &str| {
-            let spec = config.specialization(may_hold_sea);
-            specialized_compute_pipeline(device, bindings.layout(), shaders::SHADE_COMP, Some(&spec), name)
-        };
-        Ok(ShadePass { sea: pipeline(true, "shade sea")?, sky: pipeline(false, "shade sky")?, bindings })
+        let spec = config.specialization();
+        let pipeline =
+            specialized_compute_pipeline(device, bindings.layout(), shaders::SHADE_COMP, Some(&spec), "shade")?;
+        Ok(ShadePass { bindings, pipeline, sky_done_above: config.background })
     }
 }
 
@@ -65,20 +63,21 @@ impl Pass for ShadePass<'_> {
     fn record(&self, rec: &mut Recorder, r: &Resources) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         let extent = r.hdr.extent;
-        // Whole 8-row groups of sky-only rows go to the sky's shader, the rest to the sea's.
+        // The rows only sky covers were shaded by the visibility pass: a CPU driver runs both
+        // sides of a branch for lanes that disagree, and the masked-off side even when no lane
+        // takes it, so sky pixels in this shader would pay for all of the sea's code.
         let groups = (extent.width.div_ceil(8), extent.height.div_ceil(8));
-        let sky_groups = (rec.frame.sky_rows / 8).min(groups.1);
+        let skipped = if self.sky_done_above { sky_shaded_rows(rec.frame.sky_rows) / 8 } else { 0 };
+        let first = skipped.min(groups.1);
+        if first == groups.1 {
+            return;
+        }
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-        for (pipeline, first, count) in [(&self.sky, 0, sky_groups), (&self.sea, sky_groups, groups.1 - sky_groups)] {
-            if count == 0 {
-                continue;
-            }
-            // SAFETY: outside a rendering scope; the set (bound above) was made for this layout
-            // and the pass's images were declared; the pipelines allow a base group.
-            unsafe {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
-                device.cmd_dispatch_base(cmd, 0, first, 0, groups.0, count, 1);
-            }
+        // SAFETY: outside a rendering scope; the set (bound above) was made for this layout, the
+        // pass's images were declared, and the pipeline allows a base group.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw);
+            device.cmd_dispatch_base(cmd, 0, first, 0, groups.0, groups.1 - first, 1);
         }
     }
 }

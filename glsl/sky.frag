@@ -1,0 +1,14 @@
+#version 450
+// The sky seen directly, from the same analytic model as the map, in the rows only sky covers
+// (drawn by the visibility pass, so that the shading pass can skip those rows): the radiance
+// goes into the HDR image's bits as the RGBA16F texel.
+#include "frame.glsl"
+#include "common.glsl"
+#include "sky.glsl"
+
+layout(location = 0) out uvec4 out_radiance_bits;
+
+void main() {
+    vec3 dir = normalize(camera_ray(pixel_to_ndc(gl_FragCoord.xy)));
+    out_radiance_bits = radiance_to_bits(store_radiance(sky_radiance(dir) + sun_disc(dir)));
+}
