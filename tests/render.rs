@@ -141,3 +141,17 @@ fn only_rows_no_crest_can_reach_are_left_to_the_sky() {
     down.camera.pitch_deg = -60.0;
     assert_eq!(rows(&down), 0);
 }
+
+/// The arithmetic floor's parts: a level camera sees sea in the lower half, where each pixel
+/// resolves a few dozen of the 60 trains; the device delivers a positive, finite FMA rate.
+#[test]
+fn the_shading_floor_counts_the_sea_and_the_device_rate() {
+    use ocean::measure::floor::{delivered_gflops, shade_work};
+    let scene = Scene::default();
+    let work = shade_work(&scene, &ocean::model::waves::generate(&scene), 256, 192);
+    let half = 256.0 * 192.0 / 2.0;
+    assert!((work.sea_pixels - half).abs() < 0.02 * half, "sea pixels {}", work.sea_pixels);
+    assert!((10.0..60.0).contains(&work.trains_per_sea_pixel), "{} trains per pixel", work.trains_per_sea_pixel);
+    let gflops = delivered_gflops(&gpu(), 1).expect("timestamps");
+    assert!(gflops.is_finite() && gflops > 0.1, "{gflops} GFLOP/s");
+}

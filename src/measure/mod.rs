@@ -3,6 +3,7 @@
 //! harness (`numerics`), and the benchmarks (`bench`).
 
 pub mod bench;
+pub mod floor;
 pub mod groundtruth;
 pub mod numerics;
 pub mod reference;

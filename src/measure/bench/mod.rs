@@ -9,6 +9,7 @@ pub mod view;
 
 use crate::app::{median, minimum, pass_statistic};
 use crate::error::{Error, Result};
+use crate::measure::floor::{delivered_gflops, shade_work, ShadeWork};
 use crate::model::scene::Scene;
 use crate::output::progress::Progress;
 use crate::output::write_text;
@@ -34,11 +35,16 @@ pub struct SpeedRow {
     pub height: u32,
     pub median_ms: BTreeMap<String, f64>,
     pub fastest_ms: BTreeMap<String, f64>,
+    /// The shading pass's unavoidable work and its time at the device's delivered rate.
+    pub shade_work: Option<ShadeWork>,
+    pub shade_floor_ms: Option<f64>,
 }
 
 #[derive(Debug, Serialize)]
 pub struct SpeedReport {
     pub device: String,
+    /// What the device delivers for independent FMAs (measure::floor).
+    pub delivered_gflops: f64,
     pub frames: u32,
     pub rows: Vec<SpeedRow>,
     pub memory_1080p_used_mib: f64,
@@ -78,6 +84,8 @@ pub fn time_scene(
         height,
         median_ms: totals(pass_statistic(&timings, median)),
         fastest_ms: totals(pass_statistic(&timings, minimum)),
+        shade_work: None,
+        shade_floor_ms: None,
     })
 }
 
@@ -100,12 +108,17 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
         .map(|(name, scene)| (name, scene, (1024, 768)))
         .chain(std::iter::once((&scenes[0].0, &scenes[0].1, SMALL)))
         .collect();
+    let gflops = delivered_gflops(gpu, 3)?;
+    crate::say!("the device delivers {gflops:.1} GFLOP/s of independent FMAs (glsl/flops.comp)");
     let mut progress = Progress::new("bench speed", runs.len() as u64 + 1, "scenes", true);
     for (i, &(name, scene, (width, height))) in runs.iter().enumerate() {
         progress.set(i as u64, Some(&format!("timing {name} at {width}x{height}, {} frames", frames + 1)));
         let wave_set = crate::model::waves::generate(scene);
         let (options, _) = crate::render::specialize::plan(scene, &wave_set, width, height, Options::default());
-        let row = time_scene(gpu, name, scene, width, height, frames, options)?;
+        let mut row = time_scene(gpu, name, scene, width, height, frames, options)?;
+        let work = shade_work(scene, &wave_set, width, height);
+        row.shade_floor_ms = Some(work.gflop / gflops * 1e3);
+        row.shade_work = Some(work);
         progress.println(&format!(
             "{:<14} {}x{}  median {:7.1} ms  fastest {:7.1} ms",
             row.scene, row.width, row.height, row.median_ms["total"], row.fastest_ms["total"]
@@ -124,6 +137,7 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
     crate::say!("memory at 1920x1080: {used:.1} MiB used, {reserved:.1} MiB reserved (target < {TARGET_MIB} MiB)");
     let report = SpeedReport {
         device: gpu.device.name.clone(),
+        delivered_gflops: gflops,
         frames,
         rows,
         memory_1080p_used_mib: used,
@@ -144,8 +158,8 @@ fn markdown(r: &SpeedReport) -> String {
     for p in &passes {
         s += &format!(" {p} |");
     }
-    s += " total | total / target |\n|---|---|";
-    s += &"---|".repeat(passes.len() + 2);
+    s += " total | total / target | shade floor | shade / floor |\n|---|---|";
+    s += &"---|".repeat(passes.len() + 4);
     s += "\n";
     for row in &r.rows {
         let target = if (row.width, row.height) == SMALL { TARGET_SMALL_MS } else { TARGET_MS };
@@ -154,16 +168,25 @@ fn markdown(r: &SpeedReport) -> String {
             s += &format!(" {:.1} ({:.1}) |", row.median_ms[*p], row.fastest_ms[*p]);
         }
         s += &format!(
-            " {:.1} ({:.1}) | {:.2} ({:.2}) |\n",
+            " {:.1} ({:.1}) | {:.2} ({:.2}) |",
             row.median_ms["total"],
             row.fastest_ms["total"],
             row.median_ms["total"] / target,
             row.fastest_ms["total"] / target
         );
+        match (row.shade_floor_ms, row.fastest_ms.get("shade")) {
+            (Some(floor), Some(&shade)) if floor > 0.0 => s += &format!(" {floor:.1} | {:.1} |\n", shade / floor),
+            _ => s += " — | — |\n",
+        }
     }
     s += &format!(
-        "\nTargets: the default scene within {TARGET_MS} ms at 1024x768 and {TARGET_SMALL_MS} ms at {}x{} (the last column divides each row by its size's target). Device memory at 1920x1080: {:.1} MiB used, {:.1} MiB reserved in blocks (target < {TARGET_MIB} MiB).\n",
-        SMALL.0, SMALL.1, r.memory_1080p_used_mib, r.memory_1080p_reserved_mib
+        "\nTargets: the default scene within {TARGET_MS} ms at 1024x768 and {TARGET_SMALL_MS} ms at {}x{} (total / target divides each row by its size's target). Shade floor: the shading pass's unavoidable floating-point work (the trains each sea pixel resolves, on average {}, and the BRDF; measure::floor) at the {:.1} GFLOP/s the device delivers for independent FMAs; shade / floor divides the pass's fastest time by it. Device memory at 1920x1080: {:.1} MiB used, {:.1} MiB reserved in blocks (target < {TARGET_MIB} MiB).\n",
+        SMALL.0,
+        SMALL.1,
+        r.rows.first().and_then(|row| row.shade_work).map_or("—".to_owned(), |w| format!("{:.1} in the first row", w.trains_per_sea_pixel)),
+        r.delivered_gflops,
+        r.memory_1080p_used_mib,
+        r.memory_1080p_reserved_mib
     );
     s
 }
