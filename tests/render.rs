@@ -128,10 +128,10 @@ fn only_rows_no_crest_can_reach_are_left_to_the_sky() {
     // Level camera 6 m up: the horizon is the lower edge of row 95; rows 0..95 rise, and the
     // last of them is left to the sea's shader.
     assert_eq!(rows(&Scene::default()), 94);
-    // Looking up: the whole image rises.
+    // Looking up: the whole image rises, and no grid row is drawn: all rows are sky.
     let mut up = Scene::default();
     up.camera.pitch_deg = 45.0;
-    assert_eq!(rows(&up), 191);
+    assert_eq!(rows(&up), 192);
     // An eye below the highest crest sees sea above the horizon: every row may hold sea.
     let mut low = Scene::default();
     low.camera.height_m = 0.05;

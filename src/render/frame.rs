@@ -282,6 +282,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             [b[0] as f32, b[1] as f32, 0.0, 0.0]
         },
     };
-    let sky_rows = sky_only_rows(&camera, waves, width, height);
+    // No grid row: no sea anywhere in view.
+    let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, width, height) };
     FrameData { uniforms, waves: gpu_waves, grid, sky_rows, camera, sky }
 }

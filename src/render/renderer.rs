@@ -8,6 +8,7 @@ use crate::model::scene::{Scene, Sky, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::FrameSlot;
+use crate::render::passes::black::BlackPass;
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::ocean::{OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
@@ -151,8 +152,12 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(SkyMapPass::new(device, &resources)?));
             passes.push(Box::new(SkyMipsPass));
         }
-        passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
-        passes.push(Box::new(ShadePass::new(device, &resources, options.shader)?));
+        if options.shader.draws_nothing() {
+            passes.push(Box::new(BlackPass));
+        } else {
+            passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
+            passes.push(Box::new(ShadePass::new(device, &resources, options.shader)?));
+        }
         if let Some(resolved) = &resources.resolved {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }

@@ -123,7 +123,8 @@ impl<'g> Resources<'g> {
         let sky_usage = I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, sky_size.ilog2() + 1, sky_usage)?;
         // Sampled: the window's display pass reads the radiance with texelFetch.
-        let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC;
+        // Transfer destination: a frame with nothing to shade clears it (passes/black.rs).
+        let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let hdr = Image::aliased(gpu, "hdr radiance", HDR_FORMAT, HDR_BITS_FORMAT, render_extent, hdr_usage)?;
         let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
         let resolved = if ssaa > 1 {

@@ -71,13 +71,20 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
         options.shader.background = false;
         omit("sky behind the sea", "night: the sky and the sun are dark (cleared to black instead)".into());
     }
-    if !terms.sky && options.sky_map {
+    if options.shader.draws_nothing() {
+        omit(
+            "the grid, its displacement and the per-pixel shading",
+            "no term to shade and no sky behind the sea: the image is black (cleared)".into(),
+        );
+    }
+    if !options.shader.terms.sky && options.sky_map {
         options.sky_map = false;
         omit("sky map and its mip chain (512x512, 10 levels)", "nothing samples it: no sky term".into());
     }
     let k = options.ssaa;
     let camera = CameraFrame::new(scene, waves, width * k, height * k);
     if options.shader.geometry
+        && !options.shader.draws_nothing()
         && !grid_resolves_some_train(&camera, waves, scene.render.grid_cell_px * k as f64, width * k, height * k)
     {
         options.shader.geometry = false;
@@ -105,12 +112,16 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     if options.sky_map {
         names.push("sky map".to_owned());
     }
-    names.push(format!(
-        "ocean ({}; terms: {}; {})",
-        options.shader.method.name(),
-        if terms.is_empty() { "none".to_owned() } else { terms.join(", ") },
-        if options.shader.geometry { "displaced" } else { "flat grid" }
-    ));
+    if options.shader.draws_nothing() {
+        names.push("black (cleared)".to_owned());
+    } else {
+        names.push(format!(
+            "ocean ({}; terms: {}; {})",
+            options.shader.method.name(),
+            if terms.is_empty() { "none".to_owned() } else { terms.join(", ") },
+            if options.shader.geometry { "displaced" } else { "flat grid" }
+        ));
+    }
     if options.shader.background {
         names.push("sky".to_owned());
     }

@@ -40,6 +40,8 @@ pub enum Access {
     ComputeSampled,
     TransferRead,
     TransferWrite,
+    /// vkCmdClearColorImage (the clear stage, not copy or blit).
+    ClearWrite,
     FragmentSampled,
     ColorAttachmentWrite,
     DepthAttachmentReadWrite,
@@ -59,6 +61,7 @@ impl Access {
             | Access::ComputeStorageReadWrite
             | Access::ComputeSampled => S::COMPUTE_SHADER,
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
+            Access::ClearWrite => S::CLEAR,
             Access::FragmentSampled => S::FRAGMENT_SHADER,
             Access::ColorAttachmentWrite => S::COLOR_ATTACHMENT_OUTPUT,
             Access::DepthAttachmentReadWrite => S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
@@ -76,7 +79,7 @@ impl Access {
             Access::ComputeStorageReadWrite => A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
             Access::ComputeSampled => A::SHADER_SAMPLED_READ,
             Access::TransferRead => A::TRANSFER_READ,
-            Access::TransferWrite => A::TRANSFER_WRITE,
+            Access::TransferWrite | Access::ClearWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
             Access::ColorAttachmentWrite => A::COLOR_ATTACHMENT_WRITE,
             Access::DepthAttachmentReadWrite => A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
@@ -92,7 +95,7 @@ impl Access {
             Access::ComputeStorageWrite | Access::ComputeStorageRead | Access::ComputeStorageReadWrite => L::GENERAL,
             Access::ComputeSampled => L::SHADER_READ_ONLY_OPTIMAL,
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
-            Access::TransferWrite => L::TRANSFER_DST_OPTIMAL,
+            Access::TransferWrite | Access::ClearWrite => L::TRANSFER_DST_OPTIMAL,
             Access::FragmentSampled => L::SHADER_READ_ONLY_OPTIMAL,
             Access::ColorAttachmentWrite => L::COLOR_ATTACHMENT_OPTIMAL,
             // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
@@ -108,6 +111,7 @@ impl Access {
             Access::ComputeStorageWrite
                 | Access::ComputeStorageReadWrite
                 | Access::TransferWrite
+                | Access::ClearWrite
                 | Access::ColorAttachmentWrite
                 | Access::DepthAttachmentReadWrite
         )

@@ -150,7 +150,9 @@ pub fn speed(gpu: &Gpu, scenes_dir: &Path, frames: u32, out_dir: &Path) -> Resul
 }
 
 fn markdown(r: &SpeedReport) -> String {
-    let passes: Vec<&String> = r.rows[0].median_ms.keys().filter(|k| *k != "total").collect();
+    // Every pass any row ran (scenes leave out what they do not need).
+    let passes: std::collections::BTreeSet<&String> =
+        r.rows.iter().flat_map(|row| row.median_ms.keys()).filter(|k| *k != "total").collect();
     let mut s = format!(
         "GPU time per frame on {}, median (fastest) of {} frames after a warm-up frame, ms.\n\n| scene | size |",
         r.device, r.frames
@@ -165,7 +167,10 @@ fn markdown(r: &SpeedReport) -> String {
         let target = if (row.width, row.height) == SMALL { TARGET_SMALL_MS } else { TARGET_MS };
         s += &format!("| {} | {}x{} |", row.scene, row.width, row.height);
         for p in &passes {
-            s += &format!(" {:.1} ({:.1}) |", row.median_ms[*p], row.fastest_ms[*p]);
+            match (row.median_ms.get(*p), row.fastest_ms.get(*p)) {
+                (Some(median), Some(fastest)) => s += &format!(" {median:.1} ({fastest:.1}) |"),
+                _ => s += " — |",
+            }
         }
         s += &format!(
             " {:.1} ({:.1}) | {:.2} ({:.2}) |",

@@ -67,6 +67,11 @@ impl Default for ShaderConfig {
 }
 
 impl ShaderConfig {
+    /// Whether a frame draws nothing but black: no term to shade and no sky behind the sea.
+    pub fn draws_nothing(&self) -> bool {
+        !(self.terms.sun || self.terms.sky || self.terms.sea || self.background)
+    }
+
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
     /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5).
     pub fn specialization(&self) -> Specialization {
