@@ -29,14 +29,15 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 baseline_sigma2;  // xy: the constant-BRDF baseline's slope variance (wind frame)
 } frame;
 
-// The wave trains, sorted by increasing wavelength. Three words per train keep the per-pixel
-// loop to three reads (drivers that cannot prove a loop index uniform, lavapipe among them,
-// gather every component per lane, and those gathers are most of the loop's cost):
-//   xy: wave vector in turns per metre (direction / wavelength), f32 bits: phase precision
-//       needs the full mantissa (a phase error is k error times distance)
-//   z:  phase at time t in turns, reduced to [0, 1) in f64 on the CPU, as 16-bit fixed point
+// The wave trains, sorted by increasing wavelength. Two words per train keep the per-pixel loop
+// to two reads (drivers that cannot prove a loop index uniform, lavapipe among them, gather
+// every word per lane, and those gathers are a third of the loop's cost):
+//   x:  wave vector in turns per metre (direction / wavelength) as two binary16 halves, exact:
+//       the model snaps every train's wave vector to such values (waves::binary16_wave_vector),
+//       so the phase k.x is as precise as f32 allows
+//   y:  phase at time t in turns, reduced to [0, 1) in f64 on the CPU, as 16-bit fixed point
 //       (1.5e-5 turns), in the low half; k h in [0, 1] as unorm16 in the high half
-//   w:  unused (std140 strides arrays by 16 bytes anyway)
+//   zw: unused (std140 strides arrays by 16 bytes anyway)
 // prefix[i].xy: slope variance (wind frame) of train i and all shorter ones.
 const uint MAX_WAVES = 256u;
 #define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
@@ -47,8 +48,8 @@ struct Wave {
     float kh;        // steepness k h <= 1
 };
 
-Wave unpack_wave(uvec3 d) {
-    return Wave(uintBitsToFloat(d.xy), float(d.z & 0xffffu) * (1.0 / 65536.0), float(d.z >> 16) * (1.0 / 65535.0));
+Wave unpack_wave(uvec2 d) {
+    return Wave(unpackHalf2x16(d.x), float(d.y & 0xffffu) * (1.0 / 65536.0), float(d.y >> 16) * (1.0 / 65535.0));
 }
 
 #endif

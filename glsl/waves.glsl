@@ -76,7 +76,7 @@ vec3 displacement(vec2 x, SampleScale s, vec2 steps) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
     vec3 d = vec3(0.0);
     for (int i = int(frame.grid_dims.z) - 1; i >= 0; --i) {
-        Wave wave = unpack_wave(wave_data[i].xyz);
+        Wave wave = unpack_wave(wave_data[i].xy);
         float k2 = dot(wave.k, wave.k);
         if (k2 * s.lambda_cut2 >= 1.0) break;
         // h = k h / k with k = 2 pi |k_turns|; the direction is k_turns / |k_turns|.
@@ -116,7 +116,7 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     vec2 wind = frame.wind.xy;
     int i = int(frame.grid_dims.z) - 1;
     for (; i >= 0; --i) {
-        Wave wave = unpack_wave(wave_data[i].xyz);
+        Wave wave = unpack_wave(wave_data[i].xy);
         float k2 = dot(wave.k, wave.k);
         if (k2 * s.lambda_cut2 >= 1.0) break;
         float wn = resolution_weight(s, wave.k, steps, inv_ramp, max(1.0, wave.kh * grazing));

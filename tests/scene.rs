@@ -121,10 +121,11 @@ fn the_longest_wave_can_come_from_the_wind() {
     let expected = std::f64::consts::TAU * 9.81 / (omega_p * omega_p);
     assert!((scene.lambda_max_m() - expected).abs() < 1e-9 * expected, "{}", scene.lambda_max_m());
     assert!((scene.lambda_max_m() - 333.0).abs() < 1.0, "about 333 m at 20 m/s: {}", scene.lambda_max_m());
-    // The longest train is the peak's wavelength.
+    // The longest train is the peak's wavelength, to the binary16 precision its wave vector is
+    // snapped to (2^-11 relative; waves::binary16_wave_vector).
     let waves = ocean::model::waves::generate(&scene);
     let longest = waves.trains.last().unwrap().wavelength;
-    assert!((longest - expected).abs() < 1e-6 * expected, "{longest}");
+    assert!((longest - expected).abs() < 2f64.powi(-11) * expected, "{longest}");
     let e = parse_error("[wind]\nspeed_mps = 0.0\n[waves]\nlambda_max_m = \"peak\"\n");
     assert!(e.contains("waves.lambda_max_m") && e.contains("wind"), "{e}");
     let e = parse_error("[waves]\nlambda_max_m = \"long\"\n");

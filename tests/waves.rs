@@ -142,3 +142,24 @@ fn moving_the_eye_moves_the_waves_past_it() {
         assert_eq!((a.k, a.amplitude, a.direction), (b.k, b.amplitude, b.direction), "only phases move");
     }
 }
+
+#[test]
+fn wave_vectors_are_binary16_values() {
+    // The shaders read each wave vector as two binary16 halves: the model's trains must be
+    // exactly those values, within 2^-11 of the geometric progression they were drawn on.
+    let scene = Scene::default();
+    let set = generate(&scene);
+    let (lo, hi) = (scene.waves.lambda_min_m, scene.lambda_max_m());
+    for (i, t) in set.trains.iter().enumerate() {
+        for c in t.direction.map(|d| d / t.wavelength) {
+            let half = half::f16::from_f64(c).to_f64();
+            assert!((half - c).abs() <= 1e-12 * c.abs(), "train {i}: component {c} is not a half");
+        }
+        let nominal = lo * (hi / lo).powf(i as f64 / (set.trains.len() - 1) as f64);
+        assert!(
+            (t.wavelength / nominal - 1.0).abs() < 2f64.powi(-11),
+            "train {i}: {} m, drawn at {nominal} m",
+            t.wavelength
+        );
+    }
+}

@@ -111,6 +111,18 @@ impl SplitMix64 {
     }
 }
 
+/// The wave vector of wavelength `lambda` (m) along `angle` (rad), moved to the nearest one whose
+/// components in turns per metre are binary16 values: the shaders read a train's wave vector as
+/// two halves of one word (one gather less per train and pixel on CPU drivers), and every f64
+/// evaluation then sees exactly the waves the GPU draws. The move is below 2^-11 relative (the
+/// half's precision); |k| >= 1e-4 turns/m (wavelengths up to 10 km) keeps the longer component a
+/// normal half. Returns the wavelength and direction of the snapped vector.
+pub fn binary16_wave_vector(lambda: f64, angle: f64) -> (f64, f64) {
+    let snap = |v: f64| half::f16::from_f64(v).to_f64();
+    let (kx, ky) = (snap(angle.cos() / lambda), snap(angle.sin() / lambda));
+    (1.0 / kx.hypot(ky), ky.atan2(kx))
+}
+
 fn omega_of_wavelength(lambda: f64) -> f64 {
     (G * TAU / lambda).sqrt()
 }
@@ -129,20 +141,20 @@ pub fn generate(scene: &Scene) -> WaveSet {
 
     let mut trains = Vec::with_capacity(n);
     for i in 0..n {
-        let lambda = wavelength(position(i as f64));
-        let k = TAU / lambda;
-        let omega = omega_of_wavelength(lambda);
+        let nominal = wavelength(position(i as f64));
         // The band this train stands for: half a step either side on the geometric progression.
         let (lambda_hi, lambda_lo) = (wavelength(position(i as f64 - 0.5)), wavelength(position(i as f64 + 0.5)));
         let (omega_lo, omega_hi) =
             (omega_of_wavelength(lambda_lo.max(lambda_hi)), omega_of_wavelength(lambda_lo.min(lambda_hi)));
         let energy = band_energy(omega_lo, omega_hi, wind_speed);
+        let spread = (rng.next_f64() * 2.0 - 1.0) * PI / 2.0;
+        let narrowing = 1.0 + SPREAD_NARROWING * (omega0 / omega_of_wavelength(nominal)).powi(4);
+        let (lambda, angle) = binary16_wave_vector(nominal, wind_angle + spread / narrowing);
+        let angle_from_wind = (angle - wind_angle + PI).rem_euclid(TAU) - PI;
+        let k = TAU / lambda;
+        let omega = omega_of_wavelength(lambda);
         // A sinusoid of amplitude h carries variance h^2 / 2; clamp k h <= 1 so no trochoid loops.
         let amplitude = (2.0 * energy).sqrt().min(1.0 / k);
-        let spread = (rng.next_f64() * 2.0 - 1.0) * PI / 2.0;
-        let narrowing = 1.0 + SPREAD_NARROWING * (omega0 / omega).powi(4);
-        let angle_from_wind = spread / narrowing;
-        let angle = wind_angle + angle_from_wind;
         // The world frame's origin is the eye: a train's phase there is its phase at (x_m, y_m).
         let eye = [scene.camera.x_m, scene.camera.y_m];
         let phase0 = (rng.next_f64() * TAU - k * (angle.cos() * eye[0] + angle.sin() * eye[1])).rem_euclid(TAU);

@@ -242,10 +242,13 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         let unorm16 = |v: f64| (v.clamp(0.0, 1.0) * 65535.0).round() as u32;
         // Turns in [0, 1) as 16-bit fixed point; 65536 wraps to 0, the same phase.
         let phase = ((t.phase_at(scene.render.time_s) / std::f64::consts::TAU) * 65536.0).round() as u32 & 0xffff;
+        // The wave vector's components are binary16 values (waves::binary16_wave_vector), so
+        // these halves are exact.
+        let half = |v: f64| half::f16::from_f64(v).to_bits() as u32;
         gpu_waves.data[i] = [
-            ((t.direction[0] / t.wavelength) as f32).to_bits(),
-            ((t.direction[1] / t.wavelength) as f32).to_bits(),
+            half(t.direction[0] / t.wavelength) | half(t.direction[1] / t.wavelength) << 16,
             phase | unorm16(t.k * t.amplitude) << 16,
+            0,
             0,
         ];
         gpu_waves.prefix[i] = [prefix[0] as f32, prefix[1] as f32, 0.0, 0.0];
