@@ -115,6 +115,25 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     r.sigma2 = vec2(0.0);
     vec2 wind = frame.wind.xy;
     int i = int(frame.grid_dims.z) - 1;
+    // The longest trains are resolved fully here in every direction: weight 1, nothing left to
+    // the BRDF. A train's phase step along either screen axis is at most |k| max(|a_u|, |a_v|)
+    // times its grazing factor, so while that stays within steps.x the weight and the residual
+    // need not be formed. The first loop stops at the first train that might fall short (a
+    // shorter one that would still qualify is weighed by the second loop, to the same result).
+    // Both are products, never a division: a_u = a_v = 0 (no filtering) keeps every train here.
+    float reach2 = max(dot(s.a_u, s.a_u), dot(s.a_v, s.a_v));
+    float resolved2 = steps.x * steps.x;
+    for (; i >= 0; --i) {
+        Wave wave = unpack_wave(wave_data[i].xy);
+        float k2 = dot(wave.k, wave.k);
+        float nonlinearity = max(1.0, wave.kh * grazing);
+        if (k2 * nonlinearity * nonlinearity * reach2 > resolved2) break;
+        vec2 dir = wave.k * inversesqrt(k2);
+        vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
+        float c = wave.kh * sc.y, sn = wave.kh * sc.x;
+        r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
+        r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+    }
     for (; i >= 0; --i) {
         Wave wave = unpack_wave(wave_data[i].xy);
         float k2 = dot(wave.k, wave.k);
