@@ -19,7 +19,7 @@ layout(constant_id = 5) const bool BACKGROUND = true;
 #include "sky.glsl"
 #include "brdf.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 8, local_size_y = 8) in;   // SHADE_GROUP in src/render/passes/shade.rs
 
 vec3 sea(vec2 frag, vec2 x) {
     if (!TERM_SUN && !TERM_SKY && !TERM_SEA) return vec3(0.0);   // nothing to shade, no normal needed

@@ -3,6 +3,7 @@
 //! image's bits, see glsl/ocean.frag), for the shading pass (shade.rs). Also the ocean shaders'
 //! configuration, shared by both passes.
 
+use super::shade::SHADE_GROUP;
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
@@ -104,9 +105,9 @@ pub struct OceanPass<'g> {
 }
 
 /// The top rows that the visibility pass shades with the sky itself: the rows only sky covers
-/// (frame::sky_only_rows), down to whole 8-row groups of the shading pass.
+/// (frame::sky_only_rows), down to whole workgroup rows of the shading pass.
 pub fn sky_shaded_rows(sky_rows: u32) -> u32 {
-    sky_rows / 8 * 8
+    sky_rows / SHADE_GROUP * SHADE_GROUP
 }
 
 impl<'g> OceanPass<'g> {

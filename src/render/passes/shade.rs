@@ -13,6 +13,10 @@ use crate::vk::owned::Owned;
 use crate::vk::pipeline::{specialized_compute_pipeline, Bindings};
 use ash::vk;
 
+/// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
+/// local size).
+pub const SHADE_GROUP: u32 = 8;
+
 pub struct ShadePass<'g> {
     bindings: Bindings<'g>,
     pipeline: Owned<'g, vk::Pipeline>,
@@ -66,8 +70,8 @@ impl Pass for ShadePass<'_> {
         // The rows only sky covers were shaded by the visibility pass: a CPU driver runs both
         // sides of a branch for lanes that disagree, and the masked-off side even when no lane
         // takes it, so sky pixels in this shader would pay for all of the sea's code.
-        let groups = (extent.width.div_ceil(8), extent.height.div_ceil(8));
-        let skipped = if self.sky_done_above { sky_shaded_rows(rec.frame.sky_rows) / 8 } else { 0 };
+        let groups = (extent.width.div_ceil(SHADE_GROUP), extent.height.div_ceil(SHADE_GROUP));
+        let skipped = if self.sky_done_above { sky_shaded_rows(rec.frame.sky_rows) / SHADE_GROUP } else { 0 };
         let first = skipped.min(groups.1);
         if first == groups.1 {
             return;
