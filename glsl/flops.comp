@@ -11,7 +11,8 @@ layout(set = 0, binding = 0, std430) writeonly buffer Sink { vec4 sink[]; };
 #define ROUND a = fma(a, m, k); b = fma(b, m, k); c = fma(c, m, k); d = fma(d, m, k)
 
 void main() {
-    vec4 x = vec4(float(gl_GlobalInvocationID.x) * 1e-9);
+    // Every component different, so that no compiler can merge the chains.
+    vec4 x = float(gl_GlobalInvocationID.x) * 1e-9 + vec4(0.0, 1.0, 2.0, 3.0) * 1e-3;
     vec4 a = x + 0.1, b = x + 0.2, c = x + 0.3, d = x + 0.4;
     const vec4 m = vec4(0.9999999), k = vec4(1e-7);
     for (int i = 0; i < ITERATIONS; ++i) {

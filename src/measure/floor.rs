@@ -21,10 +21,11 @@ use crate::vk::profiler::Profiler;
 use ash::vk;
 use glam::DVec2;
 
-/// Per train a pixel resolves (glsl/waves.glsl, surface_sample): the phase k.x (2 FMA, 1 sub:
-/// 5), sin and cos of it in turns (reduction 3, sine 4 FMA and 2 mul, cosine 5 FMA and 1 mul:
-/// 24), the amplitudes (2), and the two tangents' five sums (2 mul, 5 FMA: 12).
-pub const FLOPS_PER_TRAIN: f64 = 43.0;
+/// Per train a pixel resolves (glsl/waves.glsl, surface_sample): the phase k.x (a mul, an FMA
+/// and a sub: 4), sin and cos of it in turns (reduction 5, x^2 1, sine 3 FMA and a mul, cosine
+/// 4 FMA: 21), the amplitudes (2), and the five slope sums (2 mul, 5 FMA: 12). Normalising the
+/// train's direction is not counted: a layout could carry it.
+pub const FLOPS_PER_TRAIN: f64 = 39.0;
 /// Per sea pixel, once (shade.comp and brdf.glsl): the ray, its footprint and the normal (~80),
 /// the wind frame and local directions (~45), the reflected sun with Smith shadowing (~130), the
 /// mean Fresnel (~25), the sky lookup's three reflected directions and gradients (~160), the

@@ -115,10 +115,22 @@ impl SplitMix64 {
 /// components in turns per metre are binary16 values: the shaders read a train's wave vector as
 /// two halves of one word (one gather less per train and pixel on CPU drivers), and every f64
 /// evaluation then sees exactly the waves the GPU draws. The move is below 2^-11 relative (the
-/// half's precision); |k| >= 1e-4 turns/m (wavelengths up to 10 km) keeps the longer component a
-/// normal half. Returns the wavelength and direction of the snapped vector.
+/// half's precision) for a normal half; a component below the smallest normal half (2^-14 turns
+/// per metre) goes to 0 or to it instead, since a device may flush half subnormals to zero when
+/// it unpacks them. That turns the direction of a train within 2^-14 turns/m of an axis onto the
+/// axis or away from it by at most that much: under 0.4 degrees up to 100 m waves, a few degrees
+/// for kilometre waves (a random draw either way). Returns the wavelength and direction.
 pub fn binary16_wave_vector(lambda: f64, angle: f64) -> (f64, f64) {
-    let snap = |v: f64| half::f16::from_f64(v).to_f64();
+    const SMALLEST_NORMAL: f64 = 1.0 / 16384.0; // 2^-14
+    let snap = |v: f64| {
+        if v.abs() >= SMALLEST_NORMAL {
+            half::f16::from_f64(v).to_f64()
+        } else if v.abs() >= SMALLEST_NORMAL / 2.0 {
+            SMALLEST_NORMAL.copysign(v)
+        } else {
+            0.0
+        }
+    };
     let (kx, ky) = (snap(angle.cos() / lambda), snap(angle.sin() / lambda));
     (1.0 / kx.hypot(ky), ky.atan2(kx))
 }
