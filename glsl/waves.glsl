@@ -60,9 +60,14 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
 // Weight of a train at this scale from its step per sample: 1 up to steps.x (resolved), 0 from
 // steps.y on, a smoothstep between. The step is the phase advance per sample (turns), times
 // `nonlinearity` >= 1 where the shading is steeper than the phase (see surface_sample).
+// The phase advance per sample of a train (turns), the larger of the two screen axes'.
+float phase_step(SampleScale s, vec2 k_turns) {
+    return max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v)));
+}
+
 float resolution_weight(SampleScale s, vec2 k_turns, vec2 steps, float inv_ramp, float nonlinearity) {
     if (METHOD == METHOD_NO_FILTER) return 1.0;
-    float step = max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v))) * nonlinearity;
+    float step = phase_step(s, k_turns) * nonlinearity;
     float t = clamp((step - steps.x) * inv_ramp, 0.0, 1.0);
     return 1.0 - t * t * (3.0 - 2.0 * t);
 }
@@ -101,55 +106,83 @@ float trochoid_slope_variance(float a) {
     return a2 / (1.0 + sqrt(max(1.0 - a2, 0.0)));
 }
 
+// Adds a train resolved fully at the pixel: its slopes at x, nothing left to the BRDF.
+vec2 wave_direction(Wave wave) {
+    return wave.k * inversesqrt(dot(wave.k, wave.k));
+}
+
+// cos^2 and sin^2 of the angle between a train's direction and the wind, each a square (1 - cos^2
+// could round below 0).
+vec2 wind_axes2(vec2 dir, vec2 wind) {
+    float along = dot(dir, wind), across = dir.x * wind.y - dir.y * wind.x;
+    return vec2(along * along, across * across);
+}
+
+void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
+    vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
+    // d/dx of (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir.
+    float c = wave.kh * sc.y, sn = wave.kh * sc.x;
+    r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
+    r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+}
+
+// Adds the resolved part wn of a train's amplitude to the slopes; the unresolved part (1 - wn)
+// stays in the BRDF's slope variance (0 when wn = 1). `wind2`: wind_axes2 of its direction.
+void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, vec2 x, float wn) {
+    vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
+    float c = wn * wave.kh * sc.y, sn = wn * wave.kh * sc.x;
+    r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
+    r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+    r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
+}
+
+SurfaceSample flat_surface() {
+    return SurfaceSample(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec2(0.0));
+}
+
 // A pixel's shading is a point sample of the BRDF at the resolved normal. At grazing view the BRDF
 // turns steep in the normal: a train whose slope (amplitude k h) advances by 2 pi k h per turn of
 // phase changes cos(theta_v) ~ v_z by that much, i.e. by 2 pi k h / v_z of itself per turn. A
 // train therefore counts as resolved only while both its phase and that relative change in
 // v_z stay within the per-pixel steps; otherwise it goes to the BRDF's slope variance, whose
 // Smith masking is built for grazing statistics. `grazing` = 2 pi / v_z (v_z > 0).
+float grazing_factor(Wave wave, float grazing) {
+    return max(1.0, wave.kh * grazing);
+}
+
+// Whether a train is resolved fully (weight 1) in every direction at a pixel whose largest
+// rest-position step per sample is sqrt(reach2): |k| sqrt(reach2) times its grazing factor is
+// within the resolved step. A product, never a division: reach2 = 0 (no filtering) keeps every
+// train.
+bool fully_resolved(Wave wave, float reach2, float grazing, vec2 steps) {
+    float nonlinearity = grazing_factor(wave, grazing);
+    return dot(wave.k, wave.k) * nonlinearity * nonlinearity * reach2 <= steps.x * steps.x;
+}
+
+float largest_step2(SampleScale s) {
+    return max(dot(s.a_u, s.a_u), dot(s.a_v, s.a_v));
+}
+
+// Resolved slopes and the slope variance left for the BRDF, at one pixel.
 SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
-    SurfaceSample r;
-    r.tangent_x = vec3(1.0, 0.0, 0.0);
-    r.tangent_y = vec3(0.0, 1.0, 0.0);
-    r.sigma2 = vec2(0.0);
-    vec2 wind = frame.wind.xy;
+    SurfaceSample r = flat_surface();
     int i = int(frame.grid_dims.z) - 1;
-    // The longest trains are resolved fully here in every direction: weight 1, nothing left to
-    // the BRDF. A train's phase step along either screen axis is at most |k| max(|a_u|, |a_v|)
-    // times its grazing factor, so while that stays within steps.x the weight and the residual
-    // need not be formed. The first loop stops at the first train that might fall short (a
-    // shorter one that would still qualify is weighed by the second loop, to the same result).
-    // Both are products, never a division: a_u = a_v = 0 (no filtering) keeps every train here.
-    float reach2 = max(dot(s.a_u, s.a_u), dot(s.a_v, s.a_v));
-    float resolved2 = steps.x * steps.x;
+    // The longest trains are resolved fully here in every direction: no weight, no residual.
+    // The first loop stops at the first train that might fall short (a shorter one that would
+    // still qualify is weighed by the second loop, to the same result).
+    float reach2 = largest_step2(s);
     for (; i >= 0; --i) {
         Wave wave = unpack_wave(wave_data[i].xy);
-        float k2 = dot(wave.k, wave.k);
-        float nonlinearity = max(1.0, wave.kh * grazing);
-        if (k2 * nonlinearity * nonlinearity * reach2 > resolved2) break;
-        vec2 dir = wave.k * inversesqrt(k2);
-        vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
-        float c = wave.kh * sc.y, sn = wave.kh * sc.x;
-        r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
-        r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+        if (!fully_resolved(wave, reach2, grazing, steps)) break;
+        add_resolved_train(r, wave, wave_direction(wave), x);
     }
     for (; i >= 0; --i) {
         Wave wave = unpack_wave(wave_data[i].xy);
-        float k2 = dot(wave.k, wave.k);
-        if (k2 * s.lambda_cut2 >= 1.0) break;
-        float wn = resolution_weight(s, wave.k, steps, inv_ramp, max(1.0, wave.kh * grazing));
-        vec2 dir = wave.k * inversesqrt(k2);
-        vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
-        // d/dx of (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir.
-        float c = wn * wave.kh * sc.y, sn = wn * wave.kh * sc.x;
-        r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
-        r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
-        // The unresolved part (1 - wn) of the amplitude stays in the BRDF (0 when wn = 1).
-        // cos^2 and sin^2 of the angle to the wind, each a square (1 - cos^2 could round below 0).
-        float along = dot(dir, wind), across = dir.x * wind.y - dir.y * wind.x;
-        vec2 wind2 = vec2(along * along, across * across);
-        r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
+        if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
+        float wn = resolution_weight(s, wave.k, steps, inv_ramp, grazing_factor(wave, grazing));
+        vec2 dir = wave_direction(wave);
+        add_weighted_train(r, wave, dir, wind_axes2(dir, frame.wind.xy), x, wn);
     }
     // Trains 0..i are unresolved at this pixel: their whole variance, summed on the CPU.
     if (i >= 0) r.sigma2 += wave_prefix[i].xy;

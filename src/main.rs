@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use ocean::app::{self, RenderRequest};
-use ocean::render::passes::ocean::{Method, ShaderConfig, Terms};
+use ocean::render::passes::ocean::{Method, ShaderConfig, Terms, TrainReads};
 
 /// The sea's radiance terms, for --terms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -69,6 +69,10 @@ enum Command {
         /// Render with the general pipeline: leave nothing out (for comparison).
         #[arg(long)]
         no_specialize: bool,
+        /// How the shading loop reads the wave table: in blocks shared by subgroup broadcasts
+        /// (where the device allows; else per train), or per train.
+        #[arg(long, value_enum, default_value_t = TrainReads::Blocks)]
+        train_reads: TrainReads,
         /// Which of the sea's terms to render (comma-separated: sun, sky, sea).
         #[arg(long, value_delimiter = ',', default_value = "sun,sky,sea")]
         terms: Vec<Term>,
@@ -281,6 +285,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             terms,
             frames,
             no_specialize,
+            train_reads,
         } => {
             claim_stdout(&[
                 ("--out", Some(&out), true),
@@ -298,6 +303,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             } else {
                 ShaderConfig::terms_only(terms, method)
             };
+            let shader = ShaderConfig { train_reads, ..shader };
             let options = Options { shader, ssaa, ..Options::default() };
             let request = RenderRequest {
                 scene,

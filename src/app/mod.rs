@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::model::scene::Scene;
 use crate::output;
 use crate::render::renderer::{Options, RenderedFrame, Renderer};
+use crate::render::passes::shade::train_reads_on;
 use crate::vk::gpu::Gpu;
 use std::path::PathBuf;
 
@@ -62,11 +63,13 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     let scene = &request.scene;
     let before = gpu.validation_counts();
     let wave_set = crate::model::waves::generate(scene);
-    let (options, omitted) = if request.specialize {
+    let (mut options, omitted) = if request.specialize {
         crate::render::specialize::plan(scene, &wave_set, request.width, request.height, request.options)
     } else {
         (request.options, Vec::new())
     };
+    // The report names the loop the device actually runs.
+    options.shader.train_reads = train_reads_on(&gpu.device, options.shader.train_reads);
     let (frame, memory, fastest) = {
         let mut renderer = Renderer::new(gpu, scene, request.width, request.height, options)?;
         let mut frame = renderer.render(scene)?;

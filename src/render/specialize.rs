@@ -7,6 +7,7 @@ use crate::model::scene::Scene;
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
 use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use crate::render::passes::ocean::TrainReads;
 use crate::render::renderer::Options;
 use serde::Serialize;
 
@@ -116,10 +117,14 @@ pub fn pipelines(options: &Options) -> Vec<String> {
         names.push("black (cleared)".to_owned());
     } else {
         names.push(format!(
-            "ocean ({}; terms: {}; {})",
+            "ocean ({}; terms: {}; {}; {})",
             options.shader.method.name(),
             if terms.is_empty() { "none".to_owned() } else { terms.join(", ") },
-            if options.shader.geometry { "displaced" } else { "flat grid" }
+            if options.shader.geometry { "displaced" } else { "flat grid" },
+            match options.shader.train_reads {
+                TrainReads::Blocks => "wave table read in blocks",
+                TrainReads::PerTrain => "wave table read per train",
+            }
         ));
     }
     if options.shader.background {

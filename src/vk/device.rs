@@ -42,6 +42,7 @@ pub struct Device {
     pub memory_properties: vk::PhysicalDeviceMemoryProperties,
     pub timestamp_valid_bits: u32,
     pub anisotropy: bool,
+    pub subgroups: Subgroups,
     pub debug_utils: Option<ext::debug_utils::Device>,
     /// VK_KHR_swapchain's functions, when the device was opened for a window.
     pub swapchain: Option<khr::swapchain::Device>,
@@ -66,6 +67,25 @@ struct Candidate {
     queue_family: u32,
     timestamp_valid_bits: u32,
     anisotropy: bool,
+    subgroups: Subgroups,
+}
+
+/// What the device's subgroups offer (Vulkan 1.1 core properties).
+#[derive(Clone, Copy, Debug)]
+pub struct Subgroups {
+    pub size: u32,
+    pub stages: vk::ShaderStageFlags,
+    pub operations: vk::SubgroupFeatureFlags,
+}
+
+impl Subgroups {
+    /// Whether compute shaders have subgroups of at least `lanes` invocations with every one of
+    /// `operations`.
+    pub fn compute_offers(&self, lanes: u32, operations: vk::SubgroupFeatureFlags) -> bool {
+        self.size >= lanes
+            && self.stages.contains(vk::ShaderStageFlags::COMPUTE)
+            && self.operations.contains(operations)
+    }
 }
 
 /// Checks one physical device; Err names the first thing it lacks. With a surface, the queue must
@@ -84,6 +104,15 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
     // SAFETY: as above; `features` chains only locals.
     unsafe { raw.get_physical_device_features2(physical, &mut features) };
     let anisotropy = features.features.sampler_anisotropy == vk::TRUE;
+    let mut p11 = vk::PhysicalDeviceVulkan11Properties::default();
+    let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut p11);
+    // SAFETY: as above; `properties2` chains only locals.
+    unsafe { raw.get_physical_device_properties2(physical, &mut properties2) };
+    let subgroups = Subgroups {
+        size: p11.subgroup_size,
+        stages: p11.subgroup_supported_stages,
+        operations: p11.subgroup_supported_operations,
+    };
     if f13.synchronization2 != vk::TRUE {
         return Err(missing("the synchronization2 feature"));
     }
@@ -124,6 +153,7 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
         queue_family: queue_family as u32,
         timestamp_valid_bits: family.timestamp_valid_bits,
         anisotropy,
+        subgroups,
     })
 }
 
@@ -205,6 +235,7 @@ impl Device {
             memory_properties,
             timestamp_valid_bits: c.timestamp_valid_bits,
             anisotropy: c.anisotropy,
+            subgroups: c.subgroups,
             debug_utils,
             swapchain,
             pipeline_cache,

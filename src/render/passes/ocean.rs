@@ -49,11 +49,24 @@ impl Method {
     }
 }
 
+/// How the shading pass reads the wave table in its per-pixel loop (glsl/shade.glsl). Both give
+/// the same sums, to rounding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TrainReads {
+    /// A block of trains per read, shared across each subgroup by broadcasts (glsl/train_blocks.glsl),
+    /// where the device's compute subgroups allow it; else per train.
+    Blocks,
+    /// One train per loop iteration, read by every invocation.
+    PerTrain,
+}
+
 /// The ocean shaders' specialization.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShaderConfig {
     pub terms: Terms,
     pub method: Method,
+    pub train_reads: TrainReads,
     /// Whether the vertex stage displaces the grid (specialization constant 4).
     pub geometry: bool,
     /// Whether the sky is drawn behind the sea; renders of single terms leave it out (black), so
@@ -63,7 +76,13 @@ pub struct ShaderConfig {
 
 impl Default for ShaderConfig {
     fn default() -> Self {
-        ShaderConfig { terms: Terms::ALL, method: Method::Full, geometry: true, background: true }
+        ShaderConfig {
+            terms: Terms::ALL,
+            method: Method::Full,
+            train_reads: TrainReads::Blocks,
+            geometry: true,
+            background: true,
+        }
     }
 }
 
@@ -88,7 +107,7 @@ impl ShaderConfig {
 
     /// Only `terms`, on black (for comparing terms one by one).
     pub fn terms_only(terms: Terms, method: Method) -> ShaderConfig {
-        ShaderConfig { terms, method, geometry: true, background: false }
+        ShaderConfig { terms, method, background: false, ..ShaderConfig::default() }
     }
 }
 

@@ -2,7 +2,7 @@
 //! visibility pass (ocean.rs) left in the pixel, the sky where it left none; the radiance
 //! replaces those bits in the HDR image.
 
-use super::ocean::{sky_shaded_rows, ShaderConfig};
+use super::ocean::{sky_shaded_rows, ShaderConfig, TrainReads};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
@@ -16,6 +16,24 @@ use ash::vk;
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
 pub const SHADE_GROUP: u32 = 8;
+
+/// Trains per read of the blocked loop (TRAIN_BLOCK in glsl/train_blocks.glsl), which needs compute
+/// subgroups at least this wide with these operations.
+const TRAIN_BLOCK: u32 = 8;
+const BLOCK_OPERATIONS: vk::SubgroupFeatureFlags = vk::SubgroupFeatureFlags::from_raw(
+    vk::SubgroupFeatureFlags::BASIC.as_raw()
+        | vk::SubgroupFeatureFlags::VOTE.as_raw()
+        | vk::SubgroupFeatureFlags::ARITHMETIC.as_raw()
+        | vk::SubgroupFeatureFlags::BALLOT.as_raw(),
+);
+
+/// The wave-table reads `requested` comes to on `device`: blocks only where its subgroups allow.
+pub fn train_reads_on(device: &Device, requested: TrainReads) -> TrainReads {
+    match requested {
+        TrainReads::Blocks if device.subgroups.compute_offers(TRAIN_BLOCK, BLOCK_OPERATIONS) => TrainReads::Blocks,
+        _ => TrainReads::PerTrain,
+    }
+}
 
 pub struct ShadePass<'g> {
     bindings: Bindings<'g>,
@@ -48,8 +66,11 @@ impl<'g> ShadePass<'g> {
         );
         bindings.write_image(3, D::STORAGE_IMAGE, r.hdr.alias_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
         let spec = config.specialization();
-        let pipeline =
-            specialized_compute_pipeline(device, bindings.layout(), shaders::SHADE_COMP, Some(&spec), "shade")?;
+        let code = match train_reads_on(device, config.train_reads) {
+            TrainReads::Blocks => shaders::SHADE_BLOCKED_COMP,
+            TrainReads::PerTrain => shaders::SHADE_COMP,
+        };
+        let pipeline = specialized_compute_pipeline(device, bindings.layout(), code, Some(&spec), "shade")?;
         Ok(ShadePass { bindings, pipeline, sky_done_above: config.background })
     }
 }

@@ -1,0 +1,71 @@
+// Per-pixel shading of the sea and the sky, once per pixel: resolved normals from the trains
+// longer than the pixel footprint, the rest as BRDF slope variance (paper, sections 4-5), at the
+// rest position the visibility pass (ocean.frag) left in the pixel; the sky where it left none.
+// The rows above the horizon that no crest reaches were shaded by the visibility pass already
+// (sky.frag) and are not dispatched.
+// The result replaces those bits in place, as the RGBA16F radiance.
+// Entry points: shade.comp (one train per loop iteration) and shade_blocked.comp (TRAIN_BLOCKS:
+// the wave table read a block at a time through subgroup broadcasts, train_blocks.glsl).
+#include "frame.glsl"
+#include "common.glsl"
+WAVES_BLOCK;
+layout(set = 0, binding = 2) uniform sampler2D sky_map;
+layout(set = 0, binding = 3, rgba16ui) uniform restrict uimage2D hdr_bits;
+layout(constant_id = 0) const bool TERM_SUN = true;
+layout(constant_id = 1) const bool TERM_SKY = true;
+layout(constant_id = 2) const bool TERM_SEA = true;
+// Whether pixels without sea show the sky (else black: renders of single terms).
+layout(constant_id = 5) const bool BACKGROUND = true;
+#include "waves.glsl"
+#ifdef TRAIN_BLOCKS
+#include "train_blocks.glsl"
+#endif
+#include "sky.glsl"
+#include "brdf.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;   // SHADE_GROUP in src/render/passes/shade.rs
+
+const bool ANY_TERM = TERM_SUN || TERM_SKY || TERM_SEA;
+
+vec3 sky(vec3 dir) {
+    if (!BACKGROUND) return vec3(0.0);
+    return sky_radiance(dir) + sun_disc(dir);
+}
+
+// Every invocation runs to the end (no early return): the blocked train loop needs the whole
+// subgroup, and a CPU driver runs both sides of a branch anyway.
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    bool inside = all(lessThan(p, imageSize(hdr_bits)));
+    uvec4 bits = inside ? imageLoad(hdr_bits, p) : NO_SEA_BITS;
+    bool is_sea = bits != NO_SEA_BITS;
+    vec2 x = bits_to_rest_position(bits);
+    vec3 ray = camera_ray(pixel_to_ndc(vec2(p) + 0.5));   // the pixel's centre, as gl_FragCoord
+    vec3 v = -normalize(ray);
+    SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
+    // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
+    // FAR_LIMIT (stored for pixels too far for any train) nothing is resolvable either.
+    bool resolves = ANY_TERM && is_sea && pixel.any && v.z > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)));
+    float grazing = resolves ? 2.0 * PI / v.z : 0.0;
+    vec2 at = resolves ? x : vec2(0.0);
+#ifdef TRAIN_BLOCKS
+    SurfaceSample s = surface_sample_blocked(at, pixel, frame.filter_steps.zw, grazing, resolves);
+#else
+    SurfaceSample s = resolves ? surface_sample(at, pixel, frame.filter_steps.zw, grazing) : flat_surface();
+#endif
+    vec3 n = vec3(0.0, 0.0, 1.0);
+    // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror).
+    vec2 sigma2 = METHOD == METHOD_NO_FILTER ? vec2(0.0) : frame.wind.zw;
+    if (resolves) {
+        // A fully steep train (k h = 1) has a cusp at its crest, where the tangents are parallel:
+        // the two sides' normals average to the vertical there.
+        vec3 c = cross(s.tangent_x, s.tangent_y);
+        float len2 = dot(c, c);
+        n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+        sigma2 = s.sigma2;
+    }
+    // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
+    if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
+    vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2) : vec3(0.0)) : sky(-v);
+    if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
+}

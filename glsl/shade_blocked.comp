@@ -1,0 +1,3 @@
+#version 450
+#define TRAIN_BLOCKS
+#include "shade.glsl"
