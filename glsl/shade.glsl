@@ -16,6 +16,10 @@ layout(constant_id = 1) const bool TERM_SKY = true;
 layout(constant_id = 2) const bool TERM_SEA = true;
 // Whether pixels without sea show the sky (else black: renders of single terms).
 layout(constant_id = 5) const bool BACKGROUND = true;
+// Whether this dispatch covers only rows whose rays all fall (frame::sea_only_rows), where only
+// sea is seen: the sky's code is left out (a CPU driver would run it for every pixel, masked). A
+// pixel the grid left uncovered there takes the mean plane's point.
+layout(constant_id = 6) const bool SEA_ONLY = false;
 #include "waves.glsl"
 #ifdef TRAIN_BLOCKS
 #include "train_blocks.glsl"
@@ -26,6 +30,14 @@ layout(constant_id = 5) const bool BACKGROUND = true;
 layout(local_size_x = 8, local_size_y = 8) in;   // SHADE_GROUP in src/render/passes/shade.rs
 
 const bool ANY_TERM = TERM_SUN || TERM_SKY || TERM_SEA;
+
+// Where a ray meets the mean sea plane (rest position, camera-relative); FAR_LIMIT for a ray that
+// does not fall, as the visibility pass stores for the horizon.
+vec2 mean_plane_point(vec3 ray) {
+    float w = -ray.z;
+    vec2 x = w > 0.0 ? frame.cam_forward.w * ray.xy / w : vec2(FAR_LIMIT);
+    return all(lessThan(abs(x), vec2(FAR_LIMIT))) ? x : vec2(FAR_LIMIT);
+}
 
 vec3 sky(vec3 dir) {
     if (!BACKGROUND) return vec3(0.0);
@@ -38,9 +50,10 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     bool inside = all(lessThan(p, imageSize(hdr_bits)));
     uvec4 bits = inside ? imageLoad(hdr_bits, p) : NO_SEA_BITS;
-    bool is_sea = bits != NO_SEA_BITS;
-    vec2 x = bits_to_rest_position(bits);
+    bool covered = bits != NO_SEA_BITS;
+    bool is_sea = SEA_ONLY || covered;
     vec3 ray = camera_ray(pixel_to_ndc(vec2(p) + 0.5));   // the pixel's centre, as gl_FragCoord
+    vec2 x = covered ? bits_to_rest_position(bits) : mean_plane_point(ray);
     vec3 v = -normalize(ray);
     SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
     // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
@@ -66,6 +79,6 @@ void main() {
     }
     // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
-    vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2) : vec3(0.0)) : sky(-v);
+    vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2) : vec3(0.0)) : (SEA_ONLY ? vec3(0.0) : sky(-v));
     if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
 }

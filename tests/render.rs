@@ -142,6 +142,29 @@ fn only_rows_no_crest_can_reach_are_left_to_the_sky() {
     assert_eq!(rows(&down), 0);
 }
 
+/// The shading pass leaves the sky's code out only in rows where every ray falls.
+#[test]
+fn only_rows_whose_rays_all_fall_are_left_to_the_sea() {
+    use ocean::model::waves;
+    use ocean::render::frame;
+    let rows = |scene: &Scene| frame::build(scene, &waves::generate(scene), 256, 192, 8.0).sea_rows;
+    // Level camera: the horizon is the lower edge of row 95, so row 96's upper edge is level
+    // (not falling); row 97's falls, and one row of margin makes 98 the first.
+    assert_eq!(rows(&Scene::default()), 98);
+    // An eye below the highest crest changes nothing: falling rays still meet only sea.
+    let mut low = Scene::default();
+    low.camera.height_m = 0.05;
+    assert_eq!(rows(&low), 98);
+    // Looking down past the field of view: every row falls, the first after the margin.
+    let mut down = Scene::default();
+    down.camera.pitch_deg = -60.0;
+    assert_eq!(rows(&down), 1);
+    // Looking up: no row falls, and no grid is drawn.
+    let mut up = Scene::default();
+    up.camera.pitch_deg = 45.0;
+    assert_eq!(rows(&up), 192);
+}
+
 /// The arithmetic floor's parts: a level camera sees sea in the lower half, where each pixel
 /// resolves a few dozen of the 60 trains; the device delivers a positive, finite FMA rate.
 #[test]

@@ -207,6 +207,20 @@ pub fn sky_only_rows(camera: &CameraFrame, waves: &WaveSet, width: u32, height: 
     (0..height).take_while(|&row| rises(row)).count().saturating_sub(1) as u32
 }
 
+/// The first row of a `height`-row image at and below which every pixel's ray falls, so only sea
+/// can be seen there (the sea is a height field: a falling ray meets it), and the shading pass
+/// leaves the sky's shader out; `height` when no such row exists. Ray z is linear in NDC y and
+/// constant along a row (the camera has no roll), so a row falls when its upper edge does; one
+/// row of margin is left for f32 rounding on the GPU.
+pub fn sea_only_rows(camera: &CameraFrame, width: u32, height: u32) -> u32 {
+    let half_px = 1.0 / width as f64;
+    let falls = |row: u32| {
+        let y = row as f64 / height as f64 * 2.0 - 1.0;
+        camera.ray([-1.0 + half_px, y]).z < 0.0 && camera.ray([1.0 - half_px, y]).z < 0.0
+    };
+    (0..height).find(|&row| falls(row)).map_or(height, |row| (row + 1).min(height))
+}
+
 /// Everything derived from a scene for one frame.
 pub struct FrameData {
     pub uniforms: FrameUniforms,
@@ -214,6 +228,8 @@ pub struct FrameData {
     pub grid: GridLayout,
     /// Top rows of the image that only sky covers (see `sky_only_rows`).
     pub sky_rows: u32,
+    /// The first row from which only sea is seen (see `sea_only_rows`).
+    pub sea_rows: u32,
     pub camera: CameraFrame,
     pub sky: SkyModel,
 }
@@ -287,5 +303,6 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
     };
     // No grid row: no sea anywhere in view.
     let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, width, height) };
-    FrameData { uniforms, waves: gpu_waves, grid, sky_rows, camera, sky }
+    let sea_rows = if grid.rows == 0 { height } else { sea_only_rows(&camera, width, height) };
+    FrameData { uniforms, waves: gpu_waves, grid, sky_rows, sea_rows, camera, sky }
 }

@@ -336,6 +336,7 @@ impl<'g> Renderer<'g> {
             uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
             grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
             sky_rows: data.sky_rows,
+            sea_rows: data.sea_rows,
             swap_image: image,
         };
 

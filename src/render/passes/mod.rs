@@ -27,6 +27,8 @@ pub struct Frame {
     pub grid: Option<(vk::Buffer, u32)>,
     /// Top rows of the rendered image that only sky covers.
     pub sky_rows: u32,
+    /// The first row of the rendered image from which only sea is seen.
+    pub sea_rows: u32,
     pub swap_image: Option<SwapImage>,
 }
 

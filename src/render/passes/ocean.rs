@@ -93,8 +93,13 @@ impl ShaderConfig {
     }
 
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
-    /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5).
+    /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5); for the
+    /// shading pass also whether its rows see only sea (6).
     pub fn specialization(&self) -> Specialization {
+        self.shade_specialization(false)
+    }
+
+    pub fn shade_specialization(&self, sea_only: bool) -> Specialization {
         Specialization::words(&[
             self.terms.sun as u32,
             self.terms.sky as u32,
@@ -102,6 +107,7 @@ impl ShaderConfig {
             self.method as u32,
             self.geometry as u32,
             self.background as u32,
+            sea_only as u32,
         ])
     }
 

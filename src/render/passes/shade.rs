@@ -38,6 +38,8 @@ pub fn train_reads_on(device: &Device, requested: TrainReads) -> TrainReads {
 pub struct ShadePass<'g> {
     bindings: Bindings<'g>,
     pipeline: Owned<'g, vk::Pipeline>,
+    /// The same shader without the sky, for the rows that see only sea (frame::sea_only_rows).
+    sea_pipeline: Owned<'g, vk::Pipeline>,
     /// Whether the visibility pass shades the rows only sky covers (a picture with a background).
     sky_done_above: bool,
 }
@@ -65,13 +67,16 @@ impl<'g> ShadePass<'g> {
             r.sky_sampler.raw,
         );
         bindings.write_image(3, D::STORAGE_IMAGE, r.hdr.alias_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        let spec = config.specialization();
         let code = match train_reads_on(device, config.train_reads) {
             TrainReads::Blocks => shaders::SHADE_BLOCKED_COMP,
             TrainReads::PerTrain => shaders::SHADE_COMP,
         };
-        let pipeline = specialized_compute_pipeline(device, bindings.layout(), code, Some(&spec), "shade")?;
-        Ok(ShadePass { bindings, pipeline, sky_done_above: config.background })
+        let layout = bindings.layout();
+        let spec = config.shade_specialization(false);
+        let pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade")?;
+        let spec = config.shade_specialization(true);
+        let sea_pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only)")?;
+        Ok(ShadePass { bindings, pipeline, sea_pipeline, sky_done_above: config.background })
     }
 }
 
@@ -97,12 +102,21 @@ impl Pass for ShadePass<'_> {
         if first == groups.1 {
             return;
         }
+        // The same reason splits the rest: the rows that see only sea (whole workgroup rows from
+        // frame::sea_only_rows down) get the shader without the sky's code.
+        let sea_first = rec.frame.sea_rows.div_ceil(SHADE_GROUP).clamp(first, groups.1);
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-        // SAFETY: outside a rendering scope; the set (bound above) was made for this layout, the
-        // pass's images were declared, and the pipeline allows a base group.
-        unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw);
-            device.cmd_dispatch_base(cmd, 0, first, 0, groups.0, groups.1 - first, 1);
+        for (pipeline, rows) in [(&self.pipeline, first..sea_first), (&self.sea_pipeline, sea_first..groups.1)] {
+            if rows.is_empty() {
+                continue;
+            }
+            // SAFETY: outside a rendering scope; the set (bound above) was made for this layout
+            // (both pipelines share it), the pass's images were declared, and the pipelines
+            // allow a base group.
+            unsafe {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
+                device.cmd_dispatch_base(cmd, 0, rows.start, 0, groups.0, rows.len() as u32, 1);
+            }
         }
     }
 }
