@@ -34,8 +34,8 @@ Wave block_train(uvec2 slot, uint j) {
     BODY(0u) BODY(1u) BODY(2u) BODY(3u) BODY(4u) BODY(5u) BODY(6u) BODY(7u)
 
 // The same sums as surface_sample, to rounding: a train past a pixel's cut that shares a block
-// with resolved ones enters with weight 0, i.e. its whole variance in the loop rather than in the
-// prefix. `resolves`: whether this lane's pixel resolves anything (others pass along, adding
+// with trains another pixel of the subgroup resolves enters with weight 0, i.e. its whole
+// variance in the loop rather than in the prefix. `resolves`: whether this lane's pixel resolves anything (others pass along, adding
 // nothing to the loops' extent, and get the flat surface).
 SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float grazing, bool resolves) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
@@ -56,10 +56,11 @@ SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float gr
         first -= TRAIN_BLOCK;
         slot = load_block_slot(first);
     }
-    // Then blocks until the block's longest train is unresolved at every resolving pixel.
+    // Then whole blocks while some resolving pixel needs even the block's shortest train (a
+    // missing train's slot holds train 0, the shortest of all)...
     while (first >= 0) {
-        vec2 longest = block_train(slot, 0u).k;
-        if (!(dot(longest, longest) * cut2_min < 1.0)) break;
+        vec2 shortest = block_train(slot, uint(TRAIN_BLOCK - 1)).k;
+        if (!(dot(shortest, shortest) * cut2_min < 1.0)) break;
 #define WEIGHTED(j) { \
             Wave t = block_train(slot, j); \
             vec2 dir = wave_direction(t); \
@@ -71,7 +72,16 @@ SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float gr
         first -= TRAIN_BLOCK;
         slot = load_block_slot(first);
     }
-    // Trains 0..first are unresolved at every pixel of the subgroup: their whole variance.
+    // ...and the rest train by train, each pixel to its own cut (at most a block's worth: a
+    // view that resolves few trains would otherwise evaluate a whole block of them).
+    for (; first >= 0; --first) {
+        Wave wave = unpack_wave(wave_data[first].xy);
+        if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
+        vec2 dir = wave_direction(wave);
+        float wn = resolution_weight(s, wave.k, steps, inv_ramp, grazing_factor(wave, grazing));
+        add_weighted_train(r, wave, dir, wind_axes2(dir, wind), x, wn);
+    }
+    // Trains 0..first are unresolved at this pixel: their whole variance.
     if (first >= 0) r.sigma2 += wave_prefix[first].xy;
     return resolves ? r : flat_surface();
 }
