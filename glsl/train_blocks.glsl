@@ -35,11 +35,10 @@ Wave block_train(uvec2 slot, uint j) {
 
 // The same sums as surface_sample, to rounding: a train past a pixel's cut that shares a block
 // with trains another pixel of the subgroup resolves enters with weight 0, i.e. its whole
-// variance in the loop rather than in the prefix. `resolves`: whether this lane's pixel resolves anything (others pass along, adding
-// nothing to the loops' extent, and get the flat surface).
+// variance in the loop rather than in the prefix. `resolves`: whether this lane's pixel resolves
+// anything (others pass along, adding nothing to the loops' extent, and get the flat surface).
 SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float grazing, bool resolves) {
     float inv_ramp = 1.0 / (steps.y - steps.x);
-    vec2 wind = frame.wind.xy;
     SurfaceSample r = flat_surface();
     // Over the subgroup's resolving pixels: the largest step and grazing factor (for the test of
     // full resolution, done once per train for them all) and the smallest cut.
@@ -61,12 +60,7 @@ SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float gr
     while (first >= 0) {
         vec2 shortest = block_train(slot, uint(TRAIN_BLOCK - 1)).k;
         if (!(dot(shortest, shortest) * cut2_min < 1.0)) break;
-#define WEIGHTED(j) { \
-            Wave t = block_train(slot, j); \
-            vec2 dir = wave_direction(t); \
-            float wn = resolution_weight(s, t.k, steps, inv_ramp, grazing_factor(t, grazing)); \
-            add_weighted_train(r, t, dir, wind_axes2(dir, wind), x, wn); \
-        }
+#define WEIGHTED(j) add_train(r, block_train(slot, j), x, s, steps, inv_ramp, grazing);
         FOR_EACH_BLOCK_TRAIN(WEIGHTED)
 #undef WEIGHTED
         first -= TRAIN_BLOCK;
@@ -74,15 +68,7 @@ SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float gr
     }
     // ...and the rest train by train, each pixel to its own cut (at most a block's worth: a
     // view that resolves few trains would otherwise evaluate a whole block of them).
-    for (; first >= 0; --first) {
-        Wave wave = unpack_wave(wave_data[first].xy);
-        if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
-        vec2 dir = wave_direction(wave);
-        float wn = resolution_weight(s, wave.k, steps, inv_ramp, grazing_factor(wave, grazing));
-        add_weighted_train(r, wave, dir, wind_axes2(dir, wind), x, wn);
-    }
-    // Trains 0..first are unresolved at this pixel: their whole variance.
-    if (first >= 0) r.sigma2 += wave_prefix[first].xy;
+    add_trains_from(r, first, x, s, steps, grazing);
     return resolves ? r : flat_surface();
 }
 

@@ -60,14 +60,9 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
 // Weight of a train at this scale from its step per sample: 1 up to steps.x (resolved), 0 from
 // steps.y on, a smoothstep between. The step is the phase advance per sample (turns), times
 // `nonlinearity` >= 1 where the shading is steeper than the phase (see surface_sample).
-// The phase advance per sample of a train (turns), the larger of the two screen axes'.
-float phase_step(SampleScale s, vec2 k_turns) {
-    return max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v)));
-}
-
 float resolution_weight(SampleScale s, vec2 k_turns, vec2 steps, float inv_ramp, float nonlinearity) {
     if (METHOD == METHOD_NO_FILTER) return 1.0;
-    float step = phase_step(s, k_turns) * nonlinearity;
+    float step = max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v))) * nonlinearity;
     float t = clamp((step - steps.x) * inv_ramp, 0.0, 1.0);
     return 1.0 - t * t * (3.0 - 2.0 * t);
 }
@@ -106,7 +101,6 @@ float trochoid_slope_variance(float a) {
     return a2 / (1.0 + sqrt(max(1.0 - a2, 0.0)));
 }
 
-// Adds a train resolved fully at the pixel: its slopes at x, nothing left to the BRDF.
 vec2 wave_direction(Wave wave) {
     return wave.k * inversesqrt(dot(wave.k, wave.k));
 }
@@ -118,6 +112,7 @@ vec2 wind_axes2(vec2 dir, vec2 wind) {
     return vec2(along * along, across * across);
 }
 
+// Adds a train resolved fully at the pixel: its slopes at x, nothing left to the BRDF.
 void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
     vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
     // d/dx of (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir.
@@ -150,6 +145,26 @@ float grazing_factor(Wave wave, float grazing) {
     return max(1.0, wave.kh * grazing);
 }
 
+// A train at its resolution weight at this pixel: the weight from its phase step and grazing
+// factor, then add_weighted_train.
+void add_train(inout SurfaceSample r, Wave wave, vec2 x, SampleScale s, vec2 steps, float inv_ramp, float grazing) {
+    vec2 dir = wave_direction(wave);
+    float wn = resolution_weight(s, wave.k, steps, inv_ramp, grazing_factor(wave, grazing));
+    add_weighted_train(r, wave, dir, wind_axes2(dir, frame.wind.xy), x, wn);
+}
+
+// Trains i, i-1, ... down to the first that no direction resolves at this pixel, each at its
+// weight; then the whole variance of the rest (summed on the CPU) goes to the BRDF.
+void add_trains_from(inout SurfaceSample r, int i, vec2 x, SampleScale s, vec2 steps, float grazing) {
+    float inv_ramp = 1.0 / (steps.y - steps.x);
+    for (; i >= 0; --i) {
+        Wave wave = unpack_wave(wave_data[i].xy);
+        if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
+        add_train(r, wave, x, s, steps, inv_ramp, grazing);
+    }
+    if (i >= 0) r.sigma2 += wave_prefix[i].xy;
+}
+
 // Whether a train is resolved fully (weight 1) in every direction at a pixel whose largest
 // rest-position step per sample is sqrt(reach2): |k| sqrt(reach2) times its grazing factor is
 // within the resolved step. A product, never a division: reach2 = 0 (no filtering) keeps every
@@ -165,7 +180,6 @@ float largest_step2(SampleScale s) {
 
 // Resolved slopes and the slope variance left for the BRDF, at one pixel.
 SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
-    float inv_ramp = 1.0 / (steps.y - steps.x);
     SurfaceSample r = flat_surface();
     int i = int(frame.grid_dims.z) - 1;
     // The longest trains are resolved fully here in every direction: no weight, no residual.
@@ -177,15 +191,7 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
         if (!fully_resolved(wave, reach2, grazing, steps)) break;
         add_resolved_train(r, wave, wave_direction(wave), x);
     }
-    for (; i >= 0; --i) {
-        Wave wave = unpack_wave(wave_data[i].xy);
-        if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
-        float wn = resolution_weight(s, wave.k, steps, inv_ramp, grazing_factor(wave, grazing));
-        vec2 dir = wave_direction(wave);
-        add_weighted_train(r, wave, dir, wind_axes2(dir, frame.wind.xy), x, wn);
-    }
-    // Trains 0..i are unresolved at this pixel: their whole variance, summed on the CPU.
-    if (i >= 0) r.sigma2 += wave_prefix[i].xy;
+    add_trains_from(r, i, x, s, steps, grazing);
     return r;
 }
 

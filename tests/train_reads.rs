@@ -13,7 +13,13 @@ use ocean::render::renderer::{Options, RenderedFrame};
 use ocean::vk::gpu::Gpu;
 use std::path::Path;
 
-fn render(gpu: &Gpu, scene: &Scene, size: (u32, u32), method: Method, reads: TrainReads) -> (Vec<String>, RenderedFrame) {
+fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    size: (u32, u32),
+    method: Method,
+    reads: TrainReads,
+) -> (Vec<String>, RenderedFrame) {
     let shader = ShaderConfig { method, train_reads: reads, ..ShaderConfig::default() };
     let options = Options { shader, ..Options::default() };
     let request = RenderRequest { validation: true, options, ..RenderRequest::new(scene.clone(), size.0, size.1) };
@@ -48,7 +54,8 @@ fn blocks_and_per_train_reads_agree() {
         // The same sums to f32 rounding (trains past a pixel's cut are summed in the loop rather
         // than taken from the CPU's prefix): equal to binary16 rounding of the brightest value.
         let peak = b.hdr.iter().flat_map(|p| p[..3].iter().copied()).fold(0.0f32, f32::max).max(1e-6);
-        let d = a.hdr.iter().zip(&b.hdr).flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs())).fold(0.0, f32::max);
+        let d =
+            a.hdr.iter().zip(&b.hdr).flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs())).fold(0.0, f32::max);
         assert!(d <= 1e-3 * peak, "{file} {size:?} {method:?}: blocks and per-train reads differ by {d} (peak {peak})");
     }
 }

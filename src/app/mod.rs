@@ -8,8 +8,8 @@ use crate::app::report::{GridReport, Report, WaveReport};
 use crate::error::Result;
 use crate::model::scene::Scene;
 use crate::output;
-use crate::render::renderer::{Options, RenderedFrame, Renderer};
 use crate::render::passes::shade::train_reads_on;
+use crate::render::renderer::{Options, RenderedFrame, Renderer};
 use crate::vk::gpu::Gpu;
 use std::path::PathBuf;
 
