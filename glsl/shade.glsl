@@ -20,6 +20,11 @@ layout(constant_id = 5) const bool BACKGROUND = true;
 // sea is seen: the sky's code is left out (a CPU driver would run it for every pixel, masked). A
 // pixel the grid left uncovered there takes the mean plane's point.
 layout(constant_id = 6) const bool SEA_ONLY = false;
+// Profiling: counts the sea pixels and the trains evaluated for them (and those with a weight)
+// into TrainCounts (src/render/resources.rs). Off, the driver drops the counting code.
+layout(constant_id = 7) const bool COUNT_TRAINS = false;
+layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixels; uint trains_evaluated; uint trains_weighted; } counts;
+#define COUNTS_TRAINS
 #include "waves.glsl"
 #ifdef TRAIN_BLOCKS
 #include "train_blocks.glsl"
@@ -81,4 +86,9 @@ void main() {
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
     vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2) : vec3(0.0)) : (SEA_ONLY ? vec3(0.0) : sky(-v));
     if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
+    if (COUNT_TRAINS && inside && is_sea) {
+        atomicAdd(counts.sea_pixels, 1u);
+        atomicAdd(counts.trains_evaluated, resolves ? trains_evaluated : 0u);
+        atomicAdd(counts.trains_weighted, resolves ? trains_weighted : 0u);
+    }
 }

@@ -88,6 +88,21 @@ vec3 displacement(vec2 x, SampleScale s, vec2 steps) {
     return d;
 }
 
+// Trains evaluated at this invocation, and those of them with a weight (profiling: counted only
+// where the includer asks, COUNTS_TRAINS with its specialization constant COUNT_TRAINS).
+#ifdef COUNTS_TRAINS
+uint trains_evaluated = 0u;
+uint trains_weighted = 0u;
+void count_train(bool weighted) {
+    if (COUNT_TRAINS) {
+        trains_evaluated += 1u;
+        trains_weighted += weighted ? 1u : 0u;
+    }
+}
+#else
+void count_train(bool weighted) {}
+#endif
+
 // Resolved slopes and the slope variance left for the BRDF, at one pixel.
 struct SurfaceSample {
     vec3 tangent_x;     // d p / d x (unnormalized)
@@ -119,6 +134,7 @@ void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
     float c = wave.kh * sc.y, sn = wave.kh * sc.x;
     r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
     r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+    count_train(true);
 }
 
 // Adds the resolved part wn of a train's amplitude to the slopes; the unresolved part (1 - wn)
@@ -129,6 +145,7 @@ void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, 
     r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
     r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
     r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
+    count_train(wn > 0.0);
 }
 
 SurfaceSample flat_surface() {

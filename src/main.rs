@@ -79,6 +79,39 @@ enum Command {
         /// Render this many frames; timings are then the median after the first (warm-up).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
+        /// Also collect pipeline statistics per pass (vertices, primitives, invocations) into the
+        /// report, where the device has them.
+        #[arg(long)]
+        stats: bool,
+    },
+    /// Frames of a scene on a timeline: a Chrome Trace Event JSON trace (Perfetto,
+    /// chrome://tracing) of the GPU's passes and the CPU's steps, and a report of per-pass times,
+    /// pipeline statistics and the figures that explain them.
+    Profile {
+        #[command(flatten)]
+        view: ViewArgs,
+        /// Frames rendered, the warm-up ones included.
+        #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(0..=10000))]
+        frames: u32,
+        /// Frames first rendered untimed (the driver compiles shaders lazily): less than --frames.
+        #[arg(long, default_value_t = 2)]
+        warmup: u32,
+        /// The trace (Chrome Trace Event JSON); `-` for standard output.
+        #[arg(long, default_value = "trace.json")]
+        out: PathBuf,
+        /// The profile report (JSON, also read by `bench compare`).
+        #[arg(long, default_value = "profile.json")]
+        report: PathBuf,
+        /// Also write the last frame's image (its encoding and writing are spans of the trace).
+        #[arg(long)]
+        png: Option<PathBuf>,
+        #[arg(long, value_enum, default_value_t = Method::Full)]
+        method: Method,
+        /// Profile the general pipeline: leave nothing out.
+        #[arg(long)]
+        no_specialize: bool,
+        #[arg(long, value_enum, default_value_t = TrainReads::Blocks)]
+        train_reads: TrainReads,
     },
     /// Ground truth: N x N stratified samples per pixel, every wave as exact geometry, to linear EXR
     /// (alpha 0 marks pixels whose samples cannot resolve the shortest wave), with the reflected
@@ -225,17 +258,37 @@ enum Bench {
         #[arg(long, default_value = "docs/bench")]
         out: PathBuf,
     },
-    /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080.
+    /// GPU time per pass of every preset scene at 1024x768, and memory at 1920x1080; with
+    /// --variant, of builds or settings interleaved in one run.
     Speed {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
         /// Timed frames per scene, after one warm-up frame.
         #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
+        /// Rounds: every scene (and every variant) this many times, interleaved.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+        repeat: u32,
+        /// LABEL=FLAGS: time `ocean render FLAGS` as a variant (FLAGS may start with @PATH, another
+        /// build's binary); give two or more, written to speed.LABEL.json each for `bench compare`.
+        #[arg(long, value_parser = ocean::measure::bench::speed::parse_variant)]
+        variant: Vec<ocean::measure::bench::speed::Variant>,
         #[arg(long, default_value = "docs/bench")]
         out: PathBuf,
         #[arg(long)]
         device: Option<String>,
+    },
+    /// B's GPU time against A's per scene and pass, with a 95% interval and a verdict (faster,
+    /// slower, within noise); A and B are JSON files of `bench speed` or `profile`.
+    Compare {
+        a: PathBuf,
+        b: PathBuf,
+        /// The smallest change (a fraction) called faster or slower.
+        #[arg(long, default_value_t = 0.02, value_parser = parse_threshold)]
+        threshold: f64,
+        /// Also write the table as markdown.
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
 }
 
@@ -266,6 +319,13 @@ fn parse_time_scale(text: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("{text:?}: the time scale must be a number in [-10000, 10000]"))
 }
 
+fn parse_threshold(text: &str) -> Result<f64, String> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|t| t.is_finite() && (0.0..0.5).contains(t))
+        .ok_or_else(|| format!("{text:?}: the threshold is a fraction in [0, 0.5)"))
+}
+
 fn load_scene(path: Option<PathBuf>) -> ocean::Result<(Scene, String)> {
     match path {
         Some(path) => Ok((Scene::load(&path)?, path.display().to_string())),
@@ -286,6 +346,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             frames,
             no_specialize,
             train_reads,
+            stats,
         } => {
             claim_stdout(&[
                 ("--out", Some(&out), true),
@@ -304,7 +365,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 ShaderConfig::terms_only(terms, method)
             };
             let shader = ShaderConfig { train_reads, ..shader };
-            let options = Options { shader, ssaa, ..Options::default() };
+            let options = Options { shader, ssaa, statistics: stats, ..Options::default() };
             let request = RenderRequest {
                 scene,
                 width,
@@ -531,10 +592,107 @@ fn run(cli: Cli) -> ocean::Result<()> {
             ocean::say!("wrote {}/startup.md and startup.json", out.display());
             Ok(())
         }
-        Command::Bench { bench: Bench::Speed { scenes, frames, out, device } } => {
+        Command::Bench { bench: Bench::Speed { scenes, frames, repeat, variant, out, device } } => {
+            if variant.len() == 1 {
+                return Err(ocean::Error::Argument(
+                    "--variant: give two or more to compare (a baseline too, e.g. --variant base=)".into(),
+                ));
+            }
+            if let Some(v) =
+                variant.iter().enumerate().find_map(|(i, v)| variant[..i].iter().find(|w| w.label == v.label))
+            {
+                return Err(ocean::Error::Argument(format!("--variant: the label {:?} is given twice", v.label)));
+            }
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            ocean::measure::bench::speed(&gpu, &scenes, frames, &out)?;
-            ocean::say!("wrote {}/speed.md and speed.json", out.display());
+            let request = ocean::measure::bench::speed::SpeedRequest {
+                scenes_dir: &scenes,
+                frames,
+                repeat,
+                variants: variant.clone(),
+                out_dir: &out,
+            };
+            ocean::measure::bench::speed::speed(&gpu, &request)?;
+            if variant.is_empty() {
+                ocean::say!("wrote {}/speed.md and speed.json", out.display());
+            } else {
+                let files: Vec<String> = variant.iter().map(|v| format!("speed.{}.json", v.label)).collect();
+                ocean::say!("wrote {}/{} (compare with `ocean bench compare`)", out.display(), files.join(", "));
+            }
+            Ok(())
+        }
+        Command::Bench { bench: Bench::Compare { a, b, threshold, out } } => {
+            let (fa, fb) = (
+                ocean::measure::bench::speed::read_timing_file(&a)?,
+                ocean::measure::bench::speed::read_timing_file(&b)?,
+            );
+            let c = ocean::measure::bench::compare::compare(&fa, &fb, threshold)?;
+            let text = ocean::measure::bench::compare::markdown(&c, &a.display().to_string(), &b.display().to_string());
+            ocean::say!("{text}");
+            if let Some(path) = out {
+                ocean::output::write_text(&path, &text)?;
+            }
+            Ok(())
+        }
+        Command::Profile {
+            view: ViewArgs { scene, width, height, validation, device },
+            frames,
+            warmup,
+            out,
+            report,
+            png,
+            method,
+            no_specialize,
+            train_reads,
+        } => {
+            claim_stdout(&[
+                ("--out", Some(&out), false),
+                ("--report", Some(&report), false),
+                ("--png", png.as_deref(), true),
+            ])?;
+            let (scene, scene_name) = load_scene(scene)?;
+            let shader = ShaderConfig { method, train_reads, ..ShaderConfig::default() };
+            let request = ocean::app::profile::ProfileRequest {
+                scene,
+                scene_name,
+                width,
+                height,
+                frames,
+                warmup,
+                trace: Some(out.clone()),
+                report: Some(report.clone()),
+                png,
+                options: Options { shader, ..Options::default() },
+                specialize: !no_specialize,
+                validation,
+                device,
+            };
+            ocean::app::profile::check(&request)?;
+            let r = ocean::app::profile::profile(&request)?;
+            for p in r.passes.iter().chain(std::iter::once(&r.total)) {
+                let per = match (p.ns_per_fragment, p.ns_per_invocation) {
+                    (Some(f), _) => format!(", {f:.1} ns per fragment"),
+                    (None, Some(i)) => format!(", {i:.1} ns per invocation"),
+                    _ => String::new(),
+                };
+                ocean::say!(
+                    "{:<10} median {:7.2} ms  fastest {:7.2} ms  p90 {:7.2} ms{per}",
+                    p.name,
+                    p.median_ms,
+                    p.fastest_ms,
+                    p.p90_ms
+                );
+            }
+            if let Some(t) = r.derived.trains_evaluated_per_sea_pixel {
+                ocean::say!(
+                    "shade: {t:.1} trains evaluated per sea pixel ({:.1} with a weight){}",
+                    r.derived.trains_weighted_per_sea_pixel.unwrap_or(0.0),
+                    r.derived.shade_over_floor.map_or(String::new(), |f| format!(", {f:.1}x its arithmetic floor"))
+                );
+            }
+            for note in &r.notes {
+                ocean::say!("{note}");
+            }
+            ocean::say!("{}; wrote {} and {}", r.clock, shown(&out), shown(&report));
             Ok(())
         }
     }

@@ -1,7 +1,9 @@
-//! What the commands do: one render from a scene to files and a report (`ocean render`), and
-//! image sequences (`ocean animate`, in `animate`).
+//! What the commands do: one render from a scene to files and a report (`ocean render`), image
+//! sequences (`ocean animate`, in `animate`), and frames on a timeline (`ocean profile`, in
+//! `profile`).
 
 pub mod animate;
+pub mod profile;
 pub mod report;
 
 use crate::app::report::{GridReport, Report, WaveReport};
@@ -11,6 +13,7 @@ use crate::output;
 use crate::render::passes::shade::train_reads_on;
 use crate::render::renderer::{Options, RenderedFrame, Renderer};
 use crate::vk::gpu::Gpu;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 #[derive(Debug, Clone)]
@@ -70,7 +73,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     };
     // The report names the loop the device actually runs.
     options.shader.train_reads = train_reads_on(&gpu.device, options.shader.train_reads);
-    let (frame, memory, fastest) = {
+    let (frame, memory, fastest, timings, statistics) = {
         let mut renderer = Renderer::new(gpu, scene, request.width, request.height, options)?;
         let mut frame = renderer.render(scene)?;
         let mut timings = Vec::new();
@@ -82,8 +85,25 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         if !timings.is_empty() {
             frame.pass_ms = pass_statistic(&timings, median);
         }
-        (frame, renderer.memory(), fastest)
+        let statistics = renderer.last_gpu_frame().filter(|_| options.statistics).map(|f| {
+            f.passes.iter().filter_map(|p| p.statistics.map(|s| (p.name.to_owned(), s))).collect::<BTreeMap<_, _>>()
+        });
+        (frame, renderer.memory(), fastest, timings, statistics)
     };
+    let mut gpu_ms_frames: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for frame_ms in &timings {
+        for (pass, ms) in frame_ms {
+            gpu_ms_frames.entry(pass.clone()).or_default().push(*ms);
+        }
+    }
+    let statistics_note = match (&statistics, options.statistics) {
+        (_, false) => None,
+        (Some(map), true) if !map.is_empty() => None,
+        _ => Some(format!("{} has no pipeline statistics queries: none reported", gpu.device.name)),
+    };
+    if let Some(note) = &statistics_note {
+        crate::say!("{note}");
+    }
     let after = gpu.validation_counts();
     let stats = output::stats(&frame.hdr);
     let mut messages = after.errors.clone();
@@ -96,6 +116,8 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         ssaa: request.options.ssaa,
         gpu_ms: Report::gpu_total_ms(&frame.pass_ms),
         gpu_ms_min: Report::gpu_total_ms(&fastest),
+        gpu_ms_frames,
+        pipeline_statistics: statistics.filter(|m| !m.is_empty()),
         validation: request.validation,
         validation_errors: after.error_total() - before.error_total(),
         validation_warnings: after.warning_total() - before.warning_total(),

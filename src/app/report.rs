@@ -17,6 +17,12 @@ pub struct Report {
     /// With several frames: the fastest frame's time per pass after the first frame (the least
     /// disturbed by other work on a shared machine). Empty for a single frame.
     pub gpu_ms_min: BTreeMap<String, f64>,
+    /// Every frame's time per pass after the first (what `bench speed --variant` reads).
+    pub gpu_ms_frames: BTreeMap<String, Vec<f64>>,
+    /// With --stats: the last frame's pipeline statistics per pass (absent where the device has
+    /// none, or without --stats).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pipeline_statistics: Option<BTreeMap<String, crate::vk::profiler::PipelineStatistics>>,
     pub validation: bool,
     pub validation_errors: u32,
     pub validation_warnings: u32,

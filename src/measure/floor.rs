@@ -84,7 +84,7 @@ pub fn delivered_gflops(gpu: &Gpu, runs: u32) -> Result<f64> {
     let spec = Specialization::words(&[ITERATIONS]);
     let pipeline = specialized_compute_pipeline(device, bindings.layout(), shaders::FLOPS_COMP, Some(&spec), "flops")?;
     let commands = Commands::new(device, "flops")?;
-    let mut profiler = Profiler::new(device, 1)?;
+    let mut profiler = Profiler::new(device, 1, false)?;
     let flop = invocations as f64 * ITERATIONS as f64 * 8.0 * 16.0 * 2.0;
     let mut best: f64 = 0.0;
     for _ in 0..runs.max(1) + 1 {

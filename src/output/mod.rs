@@ -1,11 +1,12 @@
 //! What the program hands the user: image files (PNG of the tone-mapped frame, linear EXR of the
 //! radiance), text (JSON, CSV, markdown), plots, progress and status lines, and image
-//! statistics. Every output is encoded in memory and written through `target`, which knows a
+//! statistics, and timelines as Chrome Trace Event JSON (`trace`). Every output is encoded in memory and written through `target`, which knows a
 //! regular file from a device, a pipe, a symlink or standard output.
 
 pub mod plot;
 pub mod progress;
 pub mod target;
+pub mod trace;
 
 use crate::error::{Error, Result};
 use std::io::Cursor;
@@ -75,6 +76,17 @@ pub fn tonemap(hdr: &[[f32; 4]], exposure: f64) -> Vec<u8> {
             [m(p[0]), m(p[1]), m(p[2]), 255]
         })
         .collect()
+}
+
+/// RGBA8 pixels as a PNG file's bytes (alpha dropped, as `write_png` writes them).
+pub fn encode_png(width: u32, height: u32, rgba8: &[u8]) -> Result<Vec<u8>> {
+    let rgb: Vec<u8> = rgba8.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+    let buffer = image::RgbImage::from_raw(width, height, rgb).expect("width * height pixels");
+    let mut bytes = Cursor::new(Vec::new());
+    image::DynamicImage::ImageRgb8(buffer)
+        .write_to(&mut bytes, image::ImageFormat::Png)
+        .map_err(|e| Error::io(Path::new("PNG encoder"), e))?;
+    Ok(bytes.into_inner())
 }
 
 pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {

@@ -89,6 +89,26 @@ pub fn names_stdout(path: &Path) -> bool {
     false
 }
 
+/// Fails, naming the path, where `write` would fail for want of a folder or permission: checked
+/// before long work whose result would otherwise be lost.
+pub fn check_writable(path: &Path) -> Result<()> {
+    match Target::of(path)? {
+        Target::Stdout => Ok(()),
+        Target::InPlace(node) => OpenOptions::new().append(true).open(&node).map(drop).map_err(|e| Error::io(path, e)),
+        Target::Replace(file) => {
+            if file.is_file() {
+                return OpenOptions::new().append(true).open(&file).map(drop).map_err(|e| Error::io(path, e));
+            }
+            let mut probe_name = std::ffi::OsString::from(".");
+            probe_name.push(file.file_name().ok_or_else(|| Error::io(path, "names no file"))?);
+            probe_name.push(format!(".{}.probe", std::process::id()));
+            let probe = file.with_file_name(probe_name);
+            OpenOptions::new().write(true).create_new(true).open(&probe).map_err(|e| Error::io(path, e))?;
+            fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
+        }
+    }
+}
+
 /// Writes `bytes` to `path` as `Target::of` classifies it.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
     match Target::of(path)? {

@@ -4,6 +4,7 @@
 //! and waits only for the frame whose slot it is about to reuse.
 
 use crate::error::{Error, Result};
+use crate::render::timeline::Submission;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
@@ -69,18 +70,22 @@ pub struct FrameSlot<'g> {
     // Drop order: nothing here may go while the GPU uses it; the renderer waits for idle first.
     pub commands: Commands<'g>,
     pub profiler: Profiler<'g>,
+    /// When the slot's last frame was submitted, and the clocks then (for its GPU spans).
+    pub submission: Option<Submission>,
     pub grid: GridIndices<'g>,
     /// Signalled when the window's image for this frame is acquired (window renderers only).
     pub image_available: Option<Owned<'g, vk::Semaphore>>,
 }
 
 impl<'g> FrameSlot<'g> {
-    pub fn new(gpu: &'g Gpu, index: usize, timestamp_scopes: u32, window: bool) -> Result<Self> {
+    /// `statistics`: pipeline statistics per timestamp scope too, where the device has them.
+    pub fn new(gpu: &'g Gpu, index: usize, timestamp_scopes: u32, statistics: bool, window: bool) -> Result<Self> {
         let device = &gpu.device;
         Ok(FrameSlot {
             index,
             commands: Commands::new(device, &format!("frame {index}"))?,
-            profiler: Profiler::new(device, timestamp_scopes)?,
+            profiler: Profiler::new(device, timestamp_scopes, statistics)?,
+            submission: None,
             grid: GridIndices::new(gpu),
             image_available: if window { Some(semaphore(device, &format!("image for frame {index}"))?) } else { None },
         })

@@ -1,7 +1,8 @@
 //! One frame on the GPU: what the CPU hands the shaders (`frame`), the images and buffers
 //! between passes (`resources`), the passes themselves (`passes`), what a scene needs
 //! (`specialize`), the per-frame-in-flight slots (`in_flight`) and the renderer that records
-//! and submits frames to a target (`renderer`).
+//! and submits frames to a target (`renderer`), and a frame's CPU and GPU spans on one clock
+//! (`timeline`).
 
 pub mod footprint;
 pub mod frame;
@@ -10,3 +11,4 @@ pub mod passes;
 pub mod renderer;
 pub mod resources;
 pub mod specialize;
+pub mod timeline;

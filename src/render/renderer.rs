@@ -18,8 +18,10 @@ use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::render::passes::tonemap::TonemapPass;
 use crate::render::passes::{Frame, Pass, Recorder};
 use crate::render::resources::{ResourceSpec, Resources};
+use crate::render::timeline::{CpuSpans, GpuFrame, Submission};
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
+use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Wait;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::{Location, MemoryReport};
@@ -61,6 +63,8 @@ pub struct Options {
     pub output: Output,
     /// Frames the CPU may prepare while the GPU runs earlier ones (1: each frame waits).
     pub frames_in_flight: u32,
+    /// Pipeline statistics per pass, where the device has them (profiling; off for normal frames).
+    pub statistics: bool,
 }
 
 impl Default for Options {
@@ -71,6 +75,7 @@ impl Default for Options {
             sky_map: true,
             output: Output::Readback,
             frames_in_flight: 1,
+            statistics: false,
         }
     }
 }
@@ -121,6 +126,11 @@ pub struct Renderer<'g> {
     next_slot: usize,
     /// GPU time per pass of the last frame whose fence was waited (no wait added to read them).
     last_pass_ms: Vec<(&'static str, f64)>,
+    /// That frame's passes on the host clock, with their statistics.
+    last_gpu_frame: Option<GpuFrame>,
+    /// The CPU's steps of the last `render`.
+    cpu_spans: CpuSpans,
+    clock: DeviceClock,
     capture: Option<Buffer<'g>>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
@@ -128,6 +138,26 @@ pub struct Renderer<'g> {
     tracker: Tracker,
     /// The sun and sky the sky map holds, once built: frames under the same sky skip rebuilding it.
     sky_in_map: Option<(Sun, Sky)>,
+    /// Whether the shading pass counts trains (ShaderConfig::count_trains).
+    counts_trains: bool,
+}
+
+/// What a counting shading pass saw in a frame (ShaderConfig::count_trains).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TrainCounts {
+    pub sea_pixels: u64,
+    pub trains_evaluated: u64,
+    pub trains_weighted: u64,
+}
+
+impl TrainCounts {
+    pub fn evaluated_per_sea_pixel(&self) -> f64 {
+        self.trains_evaluated as f64 / self.sea_pixels.max(1) as f64
+    }
+
+    pub fn weighted_per_sea_pixel(&self) -> f64 {
+        self.trains_weighted as f64 / self.sea_pixels.max(1) as f64
+    }
 }
 
 impl<'g> Renderer<'g> {
@@ -174,7 +204,7 @@ impl<'g> Renderer<'g> {
         // One more timestamp scope than passes: a window frame's capture copy.
         let scopes = passes.len() as u32 + 1;
         let slots = (0..frames_in_flight as usize)
-            .map(|i| FrameSlot::new(gpu, i, scopes, window))
+            .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics, window))
             .collect::<Result<Vec<_>>>()?;
         Ok(Renderer {
             gpu,
@@ -186,11 +216,15 @@ impl<'g> Renderer<'g> {
             slots,
             next_slot: 0,
             last_pass_ms: Vec::new(),
+            last_gpu_frame: None,
+            cpu_spans: CpuSpans::default(),
+            clock: DeviceClock::new(device),
             capture: None,
             passes,
             resources,
             tracker: Tracker::default(),
             sky_in_map: None,
+            counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
         })
     }
 
@@ -216,20 +250,51 @@ impl<'g> Renderer<'g> {
         &self.last_pass_ms
     }
 
+    /// The passes of the most recent frame known to be finished, on the host clock, with their
+    /// pipeline statistics where collected.
+    pub fn last_gpu_frame(&self) -> Option<&GpuFrame> {
+        self.last_gpu_frame.as_ref()
+    }
+
+    /// The trains the last finished frame's shading pass counted (a renderer made to count only).
+    pub fn train_counts(&self) -> Result<Option<TrainCounts>> {
+        if !self.counts_trains {
+            return Ok(None);
+        }
+        let c: Vec<u32> = self.resources.train_counts.read(3)?;
+        Ok(Some(TrainCounts { sea_pixels: c[0] as u64, trains_evaluated: c[1] as u64, trains_weighted: c[2] as u64 }))
+    }
+
+    /// The CPU's steps of the last `render` (scene and waves, recording, submit, the fence, readback).
+    pub fn cpu_spans(&self) -> &CpuSpans {
+        &self.cpu_spans
+    }
+
     /// Renders `scene` offscreen, waits for it and reads it back.
     pub fn render(&mut self, scene: &Scene) -> Result<RenderedFrame> {
         assert_eq!(self.output, Output::Readback, "render() needs an offscreen renderer");
+        self.cpu_spans.clear();
         let slot = self.begin_frame()?;
+        let t = host_now_ns();
         let prepared = self.prepare(slot, scene, Capture::None)?;
+        self.cpu_spans.push("scene and waves", t);
+        let t = host_now_ns();
         let data = self.record(slot, prepared, None)?;
-        self.slots[slot].commands.submit(&[], None)?;
+        self.cpu_spans.push("record", t);
+        let t = host_now_ns();
+        self.submit(slot, &[], None)?;
+        self.cpu_spans.push("submit", t);
+        let t = host_now_ns();
         self.finish(slot)?;
+        self.cpu_spans.push("wait for fence", t);
+        let t = host_now_ns();
         let readback = self.resources.readback.as_ref().expect("an offscreen renderer has readback buffers");
         let pixels = self.width as usize * self.height as usize;
         let hdr_bits: Vec<u16> = readback.hdr.read(4 * pixels)?;
         let hdr =
             hdr_bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
         let ldr = readback.ldr.read(4 * pixels)?;
+        self.cpu_spans.push("readback", t);
         let pass_ms = self.last_pass_ms.iter().map(|&(n, ms)| (n.to_owned(), ms)).collect();
         Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data })
     }
@@ -263,7 +328,7 @@ impl<'g> Renderer<'g> {
         self.record(slot, prepared, Some(image))?;
         let wait =
             Wait { semaphore: self.image_available(slot), stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT };
-        self.slots[slot].commands.submit(&[wait], Some(rendered))?;
+        self.submit(slot, &[wait], Some(rendered))?;
         if capture == Capture::None {
             return Ok(None);
         }
@@ -291,14 +356,28 @@ impl<'g> Renderer<'g> {
         }))
     }
 
+    /// Submits the slot's recorded frame, noting when (and the clocks then) for its GPU spans.
+    fn submit(&mut self, slot: usize, waits: &[Wait], signal: Option<vk::Semaphore>) -> Result<()> {
+        let submit_ns = host_now_ns();
+        self.slots[slot].commands.submit(waits, signal)?;
+        let calibration = self.clock.calibrate(&self.gpu.device)?;
+        self.slots[slot].submission = Some(Submission { submit_ns, calibration });
+        Ok(())
+    }
+
     /// Waits for the frame in `slot` (if one is pending) and keeps its GPU times.
     fn finish(&mut self, slot: usize) -> Result<()> {
         let s = &self.slots[slot];
         if !s.commands.wait()? {
             return Ok(()); // nothing ran since its queries were last read
         }
-        if let Some(times) = s.profiler.read(&self.gpu.device.raw)? {
-            self.last_pass_ms = times;
+        let fence_ns = host_now_ns();
+        if let (Some(scopes), Some(submission)) = (s.profiler.read_scopes(&self.gpu.device.raw)?, s.submission) {
+            let frame = GpuFrame::new(&scopes, submission, fence_ns, &self.clock);
+            if frame.passes.len() == scopes.len() {
+                self.last_pass_ms = scopes.iter().map(|s| (s.name, s.ms())).collect();
+            }
+            self.last_gpu_frame = Some(frame);
         }
         Ok(())
     }
@@ -320,6 +399,10 @@ impl<'g> Renderer<'g> {
         self.resources.frame_uniforms.write(slot, &data.uniforms)?;
         self.resources.waves.write(slot, data.waves.as_ref())?;
         self.slots[slot].grid.set(data.grid.columns, data.grid.rows)?;
+        if self.counts_trains {
+            // Host writes before the submit are visible to it; the slot's last frame is done.
+            self.resources.train_counts.write(&[0u32; 4])?;
+        }
         if capture != Capture::None {
             self.prepare_capture(capture)?;
         }

@@ -74,7 +74,13 @@ pub struct Resources<'g> {
     pub resolved: Option<Image<'g>>,
     /// Offscreen rendering only: the HDR radiance and the tone-mapped pixels for the host.
     pub readback: Option<Readback<'g>>,
+    /// The shading pass's train counters (TrainCounts in glsl/shade.glsl): bound always, written
+    /// only by a shader specialized to count (profiling).
+    pub train_counts: Buffer<'g>,
 }
+
+/// Bytes of the train counters: sea pixels, trains evaluated, trains with a weight, unused.
+pub const TRAIN_COUNTS_BYTES: u64 = 16;
 
 pub struct Readback<'g> {
     pub hdr: Buffer<'g>,
@@ -140,6 +146,7 @@ impl<'g> Resources<'g> {
         } else {
             None
         };
+        let train_counts = Buffer::new(gpu, "train counts", TRAIN_COUNTS_BYTES, B::STORAGE_BUFFER, Location::Readback)?;
         let anisotropic = anisotropy > 1.0 && gpu.device.anisotropy;
         let max_anisotropy = if anisotropic { anisotropy.min(limits.max_sampler_anisotropy) } else { 1.0 };
         let sampler_info = vk::SamplerCreateInfo::default()
@@ -164,6 +171,7 @@ impl<'g> Resources<'g> {
             depth,
             resolved,
             readback,
+            train_counts,
         })
     }
 

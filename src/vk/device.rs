@@ -43,6 +43,11 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     pub anisotropy: bool,
     pub subgroups: Subgroups,
+    /// Whether pipeline statistics queries exist (the pipelineStatisticsQuery feature, enabled).
+    pub pipeline_statistics: bool,
+    /// VK_EXT_calibrated_timestamps, where the device samples its counter together with the
+    /// host clock of our traces (clock::HOST_DOMAIN).
+    pub calibrated_timestamps: Option<ext::calibrated_timestamps::Device>,
     pub debug_utils: Option<ext::debug_utils::Device>,
     /// VK_KHR_swapchain's functions, when the device was opened for a window.
     pub swapchain: Option<khr::swapchain::Device>,
@@ -68,6 +73,8 @@ struct Candidate {
     timestamp_valid_bits: u32,
     anisotropy: bool,
     subgroups: Subgroups,
+    pipeline_statistics: bool,
+    calibrated_timestamps: bool,
 }
 
 /// What the device's subgroups offer (Vulkan 1.1 core properties).
@@ -104,6 +111,7 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
     // SAFETY: as above; `features` chains only locals.
     unsafe { raw.get_physical_device_features2(physical, &mut features) };
     let anisotropy = features.features.sampler_anisotropy == vk::TRUE;
+    let pipeline_statistics = features.features.pipeline_statistics_query == vk::TRUE;
     let mut p11 = vk::PhysicalDeviceVulkan11Properties::default();
     let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut p11);
     // SAFETY: as above; `properties2` chains only locals.
@@ -134,10 +142,13 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
         .enumerate()
         .find(|(_, f)| f.queue_flags.contains(wanted))
         .ok_or_else(|| missing("a graphics and compute queue"))?;
+    // SAFETY: as above.
+    let extensions = unsafe { raw.enumerate_device_extension_properties(physical) }
+        .during("vkEnumerateDeviceExtensionProperties")?;
+    let calibrated_timestamps =
+        extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(ext::calibrated_timestamps::NAME))
+            && calibrates_with_host(instance, physical);
     if let Some(surface) = surface {
-        // SAFETY: as above.
-        let extensions = unsafe { raw.enumerate_device_extension_properties(physical) }
-            .during("vkEnumerateDeviceExtensionProperties")?;
         if !extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(khr::swapchain::NAME)) {
             return Err(missing("VK_KHR_swapchain"));
         }
@@ -154,7 +165,20 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
         timestamp_valid_bits: family.timestamp_valid_bits,
         anisotropy,
         subgroups,
+        pipeline_statistics,
+        calibrated_timestamps,
     })
+}
+
+/// Whether the device's calibrateable time domains include its own and the host's.
+fn calibrates_with_host(instance: &Instance, physical: vk::PhysicalDevice) -> bool {
+    let Some(host) = super::clock::HOST_DOMAIN else { return false };
+    let calibrated = ext::calibrated_timestamps::Instance::new(&instance.entry, &instance.raw);
+    // SAFETY: `physical` belongs to this instance, which exposes the device extension's query.
+    match unsafe { calibrated.get_physical_device_calibrateable_time_domains(physical) } {
+        Ok(domains) => domains.contains(&vk::TimeDomainEXT::DEVICE) && domains.contains(&host),
+        Err(_) => false,
+    }
 }
 
 impl Device {
@@ -202,8 +226,13 @@ impl Device {
         let queue_info =
             [vk::DeviceQueueCreateInfo::default().queue_family_index(c.queue_family).queue_priorities(&priorities)];
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
-        let base = vk::PhysicalDeviceFeatures::default().sampler_anisotropy(c.anisotropy);
-        let extensions = if present { vec![khr::swapchain::NAME.as_ptr()] } else { vec![] };
+        let base = vk::PhysicalDeviceFeatures::default()
+            .sampler_anisotropy(c.anisotropy)
+            .pipeline_statistics_query(c.pipeline_statistics);
+        let mut extensions = if present { vec![khr::swapchain::NAME.as_ptr()] } else { vec![] };
+        if c.calibrated_timestamps {
+            extensions.push(ext::calibrated_timestamps::NAME.as_ptr());
+        }
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&extensions)
@@ -217,6 +246,8 @@ impl Device {
         let memory_properties = unsafe { instance.raw.get_physical_device_memory_properties(c.physical) };
         let debug_utils = instance.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
         let swapchain = present.then(|| khr::swapchain::Device::new(&instance.raw, &raw));
+        let calibrated_timestamps =
+            c.calibrated_timestamps.then(|| ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
         let pipeline_cache = match PipelineCache::open(&raw, &c.properties, cache_dir) {
             Ok(cache) => cache,
             Err(e) => {
@@ -236,6 +267,8 @@ impl Device {
             timestamp_valid_bits: c.timestamp_valid_bits,
             anisotropy: c.anisotropy,
             subgroups: c.subgroups,
+            pipeline_statistics: c.pipeline_statistics,
+            calibrated_timestamps,
             debug_utils,
             swapchain,
             pipeline_cache,

@@ -3,6 +3,7 @@
 
 pub mod barrier;
 pub mod buffer;
+pub mod clock;
 pub mod commands;
 pub mod device;
 pub mod gpu;

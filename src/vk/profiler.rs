@@ -1,13 +1,67 @@
-//! GPU timestamps per pass, in nanoseconds through timestampPeriod, with a debug label around
-//! each pass so RenderDoc, Nsight and our reports show the same names.
+//! GPU timestamps per pass, and pipeline statistics where asked for and offered, with a debug
+//! label around each pass so RenderDoc, Nsight, our traces and our reports show the same names.
+//! Timestamps are masked to the queue's `timestampValidBits` and scaled by `timestampPeriod`.
 
 use super::device::Device;
 use super::owned::Owned;
 use crate::error::{Result, VkContext};
 use ash::vk;
+use serde::Serialize;
+
+/// The counters a pass's pipeline statistics query collects, in the order of their flag bits
+/// (the order the results come back in).
+const STATISTICS: [vk::QueryPipelineStatisticFlags; 6] = [
+    vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_VERTICES,
+    vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES,
+    vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS,
+    vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES,
+    vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
+    vk::QueryPipelineStatisticFlags::COMPUTE_SHADER_INVOCATIONS,
+];
+
+/// What one pass did, counted by the device.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct PipelineStatistics {
+    pub input_assembly_vertices: u64,
+    pub input_assembly_primitives: u64,
+    pub vertex_shader_invocations: u64,
+    pub clipping_primitives: u64,
+    pub fragment_shader_invocations: u64,
+    pub compute_shader_invocations: u64,
+}
+
+impl PipelineStatistics {
+    fn from_results(r: &[u64]) -> Self {
+        PipelineStatistics {
+            input_assembly_vertices: r[0],
+            input_assembly_primitives: r[1],
+            vertex_shader_invocations: r[2],
+            clipping_primitives: r[3],
+            fragment_shader_invocations: r[4],
+            compute_shader_invocations: r[5],
+        }
+    }
+}
+
+/// One scope of a finished frame.
+#[derive(Clone, Debug)]
+pub struct Scope {
+    pub name: &'static str,
+    /// Begin and end on the device's clock in nanoseconds, the end unwrapped past the valid bits'
+    /// overflow (None when the queue has no timestamps).
+    pub device_ns: Option<(u64, u64)>,
+    pub statistics: Option<PipelineStatistics>,
+}
+
+impl Scope {
+    pub fn ms(&self) -> f64 {
+        self.device_ns.map_or(0.0, |(begin, end)| (end - begin) as f64 * 1e-6)
+    }
+}
 
 pub struct Profiler<'g> {
-    pool: Owned<'g, vk::QueryPool>,
+    timestamps: Option<Owned<'g, vk::QueryPool>>,
+    statistics: Option<Owned<'g, vk::QueryPool>>,
     capacity: u32,
     names: Vec<&'static str>,
     period_ns: f64,
@@ -15,13 +69,34 @@ pub struct Profiler<'g> {
 }
 
 impl<'g> Profiler<'g> {
-    pub fn new(device: &'g Device, max_scopes: u32) -> Result<Self> {
-        let info = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(2 * max_scopes);
-        // SAFETY: valid create info.
-        let pool = unsafe { device.raw.create_query_pool(&info, None) }.during("vkCreateQueryPool")?;
-        let pool = Owned::new(device, pool, "pass timestamps");
+    /// Room for `max_scopes` scopes a frame; with `statistics`, a pipeline statistics query per
+    /// scope too where the device has them (`Device::pipeline_statistics`).
+    pub fn new(device: &'g Device, max_scopes: u32, statistics: bool) -> Result<Self> {
+        let pool = |info: vk::QueryPoolCreateInfo, name: &str| -> Result<Owned<'g, vk::QueryPool>> {
+            // SAFETY: valid create info on a live device.
+            let raw = unsafe { device.raw.create_query_pool(&info, None) }.during("vkCreateQueryPool")?;
+            Ok(Owned::new(device, raw, name))
+        };
+        let timestamps = if device.timestamp_valid_bits > 0 {
+            let info =
+                vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(2 * max_scopes);
+            Some(pool(info, "pass timestamps")?)
+        } else {
+            None
+        };
+        let statistics = if statistics && device.pipeline_statistics {
+            let flags = STATISTICS.iter().fold(vk::QueryPipelineStatisticFlags::empty(), |all, &f| all | f);
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::PIPELINE_STATISTICS)
+                .pipeline_statistics(flags)
+                .query_count(max_scopes);
+            Some(pool(info, "pass pipeline statistics")?)
+        } else {
+            None
+        };
         Ok(Profiler {
-            pool,
+            timestamps,
+            statistics,
             capacity: max_scopes,
             names: Vec::new(),
             period_ns: device.properties.limits.timestamp_period as f64,
@@ -29,13 +104,23 @@ impl<'g> Profiler<'g> {
         })
     }
 
-    /// Resets the pool for a new frame; recorded outside any rendering scope.
-    pub fn reset(&mut self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        self.names.clear();
-        // SAFETY: `cmd` is recording and the pool's queries are not in use by a pending submission.
-        unsafe { device.cmd_reset_query_pool(cmd, self.pool.raw, 0, 2 * self.capacity) };
+    /// Whether this profiler collects pipeline statistics.
+    pub fn collects_statistics(&self) -> bool {
+        self.statistics.is_some()
     }
 
+    /// Resets the pools for a new frame; recorded outside any rendering scope.
+    pub fn reset(&mut self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        self.names.clear();
+        for (pool, count) in [(&self.timestamps, 2 * self.capacity), (&self.statistics, self.capacity)] {
+            if let Some(pool) = pool {
+                // SAFETY: `cmd` is recording and the pool's queries are not in use by a pending submission.
+                unsafe { device.cmd_reset_query_pool(cmd, pool.raw, 0, count) };
+            }
+        }
+    }
+
+    /// Opens a scope, outside any rendering scope (a statistics query spans the pass's rendering).
     pub fn begin(&mut self, device: &Device, cmd: vk::CommandBuffer, name: &'static str) {
         if let Some(du) = &device.debug_utils {
             let label = std::ffi::CString::new(name).unwrap_or_default();
@@ -45,25 +130,26 @@ impl<'g> Profiler<'g> {
         let index = self.names.len() as u32;
         assert!(index < self.capacity, "more timestamp scopes than the profiler was made for");
         self.names.push(name);
-        if self.valid_bits > 0 {
+        if let Some(pool) = &self.timestamps {
             // SAFETY: query 2*index was reset this frame.
-            unsafe {
-                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, self.pool.raw, 2 * index)
-            };
+            unsafe { device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, pool.raw, 2 * index) };
+        }
+        if let Some(pool) = &self.statistics {
+            // SAFETY: query `index` was reset this frame and no other query of the pool is active.
+            unsafe { device.raw.cmd_begin_query(cmd, pool.raw, index, vk::QueryControlFlags::empty()) };
         }
     }
 
     pub fn end(&mut self, device: &Device, cmd: vk::CommandBuffer) {
         let index = self.names.len() as u32 - 1;
-        if self.valid_bits > 0 {
+        if let Some(pool) = &self.statistics {
+            // SAFETY: the query began in `begin` in this command buffer, outside rendering as now.
+            unsafe { device.raw.cmd_end_query(cmd, pool.raw, index) };
+        }
+        if let Some(pool) = &self.timestamps {
             // SAFETY: query 2*index+1 was reset this frame.
             unsafe {
-                device.raw.cmd_write_timestamp2(
-                    cmd,
-                    vk::PipelineStageFlags2::ALL_COMMANDS,
-                    self.pool.raw,
-                    2 * index + 1,
-                )
+                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, pool.raw, 2 * index + 1)
             };
         }
         if let Some(du) = &device.debug_utils {
@@ -75,30 +161,68 @@ impl<'g> Profiler<'g> {
     /// Milliseconds per scope of the last submitted frame (after its fence signalled); None when
     /// the queue has no timestamps.
     pub fn read(&self, device: &ash::Device) -> Result<Option<Vec<(&'static str, f64)>>> {
-        if self.valid_bits == 0 || self.names.is_empty() {
+        if self.timestamps.is_none() {
             return Ok(None);
         }
-        let mut data = vec![0u64; 2 * self.names.len()];
-        // SAFETY: the frame's fence was waited on; the queries were written.
-        unsafe {
-            device.get_query_pool_results(
-                self.pool.raw,
-                0,
-                &mut data,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
+        Ok(self.read_scopes(device)?.map(|scopes| scopes.iter().map(|s| (s.name, s.ms())).collect()))
+    }
+
+    /// Every scope of the last submitted frame (after its fence signalled), with its timestamps
+    /// and statistics; None when the frame recorded no scope.
+    pub fn read_scopes(&self, device: &ash::Device) -> Result<Option<Vec<Scope>>> {
+        if self.names.is_empty() {
+            return Ok(None);
         }
-        .during("vkGetQueryPoolResults")?;
-        let mask = if self.valid_bits >= 64 { u64::MAX } else { (1u64 << self.valid_bits) - 1 };
+        let n = self.names.len();
+        let mut ticks = vec![0u64; 2 * n];
+        if let Some(pool) = &self.timestamps {
+            // SAFETY: the frame's fence was waited on; the queries were written.
+            unsafe {
+                device.get_query_pool_results(
+                    pool.raw,
+                    0,
+                    &mut ticks,
+                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                )
+            }
+            .during("vkGetQueryPoolResults (timestamps)")?;
+        }
+        let mut counts = vec![[0u64; STATISTICS.len()]; n];
+        if let Some(pool) = &self.statistics {
+            // SAFETY: as above; each element holds one query's STATISTICS.len() counters.
+            unsafe {
+                device.get_query_pool_results(
+                    pool.raw,
+                    0,
+                    &mut counts,
+                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                )
+            }
+            .during("vkGetQueryPoolResults (pipeline statistics)")?;
+        }
+        let mask = tick_mask(self.valid_bits);
+        let ns = |t: u64| (t as f64 * self.period_ns).round() as u64;
         Ok(Some(
-            self.names
-                .iter()
-                .enumerate()
-                .map(|(i, &name)| {
-                    let ticks = (data[2 * i + 1] & mask).wrapping_sub(data[2 * i] & mask) & mask;
-                    (name, ticks as f64 * self.period_ns * 1e-6)
+            (0..n)
+                .map(|i| Scope {
+                    name: self.names[i],
+                    device_ns: self.timestamps.as_ref().map(|_| {
+                        let begin = ticks[2 * i] & mask;
+                        let elapsed = (ticks[2 * i + 1] & mask).wrapping_sub(begin) & mask;
+                        (ns(begin), ns(begin) + ns(elapsed))
+                    }),
+                    statistics: self.statistics.as_ref().map(|_| PipelineStatistics::from_results(&counts[i])),
                 })
                 .collect(),
         ))
+    }
+}
+
+/// The bits of a timestamp that hold time (`timestampValidBits`, 1 to 64).
+pub fn tick_mask(valid_bits: u32) -> u64 {
+    if valid_bits >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << valid_bits) - 1
     }
 }

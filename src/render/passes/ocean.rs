@@ -72,6 +72,9 @@ pub struct ShaderConfig {
     /// Whether the sky is drawn behind the sea; renders of single terms leave it out (black), so
     /// that their pixels hold just those terms.
     pub background: bool,
+    /// Whether the shading pass counts the trains it evaluates (specialization constant 7;
+    /// profiling only: a normal frame's shader has no counting code).
+    pub count_trains: bool,
 }
 
 impl Default for ShaderConfig {
@@ -82,6 +85,7 @@ impl Default for ShaderConfig {
             train_reads: TrainReads::Blocks,
             geometry: true,
             background: true,
+            count_trains: false,
         }
     }
 }
@@ -94,7 +98,7 @@ impl ShaderConfig {
 
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
     /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5); for the
-    /// shading pass also whether its rows see only sea (6).
+    /// shading pass also whether its rows see only sea (6) and whether it counts trains (7).
     pub fn specialization(&self) -> Specialization {
         self.shade_specialization(false)
     }
@@ -108,6 +112,7 @@ impl ShaderConfig {
             self.geometry as u32,
             self.background as u32,
             sea_only as u32,
+            self.count_trains as u32,
         ])
     }
 

@@ -13,6 +13,9 @@ use crate::vk::owned::Owned;
 use crate::vk::pipeline::{specialized_compute_pipeline, Bindings};
 use ash::vk;
 
+/// The train counters' binding (TrainCounts in glsl/shade.glsl).
+const TRAIN_COUNTS_BINDING: u32 = 4;
+
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
 pub const SHADE_GROUP: u32 = 8;
@@ -42,6 +45,8 @@ pub struct ShadePass<'g> {
     sea_pipeline: Owned<'g, vk::Pipeline>,
     /// Whether the visibility pass shades the rows only sky covers (a picture with a background).
     sky_done_above: bool,
+    /// Whether the shader counts trains into `Resources::train_counts` (zeroed by the host first).
+    counts: bool,
 }
 
 impl<'g> ShadePass<'g> {
@@ -56,8 +61,10 @@ impl<'g> ShadePass<'g> {
                 (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
                 (2, D::COMBINED_IMAGE_SAMPLER, compute),
                 (3, D::STORAGE_IMAGE, compute),
+                (TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, compute),
             ],
         )?;
+        bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
         write_frame_uniforms(&bindings, r, true);
         bindings.write_image(
             2,
@@ -76,7 +83,13 @@ impl<'g> ShadePass<'g> {
         let pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade")?;
         let spec = config.shade_specialization(true);
         let sea_pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only)")?;
-        Ok(ShadePass { bindings, pipeline, sea_pipeline, sky_done_above: config.background })
+        Ok(ShadePass {
+            bindings,
+            pipeline,
+            sea_pipeline,
+            sky_done_above: config.background,
+            counts: config.count_trains,
+        })
     }
 }
 
@@ -88,10 +101,12 @@ impl Pass for ShadePass<'_> {
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::ComputeSampled, false);
         t.image(&r.hdr, 0, 1, Access::ComputeStorageReadWrite, false);
+        if self.counts {
+            t.buffer(&r.train_counts, Access::ComputeStorageReadWrite);
+        }
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
-        let (device, cmd) = (&rec.device.raw, rec.cmd);
         let extent = r.hdr.extent;
         // The rows only sky covers were shaded by the visibility pass: a CPU driver runs both
         // sides of a branch for lanes that disagree, and the masked-off side even when no lane
@@ -99,9 +114,21 @@ impl Pass for ShadePass<'_> {
         let groups = (extent.width.div_ceil(SHADE_GROUP), extent.height.div_ceil(SHADE_GROUP));
         let skipped = if self.sky_done_above { sky_shaded_rows(rec.frame.sky_rows) / SHADE_GROUP } else { 0 };
         let first = skipped.min(groups.1);
-        if first == groups.1 {
-            return;
+        if first < groups.1 {
+            self.dispatch(rec, first, groups);
         }
+        if self.counts {
+            // The host reads the counters after the frame's fence.
+            rec.tracker.buffer(&r.train_counts, Access::HostRead);
+            rec.tracker.flush(&rec.device.raw, rec.cmd);
+        }
+    }
+}
+
+impl ShadePass<'_> {
+    /// Dispatches workgroup rows `first..groups.1`, split where only sea is seen.
+    fn dispatch(&self, rec: &Recorder, first: u32, groups: (u32, u32)) {
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
         // The same reason splits the rest: the rows that see only sea (whole workgroup rows from
         // frame::sea_only_rows down) get the shader without the sky's code.
         let sea_first = rec.frame.sea_rows.div_ceil(SHADE_GROUP).clamp(first, groups.1);
