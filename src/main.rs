@@ -196,6 +196,9 @@ enum Command {
         /// CPU and GPU times, validation counts).
         #[arg(long)]
         report: Option<PathBuf>,
+        /// Write the session's timeline (Chrome Trace Event JSON, as `ocean profile`).
+        #[arg(long)]
+        trace: Option<PathBuf>,
     },
     /// Benchmarks that print their numbers and write them under --out.
     Bench {
@@ -509,6 +512,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             resize_at,
             minimize_at,
             report,
+            trace,
         } => {
             let (loaded, _) = load_scene(scene.clone())?;
             let options = ocean::window::view::ViewOptions {
@@ -526,6 +530,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 screenshot,
                 resize_at,
                 minimize_at,
+                trace,
             };
             let r = ocean::window::view::run(&options)?;
             if let Some(path) = report {

@@ -122,7 +122,7 @@ fn mean_rows(img: &image::RgbImage, rows: std::ops::Range<u32>) -> [f64; 3] {
 fn a_session_with_a_resize_and_a_minimize_is_validation_clean() {
     let display = Display::open();
     let dir = scratch("session");
-    let (shot, json) = (dir.join("last.png"), dir.join("report.json"));
+    let (shot, json, trace) = (dir.join("last.png"), dir.join("report.json"), dir.join("trace.json"));
     let out = ocean(
         Some(&display),
         &[
@@ -142,11 +142,23 @@ fn a_session_with_a_resize_and_a_minimize_is_validation_clean() {
             shot.to_str().unwrap(),
             "--report",
             json.to_str().unwrap(),
+            "--trace",
+            trace.to_str().unwrap(),
         ],
     );
     succeed(&out, "ocean view");
     let r = report(&json);
     assert_eq!(r["frames"], 60);
+    // The timeline: a CPU span per presented frame, the GPU's passes of the frames it finished.
+    let t = report(&trace);
+    let events = t["traceEvents"].as_array().unwrap();
+    let count = |tid: u64, name: &str| events.iter().filter(|e| e["tid"] == tid && e["name"] == name).count();
+    let cpu_frames = events.iter().filter(|e| e["tid"] == 1 && e["cat"] == "frame").count();
+    let gpu_frames = events.iter().filter(|e| e["tid"] == 2 && e["cat"] == "frame").count();
+    assert_eq!(cpu_frames, 60, "a CPU span per presented frame");
+    assert!((50..=60).contains(&gpu_frames), "{gpu_frames} GPU frames of 60");
+    assert_eq!(count(2, "display"), gpu_frames, "each GPU frame ends with the display pass");
+    assert!(events.iter().filter(|e| e["name"] == "frame interval ms").count() >= 50);
     assert_eq!(r["validation_errors"], 0, "{}", r["validation_messages"]);
     assert!(r["swapchain_recreations"].as_u64().unwrap() >= 1, "the resize recreates the swapchain: {r}");
     assert!(r["minimized_seen"].as_u64().unwrap() >= 1, "the window manager minimized the window: {r}");

@@ -12,7 +12,9 @@ use crate::model::scene::Scene;
 use crate::output;
 use crate::render::passes::ocean::{Method, ShaderConfig};
 use crate::render::renderer::{Capture, Captured};
+use crate::render::timeline::GpuFrame;
 use crate::say;
+use crate::vk::clock::host_now_ns;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use crate::vk::swapchain::present_mode_name;
@@ -74,6 +76,8 @@ pub struct ViewOptions {
     pub screenshot: Option<PathBuf>,
     pub resize_at: Vec<ResizeAt>,
     pub minimize_at: Vec<MinimizeAt>,
+    /// Write the session's timeline here (Chrome Trace Event JSON, as `ocean profile`).
+    pub trace: Option<PathBuf>,
 }
 
 #[derive(Debug, Serialize)]
@@ -117,6 +121,9 @@ fn save(captured: Captured, path: &Path) -> Result<()> {
 
 /// Opens the window and runs until Escape, the window is closed, or `--frames` are presented.
 pub fn run(options: &ViewOptions) -> Result<ViewReport> {
+    if let Some(path) = &options.trace {
+        output::target::check_writable(path)?;
+    }
     let mut event_loop = EventLoop::new().map_err(|e| {
         Error::NoSurface(format!(
             "cannot open a display ({e}): set DISPLAY (X11) or WAYLAND_DISPLAY, or run under xvfb-run; `ocean render` needs none"
@@ -156,6 +163,9 @@ pub fn run(options: &ViewOptions) -> Result<ViewReport> {
         renderer.wait_idle()?;
     }
     result?;
+    if let (Some(path), Some(timeline)) = (&options.trace, &session.timeline) {
+        output::write_text(path, &timeline.trace.to_json())?;
+    }
     let counts = gpu.validation_counts();
     let mut messages = counts.errors.clone();
     messages.extend(counts.warnings.iter().map(|(k, v)| (k.clone(), *v)));
@@ -202,6 +212,45 @@ struct Session<'o> {
     file_time: Option<SystemTime>,
     pending_capture: Option<(Capture, PathBuf)>,
     quit: bool,
+    /// With --trace: the session's timeline so far.
+    timeline: Option<Timeline>,
+}
+
+/// A window session on a timeline: each presented frame's CPU span (its present inside), each
+/// finished GPU frame's passes, and the frame interval and GPU time as counters.
+struct Timeline {
+    trace: crate::output::trace::Trace,
+    /// The submit time of the last GPU frame added (frames in flight finish later than drawn).
+    last_gpu_submit: Option<u64>,
+}
+
+impl Timeline {
+    fn new() -> Self {
+        use crate::app::profile::{CPU_TRACK, GPU_TRACK};
+        let mut trace = crate::output::trace::Trace::new("ocean view", host_now_ns() as f64);
+        trace.track(CPU_TRACK, "CPU main thread", 0);
+        trace.track(GPU_TRACK, "GPU queue", 1);
+        Timeline { trace, last_gpu_submit: None }
+    }
+
+    fn frame(&mut self, index: u64, begin_ns: u64, present_ms: f64, interval_ms: Option<f64>, gpu: Option<&GpuFrame>) {
+        use crate::render::timeline::Span;
+        let end = host_now_ns() as f64;
+        let present = Span { name: "present".into(), begin_ns: end - present_ms * 1e6, end_ns: end };
+        let draw = Span {
+            name: "acquire, prepare, record, submit".into(),
+            begin_ns: begin_ns as f64,
+            end_ns: present.begin_ns,
+        };
+        let gpu = gpu.filter(|g| self.last_gpu_submit != Some(g.submission.submit_ns));
+        if let Some(g) = gpu {
+            self.last_gpu_submit = Some(g.submission.submit_ns);
+        }
+        crate::app::profile::add_frame(&mut self.trace, index as u32, false, &[draw, present], gpu);
+        if let Some(ms) = interval_ms {
+            self.trace.counter("frame interval ms", end, &[("ms", ms)]);
+        }
+    }
 }
 
 impl<'o> Session<'o> {
@@ -221,6 +270,7 @@ impl<'o> Session<'o> {
             file_time: options.scene_path.as_deref().and_then(modified),
             pending_capture: None,
             quit: false,
+            timeline: options.trace.as_ref().map(|_| Timeline::new()),
         }
     }
 
@@ -338,6 +388,7 @@ impl<'o> Session<'o> {
                 capture => capture,
             };
             let started = Instant::now();
+            let started_ns = host_now_ns();
             match presenter.draw(&frame_scene, capture.as_ref().map_or(Capture::None, |c| c.0))? {
                 Drawn::OutOfDate => {
                     need_swapchain = true;
@@ -352,6 +403,10 @@ impl<'o> Session<'o> {
                     let cpu_ms = presented.duration_since(started).as_secs_f64() * 1e3;
                     let gpu = presenter.renderer.as_ref().map_or(&[][..], |r| r.last_pass_ms());
                     self.stats.frame(interval, cpu_ms, wait_ms, present_ms, gpu);
+                    if let Some(timeline) = &mut self.timeline {
+                        let finished = presenter.renderer.as_ref().and_then(|r| r.last_gpu_frame());
+                        timeline.frame(self.frames - 1, started_ns, present_ms, interval, finished);
+                    }
                     if let (Some(captured), Some((_, path))) = (captured, capture) {
                         save(captured, &path)?;
                         say!("{}: screenshot of frame {}", path.display(), self.frames);
