@@ -27,6 +27,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 tone;             // x: exposure; y: sky map extent R (map spans [-R, R]^2 in stereographic u)
     vec4 wave_extent;      // x: longest wavelength (m)
     vec4 baseline_sigma2;  // xy: the constant-BRDF baseline's slope variance (wind frame)
+    // The physical sky (glsl/atmosphere.glsl): [0] bottom and top radius, Rayleigh and Mie scale
+    // heights (m); [1] Rayleigh scattering (rgb, per m), Mie g; [2] ozone absorption at its peak
+    // (rgb), Mie scattering; [3] ozone centre and width (m), Mie absorption, ground albedo;
+    // [4] the sun's illuminance outside the atmosphere (klux), the sun disc's chord^2
+    // (2 (1 - cos radius)), the eye's altitude (m).
+    vec4 atmosphere[5];
 } frame;
 
 // The wave trains, sorted by increasing wavelength. Two words per train keep the per-pixel loop

@@ -175,7 +175,7 @@ Sample shade_hit(vec3 r, float t, Surface s) {
     float fresnel = fresnel_exact(cos_v, tile.ior);
     vec3 refl = reflect(r, n);
     Sample o;
-    o.sky = fresnel * sky_radiance(vec3(refl.xy, abs(refl.z)));
+    o.sky = fresnel * preetham_sky(vec3(refl.xy, abs(refl.z)));
     o.sun = vec3(0.0);
     if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= frame.sun_dir.w) {
         Surface s2;
@@ -198,7 +198,7 @@ Sample shade_sample(vec3 ray) {
     } else {
         o.sun = o.sky = o.sea = vec3(0.0);
         o.transmitted = 0.0;
-        o.total = sky_radiance(r) + sun_disc(r);
+        o.total = preetham_sky(r) + sun_disc(r);
     }
     return o;
 }

@@ -10,6 +10,7 @@
 #include "common.glsl"
 WAVES_BLOCK;
 layout(set = 0, binding = 2) uniform sampler2D sky_map;
+#define SKY_MAP_SAMPLER sky_map
 layout(set = 0, binding = 3, rgba16ui) uniform restrict uimage2D hdr_bits;
 layout(constant_id = 0) const bool TERM_SUN = true;
 layout(constant_id = 1) const bool TERM_SKY = true;

@@ -1,9 +1,11 @@
 #version 450
-// The sky seen directly, from the same analytic model as the map, in the rows only sky covers
-// (drawn by the visibility pass, so that the shading pass can skip those rows): the radiance
-// goes into the HDR image's bits as the RGBA16F texel.
+// The sky seen directly, from the same model as the map (the physical sky from the map itself),
+// in the rows only sky covers (drawn by the visibility pass, so that the shading pass can skip
+// those rows): the radiance goes into the HDR image's bits as the RGBA16F texel.
 #include "frame.glsl"
 #include "common.glsl"
+layout(set = 0, binding = 2) uniform sampler2D sky_map;
+#define SKY_MAP_SAMPLER sky_map
 #include "sky.glsl"
 
 layout(location = 0) out uvec4 out_radiance_bits;

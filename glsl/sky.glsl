@@ -1,7 +1,12 @@
-// Analytic clear sky: Preetham, Shirley & Smits, "A Practical Analytic Model for Daylight"
-// (SIGGRAPH 1999). Perez coefficients and zenith values come from the CPU (src/model/sky.rs).
+// The sky: Preetham, Shirley & Smits, "A Practical Analytic Model for Daylight" (SIGGRAPH
+// 1999), evaluated here from the CPU's Perez coefficients and zenith values (src/model/sky.rs), or
+// the physical atmosphere (specialization constant 8, SKY_PHYSICAL), which sky_map.comp
+// raymarches into the sky map (glsl/atmosphere.glsl) and everything else reads from the map
+// (where the includer names its sampler SKY_MAP_SAMPLER).
 #ifndef SKY_GLSL
 #define SKY_GLSL
+
+layout(constant_id = 8) const bool SKY_PHYSICAL = false;
 
 // Perez et al. distribution F(theta, gamma) for one channel, with cos(theta) = max(dir.z, 0).
 // exp(B / cos theta) with B < 0 tends to 0 at the horizon; below cos theta = -B / EXP_UNDERFLOW
@@ -23,9 +28,9 @@ vec3 xyY_to_linear_srgb(vec3 xyY) {
                  0.0557 * XYZ.x - 0.2040 * XYZ.y + 1.0570 * XYZ.z);
 }
 
-// Sky radiance (kcd/m^2, linear sRGB) towards unit direction `dir`; directions below the
-// horizon see the horizon's radiance. The sun disc is not included (see sun_disc).
-vec3 sky_radiance(vec3 dir) {
+// Preetham's sky radiance (kcd/m^2, linear sRGB) towards unit direction `dir`; directions below
+// the horizon see the horizon's radiance. The sun disc is not included (see sun_disc).
+vec3 preetham_sky(vec3 dir) {
     float cos_theta = max(dir.z, 0.0);
     float cos_gamma = clamp(dot(dir, frame.sun_dir.xyz), -1.0, 1.0);
     float gamma = acos(cos_gamma);
@@ -35,9 +40,19 @@ vec3 sky_radiance(vec3 dir) {
     return max(rgb, vec3(0.0));
 }
 
-// The sun disc as seen directly (uniform radiance over its angular radius).
+// The sun disc as seen directly: uniform over its angular radius (Preetham), or limb-darkened
+// (physical: I / I_mean = (1 - u (1 - m)) / (1 - u / 3), m = sqrt(1 - x^2), x the angle over the
+// radius, u = 0.6; atmosphere::limb_darkening). x from chords, |dir - sun|^2 over the radius's
+// chord^2: exact near the centre, where an angle from acos would lose half its digits.
+const float LIMB_DARKENING_U = 0.6;
+
 vec3 sun_disc(vec3 dir) {
-    return dot(dir, frame.sun_dir.xyz) >= frame.sun_dir.w ? frame.sun_radiance.rgb * frame.sun_irradiance.w : vec3(0.0);
+    vec3 disc = frame.sun_radiance.rgb * frame.sun_irradiance.w;
+    if (!SKY_PHYSICAL) return dot(dir, frame.sun_dir.xyz) >= frame.sun_dir.w ? disc : vec3(0.0);
+    vec3 chord = dir - frame.sun_dir.xyz;
+    float x2 = dot(chord, chord) / frame.atmosphere[4].y;
+    float m = sqrt(max(1.0 - x2, 0.0));
+    return x2 <= 1.0 ? disc * ((1.0 - LIMB_DARKENING_U * (1.0 - m)) / (1.0 - LIMB_DARKENING_U / 3.0)) : vec3(0.0);
 }
 
 // Stereographic map of the upper hemisphere: u = r.xy / (1 + |r.z|). Directions below the
@@ -55,5 +70,14 @@ vec3 inverse_stereographic(vec2 u) {
 vec2 sky_map_uv(vec2 u) {
     return u * (0.5 / frame.tone.y) + 0.5;
 }
+
+#ifdef SKY_MAP_SAMPLER
+// The sky seen directly (the sun disc not included): the physical sky from the map that holds
+// it, Preetham's evaluated. Directions below the horizon see the map's mirror image.
+vec3 sky_radiance(vec3 dir) {
+    if (SKY_PHYSICAL) return textureLod(SKY_MAP_SAMPLER, sky_map_uv(stereographic(dir)), 0.0).rgb;
+    return preetham_sky(dir);
+}
+#endif
 
 #endif

@@ -1,6 +1,7 @@
 //! The world the renderer draws, in f64: the scene a user describes, the wave trains it makes
 //! and the sky that lights them. Nothing here knows about Vulkan.
 
+pub mod atmosphere;
 pub mod scene;
 pub mod sky;
 pub mod waves;

@@ -36,8 +36,21 @@ pub struct Sun {
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sky {
-    /// Preetham turbidity: 2 very clear, 3 clear, 6 hazy.
+    /// Which model lights the scene and is seen behind it.
+    pub model: SkyKind,
+    /// Preetham turbidity: 2 very clear, 3 clear, 6 hazy (the `preetham` model).
     pub turbidity: f64,
+    /// The physical model's atmosphere (`[sky.atmosphere]`; Earth's by default).
+    pub atmosphere: crate::model::atmosphere::AtmosphereParams,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SkyKind {
+    /// Preetham, Shirley & Smits (1999): analytic, fitted to clear skies with the sun well up.
+    Preetham,
+    /// Precomputed scattering in a spherical atmosphere (src/model/atmosphere.rs).
+    Physical,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
@@ -149,7 +162,7 @@ impl Default for Sun {
 }
 impl Default for Sky {
     fn default() -> Self {
-        Self { turbidity: 2.5 }
+        Self { model: SkyKind::Preetham, turbidity: 2.5, atmosphere: Default::default() }
     }
 }
 impl Default for Wind {
@@ -225,6 +238,7 @@ impl Scene {
         finite_angle("sun.azimuth_deg", self.sun.azimuth_deg)?;
         // Preetham's fit covers turbidities 2 to 10; below 1.7 its zenith chromaticity leaves the gamut.
         in_range("sky.turbidity", self.sky.turbidity, Bound::Closed(1.7), Bound::Closed(10.0))?;
+        self.sky.atmosphere.validate().map_err(|e| format!("sky.{e}"))?;
         in_range("wind.speed_mps", self.wind.speed_mps, Bound::Closed(0.0), Bound::Closed(60.0))?;
         finite_angle("wind.direction_deg", self.wind.direction_deg)?;
         let w = &self.waves;

@@ -44,6 +44,7 @@ pub struct FrameUniforms {
     pub tone: [f32; 4],
     pub wave_extent: [f32; 4],
     pub baseline_sigma2: [f32; 4],
+    pub atmosphere: [[f32; 4]; 5],
 }
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
@@ -270,7 +271,17 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         gpu_waves.prefix[i] = [prefix[0] as f32, prefix[1] as f32, 0.0, 0.0];
     }
 
-    let sun_above = if sky.sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
+    let physical = scene.sky.model == crate::model::scene::SkyKind::Physical;
+    let atm = &scene.sky.atmosphere;
+    // The physical sky's sun and sky light at the sea, seen from the eye (the sea's altitude is
+    // within metres of it); Preetham's otherwise.
+    let (sun_radiance, sky_irradiance) = if physical {
+        crate::model::atmosphere::sun_and_sky(atm, camera.eye_height, sky.sun_dir)
+    } else {
+        (sky.sun_radiance, sky.sky_irradiance())
+    };
+    let sun_irradiance = sun_radiance.map(|l| l * SkyModel::sun_solid_angle());
+    let sun_above = if sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
     let perez = std::array::from_fn(|i| v4(sky.perez[i], 0.0));
     let uniforms = FrameUniforms {
         view_proj: mat(view_proj),
@@ -282,9 +293,9 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         grid_dims: [grid.columns, grid.rows, waves.trains.len() as u32, 0],
         filter_steps: [GEOMETRY_STEPS[0], GEOMETRY_STEPS[1], NORMAL_STEPS[0], NORMAL_STEPS[1]],
         sun_dir: v4(sky.sun_dir, crate::model::sky::SUN_ANGULAR_RADIUS.cos()),
-        sun_radiance: v4(sky.sun_radiance, SkyModel::sun_slope_variance()),
-        sun_irradiance: v4(sky.sun_irradiance(), sun_above),
-        sky_irradiance: v4(sky.sky_irradiance(), 0.0),
+        sun_radiance: v4(sun_radiance, SkyModel::sun_slope_variance()),
+        sun_irradiance: v4(sun_irradiance, sun_above),
+        sky_irradiance: v4(sky_irradiance, 0.0),
         sea_albedo: v4(SEA_ALBEDO, 0.0),
         wind: [
             waves.wind_direction[0] as f32,
@@ -300,6 +311,29 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             let b = baseline_slope_variance(&camera, waves, scene.render.time_s, width, height);
             [b[0] as f32, b[1] as f32, 0.0, 0.0]
         },
+        atmosphere: [
+            [atm.bottom_radius_m, atm.top_radius_m, atm.rayleigh_scale_height_m, atm.mie_scale_height_m],
+            [
+                atm.rayleigh_scattering_per_m[0],
+                atm.rayleigh_scattering_per_m[1],
+                atm.rayleigh_scattering_per_m[2],
+                atm.mie_g,
+            ],
+            [
+                atm.ozone_absorption_per_m[0],
+                atm.ozone_absorption_per_m[1],
+                atm.ozone_absorption_per_m[2],
+                atm.mie_scattering_per_m,
+            ],
+            [atm.ozone_center_m, atm.ozone_width_m, atm.mie_absorption_per_m, atm.ground_albedo],
+            [
+                crate::model::sky::SOLAR_ILLUMINANCE_KLUX,
+                2.0 * (1.0 - crate::model::sky::SUN_ANGULAR_RADIUS.cos()),
+                camera.eye_height,
+                0.0,
+            ],
+        ]
+        .map(|v| v.map(|x| x as f32)),
     };
     // No grid row: no sea anywhere in view.
     let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, width, height) };

@@ -4,10 +4,11 @@
 //! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
-use crate::model::scene::{Scene, Sky, Sun};
+use crate::model::scene::{Scene, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::FrameSlot;
+use crate::render::passes::atmosphere::AtmospherePass;
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::ocean::{OceanPass, ShaderConfig};
@@ -140,6 +141,8 @@ pub struct Renderer<'g> {
     sky_in_map: Option<(Sun, Sky)>,
     /// Whether the shading pass counts trains (ShaderConfig::count_trains).
     counts_trains: bool,
+    /// The sky model the pipelines were specialized for.
+    sky_model: SkyKind,
 }
 
 /// What a counting shading pass saw in a frame (ShaderConfig::count_trains).
@@ -165,6 +168,10 @@ impl<'g> Renderer<'g> {
     /// With supersampling the grid keeps its cell size in output pixels.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         let device = &gpu.device;
+        // The sky's model is the scene's; the physical sky behind the sea is read from its map.
+        let mut options = options;
+        options.shader.sky_physical = scene.sky.model == SkyKind::Physical;
+        options.sky_map |= options.shader.sky_physical && options.shader.background;
         assert!(options.sky_map || !options.shader.terms.sky, "the sky term samples the sky map");
         let frames_in_flight = options.frames_in_flight.max(1);
         let spec = ResourceSpec {
@@ -175,10 +182,14 @@ impl<'g> Renderer<'g> {
             anisotropy: scene.render.sky_anisotropy as f32,
             slots: frames_in_flight,
             readback: options.output == Output::Readback,
+            atmosphere: options.sky_map && options.shader.sky_physical,
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
         if options.sky_map {
+            if let Some(tables) = &resources.atmosphere {
+                passes.push(Box::new(AtmospherePass::new(device, &resources, tables)?));
+            }
             passes.push(Box::new(SkyMapPass::new(device, &resources)?));
             passes.push(Box::new(SkyMipsPass));
         }
@@ -225,6 +236,7 @@ impl<'g> Renderer<'g> {
             tracker: Tracker::default(),
             sky_in_map: None,
             counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
+            sky_model: scene.sky.model,
         })
     }
 
@@ -386,6 +398,12 @@ impl<'g> Renderer<'g> {
     /// whatever can fail here leaves no image or semaphore signal pending: checks the scene
     /// against the renderer, builds the frame and writes the slot's uniforms and grid.
     pub fn prepare(&mut self, slot: usize, scene: &Scene, capture: Capture) -> Result<Prepared> {
+        if scene.sky.model != self.sky_model {
+            return Err(Error::Argument(format!(
+                "this renderer was built for sky.model = {:?}, the scene asks {:?}",
+                self.sky_model, scene.sky.model
+            )));
+        }
         if scene.render.sky_anisotropy != self.anisotropy {
             return Err(Error::Argument(format!(
                 "this renderer's sky sampler was built for sky_anisotropy = {}, the scene asks {}",

@@ -31,6 +31,17 @@ pub struct ResourceSpec {
     pub slots: u32,
     /// Whether frames are read back to the host (offscreen rendering).
     pub readback: bool,
+    /// Whether the sky is the physical atmosphere (its tables are made).
+    pub atmosphere: bool,
+}
+
+/// The physical atmosphere's tables (glsl/atmosphere.glsl), sampled linearly, clamped.
+pub struct AtmosphereTables<'g> {
+    /// Transmittance to the top of the atmosphere (atmosphere::TRANSMITTANCE_SIZE).
+    pub transmittance: Image<'g>,
+    /// Hillaire's multiple scattering psi_ms (atmosphere::MULTIPLE_SCATTERING_SIZE squared).
+    pub multiple_scattering: Image<'g>,
+    pub sampler: Owned<'g, vk::Sampler>,
 }
 
 /// Host-written uniform blocks, one window per frame in flight, bound with a dynamic offset.
@@ -77,6 +88,8 @@ pub struct Resources<'g> {
     /// The shading pass's train counters (TrainCounts in glsl/shade.glsl): bound always, written
     /// only by a shader specialized to count (profiling).
     pub train_counts: Buffer<'g>,
+    /// With the physical sky: the atmosphere's tables, built by the `atmosphere` pass.
+    pub atmosphere: Option<AtmosphereTables<'g>>,
 }
 
 /// Bytes of the train counters: sea pixels, trains evaluated, trains with a weight, unused.
@@ -90,7 +103,7 @@ pub struct Readback<'g> {
 impl<'g> Resources<'g> {
     /// Resources for `width` x `height` output images rendered with `ssaa` x `ssaa` samples per pixel.
     pub fn new(gpu: &'g Gpu, spec: &ResourceSpec) -> Result<Self> {
-        let ResourceSpec { width, height, ssaa, sky_map, anisotropy, slots, readback } = *spec;
+        let ResourceSpec { width, height, ssaa, sky_map, anisotropy, slots, readback, atmosphere } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > side || height > side {
@@ -162,6 +175,7 @@ impl<'g> Resources<'g> {
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: valid create info; anisotropy only when the feature was enabled.
         let sky_sampler = unsafe { gpu.raw().create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
+        let atmosphere = if atmosphere { Some(atmosphere_tables(gpu)?) } else { None };
         Ok(Resources {
             frame_uniforms,
             waves,
@@ -172,6 +186,7 @@ impl<'g> Resources<'g> {
             resolved,
             readback,
             train_counts,
+            atmosphere,
         })
     }
 
@@ -179,4 +194,30 @@ impl<'g> Resources<'g> {
     pub fn output(&self) -> &Image<'g> {
         self.resolved.as_ref().unwrap_or(&self.hdr)
     }
+}
+
+fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
+    use crate::model::atmosphere::{MULTIPLE_SCATTERING_SIZE, TRANSMITTANCE_SIZE};
+    let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
+    let (tw, th) = (TRANSMITTANCE_SIZE.0 as u32, TRANSMITTANCE_SIZE.1 as u32);
+    let transmittance =
+        Image::new(gpu, "atmosphere transmittance", HDR_FORMAT, vk::Extent2D { width: tw, height: th }, 1, usage)?;
+    let n = MULTIPLE_SCATTERING_SIZE as u32;
+    let multiple_scattering =
+        Image::new(gpu, "atmosphere multiple scattering", HDR_FORMAT, vk::Extent2D { width: n, height: n }, 1, usage)?;
+    let info = vk::SamplerCreateInfo::default()
+        .mag_filter(vk::Filter::LINEAR)
+        .min_filter(vk::Filter::LINEAR)
+        .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+        .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .max_lod(0.0);
+    // SAFETY: valid create info on a live device.
+    let sampler = unsafe { gpu.raw().create_sampler(&info, None) }.during("vkCreateSampler")?;
+    Ok(AtmosphereTables {
+        transmittance,
+        multiple_scattering,
+        sampler: Owned::new(&gpu.device, sampler, "atmosphere tables sampler"),
+    })
 }

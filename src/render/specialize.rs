@@ -3,7 +3,7 @@
 //! general renderer would compute to zero (or to nothing visible), so the picture stays the same;
 //! the report lists each with its reason.
 
-use crate::model::scene::Scene;
+use crate::model::scene::{Scene, SkyKind};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
 use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
@@ -55,20 +55,34 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     let mut omitted = Vec::new();
     let mut omit = |what: &str, why: String| omitted.push(Omission { what: what.into(), why });
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
+    let physical = scene.sky.model == SkyKind::Physical;
+    options.shader.sky_physical = physical;
+    // The physical sky's sun goes when the planet hides the disc's centre; it has no dark night
+    // (its twilight fades smoothly below any threshold), so nothing is left out for the night.
+    // Hidden: the disc's centre below the eye's geometric horizon (the frame's eye is never
+    // lower than the scene's, so it sees at least as far down).
+    let sun_dark = if physical {
+        let (h, r) = (scene.camera.height_m, scene.sky.atmosphere.bottom_radius_m);
+        let horizon_mu = -(h * (2.0 * r + h)).sqrt() / (r + h);
+        scene.sun.elevation_deg.to_radians().sin() < horizon_mu
+    } else {
+        sky.sun_radiance.iter().all(|&l| l == 0.0)
+    };
+    let night = !physical && sky.sky_scale == 0.0;
     let terms = &mut options.shader.terms;
-    if terms.sun && sky.sun_radiance.iter().all(|&l| l == 0.0) {
+    if terms.sun && sun_dark {
         terms.sun = false;
         omit("sun term", format!("the sun is {:.1} degrees below the horizon", -scene.sun.elevation_deg));
     }
-    if terms.sky && sky.sky_scale == 0.0 {
+    if terms.sky && night {
         terms.sky = false;
         omit("sky term", "night: the sun is more than 18 degrees below the horizon, the sky is dark".into());
     }
-    if terms.sea && sky.sky_scale == 0.0 {
+    if terms.sea && night {
         terms.sea = false;
         omit("refracted term", "night: no sky light enters the water".into());
     }
-    if sky.sky_scale == 0.0 && options.shader.background && sky.sun_radiance.iter().all(|&l| l == 0.0) {
+    if night && options.shader.background && sun_dark {
         options.shader.background = false;
         omit("sky behind the sea", "night: the sky and the sun are dark (cleared to black instead)".into());
     }
@@ -78,7 +92,8 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             "no term to shade and no sky behind the sea: the image is black (cleared)".into(),
         );
     }
-    if !options.shader.terms.sky && options.sky_map {
+    // The physical sky behind the sea is read from the map too.
+    if !options.shader.terms.sky && !(physical && options.shader.background) && options.sky_map {
         options.sky_map = false;
         omit("sky map and its mip chain (512x512, 10 levels)", "nothing samples it: no sky term".into());
     }

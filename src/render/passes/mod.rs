@@ -2,6 +2,7 @@
 //! barriers from those declarations (vk::barrier), then records the pass inside a debug label
 //! and a timestamp scope of the pass's name.
 
+pub mod atmosphere;
 pub mod black;
 pub mod display;
 pub mod ocean;

@@ -75,6 +75,10 @@ pub struct ShaderConfig {
     /// Whether the shading pass counts the trains it evaluates (specialization constant 7;
     /// profiling only: a normal frame's shader has no counting code).
     pub count_trains: bool,
+    /// Whether the sky is the physical atmosphere (specialization constant 8; set from the scene
+    /// by the renderer): its map is raymarched through the atmosphere's tables, and the sky seen
+    /// directly is read from the map.
+    pub sky_physical: bool,
 }
 
 impl Default for ShaderConfig {
@@ -86,6 +90,7 @@ impl Default for ShaderConfig {
             geometry: true,
             background: true,
             count_trains: false,
+            sky_physical: false,
         }
     }
 }
@@ -98,7 +103,8 @@ impl ShaderConfig {
 
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
     /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5); for the
-    /// shading pass also whether its rows see only sea (6) and whether it counts trains (7).
+    /// shading pass also whether its rows see only sea (6) and whether it counts trains (7); the
+    /// sky's model (8) for all.
     pub fn specialization(&self) -> Specialization {
         self.shade_specialization(false)
     }
@@ -113,6 +119,7 @@ impl ShaderConfig {
             self.background as u32,
             sea_only as u32,
             self.count_trains as u32,
+            self.sky_physical as u32,
         ])
     }
 
@@ -121,6 +128,9 @@ impl ShaderConfig {
         ShaderConfig { terms, method, background: false, ..ShaderConfig::default() }
     }
 }
+
+/// The sky map's binding in the visibility pass (the sky pipeline reads the physical sky from it).
+const SKY_MAP_BINDING: u32 = 2;
 
 /// The clear value of pixels no grid triangle covers: +Inf as the rest position's x, the bits of
 /// `NO_SEA_BITS` in glsl/common.glsl.
@@ -147,9 +157,21 @@ impl<'g> OceanPass<'g> {
         let bindings = Bindings::new(
             device,
             "ocean",
-            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both), (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both)],
+            &[
+                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
+                (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
+                (SKY_MAP_BINDING, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
+            ],
         )?;
         write_frame_uniforms(&bindings, r, true);
+        // The physical sky seen directly is read from the map (sky.frag).
+        bindings.write_image(
+            SKY_MAP_BINDING,
+            D::COMBINED_IMAGE_SAMPLER,
+            r.sky_map.view,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            r.sky_sampler.raw,
+        );
         let spec = config.specialization();
         let pipeline = graphics_pipeline(
             device,
@@ -173,7 +195,7 @@ impl<'g> OceanPass<'g> {
                     name: "sky",
                     vertex: shaders::FULLSCREEN_VERT,
                     fragment: shaders::SKY_FRAG,
-                    specialization: None,
+                    specialization: Some(&spec),
                     color_format: HDR_BITS_FORMAT,
                     depth_format: DEPTH_FORMAT,
                     depth_write: false,
@@ -193,6 +215,9 @@ impl Pass for OceanPass<'_> {
     }
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
+        if self.sky.is_some() {
+            t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::FragmentSampled, false);
+        }
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
     }

@@ -1,4 +1,5 @@
-//! Sky map: level 0 of the stereographic sky texture from the analytic model (compute); then, in
+//! Sky map: level 0 of the stereographic sky texture from Preetham's model or the physical
+//! atmosphere's tables (compute); then, in
 //! its own pass, the full mip chain by successive linear blits, each level a barrier from the one above.
 
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
@@ -17,18 +18,35 @@ pub struct SkyMapPass<'g> {
 }
 
 impl<'g> SkyMapPass<'g> {
+    /// Preetham's sky, or the physical one from the atmosphere's tables where the resources have them.
     pub fn new(device: &'g Device, resources: &Resources) -> Result<Self> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
-        let bindings = Bindings::new(
-            device,
-            "sky map",
-            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages), (3, D::STORAGE_IMAGE, stages)],
-        )?;
+        let mut layout = vec![(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages), (3, D::STORAGE_IMAGE, stages)];
+        if resources.atmosphere.is_some() {
+            layout.push((4, D::COMBINED_IMAGE_SAMPLER, stages));
+            layout.push((5, D::COMBINED_IMAGE_SAMPLER, stages));
+        }
+        let bindings = Bindings::new(device, "sky map", &layout)?;
         write_frame_uniforms(&bindings, resources, false);
         let sky = &resources.sky_map;
         bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        let pipeline = compute_pipeline(device, bindings.layout(), shaders::SKY_MAP_COMP, "sky map")?;
+        let code = match &resources.atmosphere {
+            Some(tables) => {
+                let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+                bindings.write_image(4, D::COMBINED_IMAGE_SAMPLER, tables.transmittance.view, read, tables.sampler.raw);
+                bindings.write_image(
+                    5,
+                    D::COMBINED_IMAGE_SAMPLER,
+                    tables.multiple_scattering.view,
+                    read,
+                    tables.sampler.raw,
+                );
+                shaders::SKY_MAP_PHYSICAL_COMP
+            }
+            None => shaders::SKY_MAP_COMP,
+        };
+        let pipeline = compute_pipeline(device, bindings.layout(), code, "sky map")?;
         Ok(SkyMapPass { bindings, pipeline })
     }
 }
@@ -43,6 +61,10 @@ impl Pass for SkyMapPass<'_> {
     }
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
+        if let Some(tables) = &r.atmosphere {
+            t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
+            t.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
+        }
         t.image(&r.sky_map, 0, 1, Access::ComputeStorageWrite, true);
     }
 

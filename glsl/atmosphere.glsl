@@ -1,0 +1,191 @@
+// The physical sky (src/model/atmosphere.rs is its f64 twin and says where the model comes
+// from): the atmosphere's coefficients, Bruneton (2017)'s transmittance parametrization, and the
+// sky's radiance along a ray from single scattering plus Hillaire (2020)'s multiple-scattering
+// term. Lengths in metres. Requires frame.glsl and common.glsl; the table samplers
+// (TRANSMITTANCE_TABLE, MULTIPLE_SCATTERING_TABLE) where defined.
+//
+// f32 and a planet: radii are ~6.4e6 m, so r^2 - R^2 formed as a difference of squares loses
+// everything at sea level (its ulp is ~4e6 m^2). Every such difference is formed from altitudes
+// instead: r^2 - R^2 = h (2R + h), R_top^2 - r^2 = (H_top - h)(R_top + r).
+#ifndef ATMOSPHERE_GLSL
+#define ATMOSPHERE_GLSL
+
+const ivec2 TRANSMITTANCE_SIZE = ivec2(256, 64);   // atmosphere::TRANSMITTANCE_SIZE
+const int MULTIPLE_SCATTERING_SIZE = 32;           // atmosphere::MULTIPLE_SCATTERING_SIZE
+const int SKY_STEPS = 40;                          // atmosphere::SKY_STEPS
+const int MS_DIRECTIONS = 8;                       // atmosphere::MS_DIRECTIONS
+const int MS_STEPS = 20;                           // atmosphere::MS_STEPS
+
+float bottom_radius() { return frame.atmosphere[0].x; }
+float top_radius() { return frame.atmosphere[0].y; }
+float atmosphere_height() { return frame.atmosphere[0].y - frame.atmosphere[0].x; }
+
+struct Medium {
+    vec3 rayleigh;     // scattering
+    float mie;         // scattering
+    vec3 extinction;
+};
+
+Medium medium_at(float h) {
+    float rayleigh = exp(-max(h, 0.0) / frame.atmosphere[0].z);
+    float mie = exp(-max(h, 0.0) / frame.atmosphere[0].w);
+    float ozone = max(0.0, 1.0 - abs(h - frame.atmosphere[3].x) / (0.5 * frame.atmosphere[3].y));
+    Medium m;
+    m.rayleigh = frame.atmosphere[1].xyz * rayleigh;
+    m.mie = frame.atmosphere[2].w * mie;
+    m.extinction = m.rayleigh + (frame.atmosphere[2].w + frame.atmosphere[3].z) * mie + frame.atmosphere[2].xyz * ozone;
+    return m;
+}
+
+float rayleigh_phase(float nu) {
+    return 3.0 / (16.0 * PI) * (1.0 + nu * nu);
+}
+
+// Cornette-Shanks; 1 + g^2 - 2 g nu >= (1 - |g|)^2 > 0 for |g| < 1 (the scene checks).
+float mie_phase(float nu) {
+    float g = frame.atmosphere[1].w, g2 = g * g;
+    return 3.0 / (8.0 * PI) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * pow(1.0 + g2 - 2.0 * g * nu, 1.5));
+}
+
+// r^2 (mu^2 - 1) + R_top^2 for a point at altitude h (exact form: see the top).
+float top_discriminant(float h, float mu) {
+    float r = bottom_radius() + h;
+    return (atmosphere_height() - h) * (top_radius() + r) + r * r * mu * mu;
+}
+
+float distance_to_top(float h, float mu) {
+    float r = bottom_radius() + h;
+    return max(-r * mu + sqrt(max(top_discriminant(h, mu), 0.0)), 0.0);
+}
+
+// r^2 (mu^2 - 1) + R^2 = r^2 mu^2 - h (2R + h); the ray meets the ground where this is >= 0 and mu < 0.
+float ground_discriminant(float h, float mu) {
+    float r = bottom_radius() + h;
+    return r * r * mu * mu - h * (2.0 * bottom_radius() + h);
+}
+
+bool meets_ground(float h, float mu) {
+    return mu < 0.0 && ground_discriminant(h, mu) >= 0.0;
+}
+
+float distance_to_ground(float h, float mu) {
+    float r = bottom_radius() + h;
+    return max(-r * mu - sqrt(max(ground_discriminant(h, mu), 0.0)), 0.0);
+}
+
+// Altitude of the point at distance t along (h, mu): r_t^2 - R^2 = h (2R + h) + t (t + 2 r mu),
+// divided by r_t + R; and its zenith cosine for a direction whose cosine with the zenith is mu.
+float altitude_along(float h, float mu, float t) {
+    float r = bottom_radius() + h;
+    float excess = h * (2.0 * bottom_radius() + h) + t * (t + 2.0 * r * mu);
+    float r_t = sqrt(max(r * r + t * (t + 2.0 * r * mu), 0.0));
+    return excess / (r_t + bottom_radius());
+}
+
+float unit_to_texcoord(float x, int size) { return 0.5 / float(size) + x * (1.0 - 1.0 / float(size)); }
+float texcoord_to_unit(float u, int size) { return (u - 0.5 / float(size)) / (1.0 - 1.0 / float(size)); }
+
+// Bruneton (2017): x_mu the distance to the top between its extremes, x_r = rho / H.
+vec2 transmittance_uv(float h, float mu) {
+    float H = sqrt(atmosphere_height() * (top_radius() + bottom_radius()));
+    float rho = sqrt(max(h * (2.0 * bottom_radius() + h), 0.0));
+    float d = distance_to_top(h, mu);
+    float d_min = atmosphere_height() - h, d_max = rho + H;
+    float x_mu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
+    return vec2(unit_to_texcoord(x_mu, TRANSMITTANCE_SIZE.x), unit_to_texcoord(rho / H, TRANSMITTANCE_SIZE.y));
+}
+
+// The (altitude, mu) a transmittance texel stands for.
+vec2 transmittance_h_mu(vec2 uv) {
+    float x_mu = texcoord_to_unit(uv.x, TRANSMITTANCE_SIZE.x);
+    float x_r = texcoord_to_unit(uv.y, TRANSMITTANCE_SIZE.y);
+    float H = sqrt(atmosphere_height() * (top_radius() + bottom_radius()));
+    float rho = H * x_r;
+    // h = r - R = rho^2 / (r + R), r = sqrt(rho^2 + R^2).
+    float r = sqrt(rho * rho + bottom_radius() * bottom_radius());
+    float h = rho * rho / (r + bottom_radius());
+    float d_min = atmosphere_height() - h, d_max = rho + H;
+    float d = d_min + x_mu * (d_max - d_min);
+    float mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
+    return vec2(h, mu);
+}
+
+// Transmittance to the top by the trapezoid rule (the table's contents; atmosphere::transmittance_to_top).
+vec3 integrate_transmittance(float h, float mu, int steps) {
+    float d = distance_to_top(h, mu);
+    float dx = d / float(steps);
+    vec3 depth = vec3(0.0);
+    for (int i = 0; i <= steps; ++i) {
+        float w = (i == 0 || i == steps) ? 0.5 : 1.0;
+        depth += w * medium_at(altitude_along(h, mu, float(i) * dx)).extinction * dx;
+    }
+    return exp(-depth);
+}
+
+#ifdef TRANSMITTANCE_TABLE
+vec3 transmittance(float h, float mu) {
+    return textureLod(TRANSMITTANCE_TABLE, transmittance_uv(h, mu), 0.0).rgb;
+}
+
+// 0 where the planet hides the sun's centre.
+vec3 sun_transmittance(float h, float mu_s) {
+    return meets_ground(h, mu_s) ? vec3(0.0) : transmittance(h, mu_s);
+}
+
+// Between the ray's origin and distance d along it: a ratio of transmittances to the top, both
+// taken pointing up for a ray that meets the ground (atmosphere::Atmosphere::transmittance_between).
+// The ratio is held to [0, 1]; a zero denominator (a path the table holds as opaque) gives 0.
+vec3 transmittance_between(float h, float mu, float d) {
+    float r = bottom_radius() + h;
+    float h_d = clamp(altitude_along(h, mu, d), 0.0, atmosphere_height());
+    float r_d = bottom_radius() + h_d;
+    float mu_d = clamp((r * mu + d) / r_d, -1.0, 1.0);
+    vec3 a, b;
+    if (meets_ground(h, mu)) {
+        a = transmittance(h_d, -mu_d);
+        b = transmittance(h, -mu);
+    } else {
+        a = transmittance(h, mu);
+        b = transmittance(h_d, mu_d);
+    }
+    return mix(vec3(0.0), min(a / max(b, vec3(1e-30)), vec3(1.0)), greaterThan(b, vec3(0.0)));
+}
+
+// Quadratic sample spacing along a ray of length d: sample i's midpoint and length.
+vec2 march_step(float d, int i, int n) {
+    float a = float(i) / float(n), b = float(i + 1) / float(n);
+    float ta = d * a * a, tb = d * b * b;
+    return vec2(0.5 * (ta + tb), tb - ta);
+}
+#endif
+
+#ifdef MULTIPLE_SCATTERING_TABLE
+vec3 multiple_scattering(float h, float mu_s) {
+    vec2 uv = vec2(unit_to_texcoord(0.5 * mu_s + 0.5, MULTIPLE_SCATTERING_SIZE),
+                   unit_to_texcoord(h / atmosphere_height(), MULTIPLE_SCATTERING_SIZE));
+    return textureLod(MULTIPLE_SCATTERING_TABLE, uv, 0.0).rgb;
+}
+
+// Sky radiance (kcd/m^2) from altitude h towards unit dir, with the sun towards frame.sun_dir:
+// single scattering and psi_ms along the ray (atmosphere::Atmosphere::sky_radiance).
+vec3 physical_sky_radiance(float h, vec3 dir) {
+    vec3 sun = frame.sun_dir.xyz;
+    float mu = dir.z, nu = dot(dir, sun);
+    float r = bottom_radius() + h;
+    float d = meets_ground(h, mu) ? distance_to_ground(h, mu) : distance_to_top(h, mu);
+    float phase_r = rayleigh_phase(nu), phase_m = mie_phase(nu);
+    vec3 L = vec3(0.0);
+    for (int i = 0; i < SKY_STEPS; ++i) {
+        vec2 s = march_step(d, i, SKY_STEPS);
+        float h_t = clamp(altitude_along(h, mu, s.x), 0.0, atmosphere_height());
+        float mu_s = clamp((r * sun.z + s.x * nu) / (bottom_radius() + h_t), -1.0, 1.0);
+        Medium m = medium_at(h_t);
+        vec3 single = sun_transmittance(h_t, mu_s) * (m.rayleigh * phase_r + m.mie * phase_m);
+        vec3 multiple = (m.rayleigh + m.mie) * multiple_scattering(h_t, mu_s);
+        L += transmittance_between(h, mu, s.x) * (single + multiple) * s.y;
+    }
+    return L * frame.atmosphere[4].x;   // the sun's illuminance outside the atmosphere (klux)
+}
+#endif
+
+#endif

@@ -1,0 +1,3 @@
+#version 450
+#define PHYSICAL_SKY
+#include "sky_map.glsl"
