@@ -129,6 +129,11 @@ pub fn render(
     if samples == 0 || samples > MAX_SAMPLES {
         return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
     }
+    if scene.sky.model != crate::model::scene::SkyKind::Preetham {
+        return Err(Error::Argument(
+            "the ground truth evaluates sky.model = \"preetham\" only: the physical sky is not traced yet".into(),
+        ));
+    }
     let device = &gpu.device;
     let pixels = width as u64 * height as u64;
     let limits = &device.properties.limits;
