@@ -15,6 +15,7 @@ const int MULTIPLE_SCATTERING_SIZE = 32;           // atmosphere::MULTIPLE_SCATT
 const int SKY_STEPS = 40;                          // atmosphere::SKY_STEPS
 const int MS_DIRECTIONS = 8;                       // atmosphere::MS_DIRECTIONS
 const int MS_STEPS = 20;                           // atmosphere::MS_STEPS
+const int AERIAL_SIZE = 32;                        // resources::AERIAL_SIZE: rays per side and slices
 
 float bottom_radius() { return frame.atmosphere[0].x; }
 float top_radius() { return frame.atmosphere[0].y; }
@@ -149,6 +150,17 @@ vec3 transmittance_between(float h, float mu, float d) {
         b = transmittance(h_d, mu_d);
     }
     return mix(vec3(0.0), min(a / max(b, vec3(1e-30)), vec3(1.0)), greaterThan(b, vec3(0.0)));
+}
+
+// Transmittance over a path from the eye that stays in the air: a view ray towards the flat sea
+// may dip below the sphere, where the altitude is held at 0 (the sea level's air), so the ratio
+// is taken piecewise along rising altitudes only where the ray does not meet the ground.
+vec3 aerial_transmittance(float h, float mu, float d) {
+    if (!meets_ground(h, mu)) return transmittance_between(h, mu, d);
+    // Down to the ground, then along the sea level: the sea-level extinction over the rest.
+    float d_ground = distance_to_ground(h, mu);
+    vec3 down = transmittance_between(h, mu, min(d, d_ground));
+    return down * exp(-medium_at(0.0).extinction * max(d - d_ground, 0.0));
 }
 
 // Quadratic sample spacing along a ray of length d: sample i's midpoint and length.

@@ -31,7 +31,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     // heights (m); [1] Rayleigh scattering (rgb, per m), Mie g; [2] ozone absorption at its peak
     // (rgb), Mie scattering; [3] ozone centre and width (m), Mie absorption, ground albedo;
     // [4] the sun's illuminance outside the atmosphere (klux), the sun disc's chord^2
-    // (2 (1 - cos radius)), the eye's altitude (m).
+    // (2 (1 - cos radius)), the eye's altitude (m), the aerial perspective's depth (m).
     vec4 atmosphere[5];
 } frame;
 

@@ -32,6 +32,34 @@ layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixe
 #endif
 #include "sky.glsl"
 #include "brdf.glsl"
+layout(set = 0, binding = 5) uniform sampler2D aerial_inscatter;
+layout(set = 0, binding = 6) uniform sampler2D aerial_transmittance;
+
+const int AERIAL_SIZE = 32;   // resources::AERIAL_SIZE
+
+// The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and
+// distance d from the eye: slice k of the atlas holds the path to D (k + 1)^2 / 32^2, so d lies
+// at slice s = 32 sqrt(d / D) - 1; before slice 0, the path's share of it (in-scatter from 0,
+// transmittance from 1). The column within a slice is clamped to its texel centres, so that no
+// lookup blends in the next slice.
+vec3 aerial_perspective(vec3 radiance, vec2 uv, float d) {
+    float depth = frame.atmosphere[4].w;
+    float s = float(AERIAL_SIZE) * sqrt(clamp(d / depth, 0.0, 1.0)) - 1.0;
+    vec2 column = clamp(uv * float(AERIAL_SIZE), vec2(0.5), vec2(float(AERIAL_SIZE) - 0.5));
+    float k0 = clamp(floor(s), 0.0, float(AERIAL_SIZE - 1)), k1 = min(k0 + 1.0, float(AERIAL_SIZE - 1));
+    float f = clamp(s - k0, 0.0, 1.0);
+    vec2 size = vec2(AERIAL_SIZE * AERIAL_SIZE, AERIAL_SIZE);
+    vec2 a = vec2(k0 * float(AERIAL_SIZE) + column.x, column.y) / size;
+    vec2 b = vec2(k1 * float(AERIAL_SIZE) + column.x, column.y) / size;
+    vec3 inscatter = mix(textureLod(aerial_inscatter, a, 0.0).rgb, textureLod(aerial_inscatter, b, 0.0).rgb, f);
+    vec3 transmittance = mix(textureLod(aerial_transmittance, a, 0.0).rgb, textureLod(aerial_transmittance, b, 0.0).rgb, f);
+    if (s < 0.0) {
+        float share = s + 1.0;   // in [0, 1): the path's fraction of slice 0, in sqrt(d) as the slices
+        inscatter *= share;
+        transmittance = mix(vec3(1.0), transmittance, share);
+    }
+    return radiance * transmittance + inscatter;
+}
 
 layout(local_size_x = 8, local_size_y = 8) in;   // SHADE_GROUP in src/render/passes/shade.rs
 
@@ -86,6 +114,10 @@ void main() {
     // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
     vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2) : vec3(0.0)) : (SEA_ONLY ? vec3(0.0) : sky(-v));
+    if (SKY_PHYSICAL && is_sea && BACKGROUND) {
+        vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
+        radiance = aerial_perspective(radiance, uv, length(vec3(x, frame.cam_forward.w)));
+    }
     if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
     if (COUNT_TRAINS && inside && is_sea) {
         atomicAdd(counts.sea_pixels, 1u);

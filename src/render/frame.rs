@@ -330,7 +330,8 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
                 crate::model::sky::SOLAR_ILLUMINANCE_KLUX,
                 2.0 * (1.0 - crate::model::sky::SUN_ANGULAR_RADIUS.cos()),
                 camera.eye_height,
-                0.0,
+                // The aerial perspective's depth: to the top of the atmosphere along the horizontal.
+                crate::model::atmosphere::distance_to_top(atm, atm.bottom_radius_m + camera.eye_height, 0.0),
             ],
         ]
         .map(|v| v.map(|x| x as f32)),

@@ -8,7 +8,7 @@ use crate::model::scene::{Scene, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::FrameSlot;
-use crate::render::passes::atmosphere::AtmospherePass;
+use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::ocean::{OceanPass, ShaderConfig};
@@ -139,10 +139,32 @@ pub struct Renderer<'g> {
     tracker: Tracker,
     /// The sun and sky the sky map holds, once built: frames under the same sky skip rebuilding it.
     sky_in_map: Option<(Sun, Sky)>,
+    /// The view (camera rays, eye height) the view-dependent passes last built for, with the sky.
+    view_built: Option<ViewKey>,
     /// Whether the shading pass counts trains (ShaderConfig::count_trains).
     counts_trains: bool,
     /// The sky model the pipelines were specialized for.
     sky_model: SkyKind,
+}
+
+/// What the view-dependent passes depend on: the sky and the camera's rays and height, as the
+/// frame's uniforms hold them (bit-exact).
+#[derive(Clone, Debug, PartialEq)]
+struct ViewKey {
+    sky: (Sun, Sky),
+    camera: [u32; 16],
+}
+
+impl ViewKey {
+    fn new(data: &FrameData, sky: &(Sun, Sky)) -> ViewKey {
+        let u = &data.uniforms;
+        let mut camera = [0u32; 16];
+        let values = [u.cam_right, u.cam_down, u.cam_forward, u.atmosphere[4]];
+        for (i, v) in values.iter().flatten().enumerate() {
+            camera[i] = v.to_bits();
+        }
+        ViewKey { sky: sky.clone(), camera }
+    }
 }
 
 /// What a counting shading pass saw in a frame (ShaderConfig::count_trains).
@@ -182,16 +204,19 @@ impl<'g> Renderer<'g> {
             anisotropy: scene.render.sky_anisotropy as f32,
             slots: frames_in_flight,
             readback: options.output == Output::Readback,
-            atmosphere: options.sky_map && options.shader.sky_physical,
+            atmosphere: options.shader.sky_physical && !options.shader.draws_nothing(),
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
+        if let Some(tables) = &resources.atmosphere {
+            passes.push(Box::new(AtmospherePass::new(device, &resources, tables)?));
+        }
         if options.sky_map {
-            if let Some(tables) = &resources.atmosphere {
-                passes.push(Box::new(AtmospherePass::new(device, &resources, tables)?));
-            }
             passes.push(Box::new(SkyMapPass::new(device, &resources)?));
             passes.push(Box::new(SkyMipsPass));
+        }
+        if let (Some(tables), false) = (&resources.atmosphere, options.shader.draws_nothing()) {
+            passes.push(Box::new(AerialPass::new(device, &resources, tables)?));
         }
         if options.shader.draws_nothing() {
             passes.push(Box::new(BlackPass));
@@ -235,6 +260,7 @@ impl<'g> Renderer<'g> {
             resources,
             tracker: Tracker::default(),
             sky_in_map: None,
+            view_built: None,
             counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
             sky_model: scene.sky.model,
         })
@@ -431,6 +457,9 @@ impl<'g> Renderer<'g> {
     fn record(&mut self, slot: usize, prepared: Prepared, image: Option<SwapImage>) -> Result<FrameData> {
         let Prepared { data, capture, sky } = prepared;
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
+        let view = ViewKey::new(&data, &sky);
+        let view_current = sky_current && self.view_built.as_ref() == Some(&view);
+        self.view_built = Some(view);
         self.sky_in_map = Some(sky);
         let s = &self.slots[slot];
         let frame = Frame {
@@ -449,7 +478,9 @@ impl<'g> Renderer<'g> {
         if let Some(image) = &image {
             self.tracker.acquired(image, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
         }
-        for pass in self.passes.iter().filter(|p| !(sky_current && p.builds_sky_map())) {
+        let skipped =
+            |p: &&Box<dyn Pass + 'g>| (sky_current && p.builds_sky_map()) || (view_current && p.builds_for_view());
+        for pass in self.passes.iter().filter(|p| !skipped(p)) {
             s.profiler.begin(device, cmd, pass.name());
             pass.declare(&self.resources, &frame, &mut self.tracker);
             self.tracker.flush(&device.raw, cmd);

@@ -90,7 +90,15 @@ pub struct Resources<'g> {
     pub train_counts: Buffer<'g>,
     /// With the physical sky: the atmosphere's tables, built by the `atmosphere` pass.
     pub atmosphere: Option<AtmosphereTables<'g>>,
+    /// The aerial perspective between the eye and the sea (glsl/aerial_perspective.comp): with the
+    /// physical sky AERIAL_SIZE slices of AERIAL_SIZE^2 rays side by side, else 1x1 placeholders
+    /// that keep the shading pass's bindings valid (its code for them is specialized away).
+    pub aerial_inscatter: Image<'g>,
+    pub aerial_transmittance: Image<'g>,
 }
+
+/// Rays per side of the aerial perspective's camera volume, and slices along each.
+pub const AERIAL_SIZE: u32 = 32;
 
 /// Bytes of the train counters: sea pixels, trains evaluated, trains with a weight, unused.
 pub const TRAIN_COUNTS_BYTES: u64 = 16;
@@ -175,6 +183,14 @@ impl<'g> Resources<'g> {
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: valid create info; anisotropy only when the feature was enabled.
         let sky_sampler = unsafe { gpu.raw().create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
+        let aerial_extent = if atmosphere {
+            vk::Extent2D { width: AERIAL_SIZE * AERIAL_SIZE, height: AERIAL_SIZE }
+        } else {
+            vk::Extent2D { width: 1, height: 1 }
+        };
+        let aerial_usage = I::STORAGE | I::SAMPLED;
+        let aerial_inscatter = Image::new(gpu, "aerial inscatter", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
+        let aerial_transmittance = Image::new(gpu, "aerial transmittance", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let atmosphere = if atmosphere { Some(atmosphere_tables(gpu)?) } else { None };
         Ok(Resources {
             frame_uniforms,
@@ -187,6 +203,8 @@ impl<'g> Resources<'g> {
             readback,
             train_counts,
             atmosphere,
+            aerial_inscatter,
+            aerial_transmittance,
         })
     }
 

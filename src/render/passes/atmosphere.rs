@@ -1,9 +1,10 @@
 //! The physical atmosphere's tables (compute): transmittance, then Hillaire's multiple
-//! scattering from it; rebuilt with the sky map, only when the sun or the sky changes.
+//! scattering from it, rebuilt with the sky map only when the sun or the sky changes; and the
+//! aerial perspective between the eye and the sea, every frame (the eye moves).
 
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::{AtmosphereTables, Resources, FRAME_BINDING};
+use crate::render::resources::{AtmosphereTables, Resources, AERIAL_SIZE, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -93,5 +94,68 @@ impl Pass for AtmospherePass<'_> {
         rec.tracker.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
         rec.tracker.flush(&rec.device.raw, rec.cmd);
         dispatch_over(rec, self.multiple.raw, &self.multiple_bindings, tables.multiple_scattering.extent);
+    }
+}
+
+/// The aerial perspective atlases (glsl/aerial_perspective.comp), from the tables.
+pub struct AerialPass<'g> {
+    bindings: Bindings<'g>,
+    pipeline: Owned<'g, vk::Pipeline>,
+}
+
+impl<'g> AerialPass<'g> {
+    pub fn new(device: &'g Device, r: &Resources, tables: &AtmosphereTables) -> Result<Self> {
+        use vk::DescriptorType as D;
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let bindings = Bindings::new(
+            device,
+            "aerial perspective",
+            &[
+                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
+                (TABLE_BINDING, D::STORAGE_IMAGE, compute),
+                (TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (5, D::COMBINED_IMAGE_SAMPLER, compute),
+                (6, D::STORAGE_IMAGE, compute),
+            ],
+        )?;
+        write_frame_uniforms(&bindings, r, false);
+        let (general, read) = (vk::ImageLayout::GENERAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+        bindings.write_image(TABLE_BINDING, D::STORAGE_IMAGE, r.aerial_inscatter.view, general, vk::Sampler::null());
+        bindings.write_image(6, D::STORAGE_IMAGE, r.aerial_transmittance.view, general, vk::Sampler::null());
+        let sampler = tables.sampler.raw;
+        bindings.write_image(
+            TRANSMITTANCE_BINDING,
+            D::COMBINED_IMAGE_SAMPLER,
+            tables.transmittance.view,
+            read,
+            sampler,
+        );
+        bindings.write_image(5, D::COMBINED_IMAGE_SAMPLER, tables.multiple_scattering.view, read, sampler);
+        let pipeline =
+            compute_pipeline(device, bindings.layout(), shaders::AERIAL_PERSPECTIVE_COMP, "aerial perspective")?;
+        Ok(AerialPass { bindings, pipeline })
+    }
+}
+
+impl Pass for AerialPass<'_> {
+    fn name(&self) -> &'static str {
+        "aerial_perspective"
+    }
+
+    fn builds_for_view(&self) -> bool {
+        true
+    }
+
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
+        let tables = r.atmosphere.as_ref().expect("made with the physical sky");
+        t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
+        t.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
+        t.image(&r.aerial_inscatter, 0, 1, Access::ComputeStorageWrite, true);
+        t.image(&r.aerial_transmittance, 0, 1, Access::ComputeStorageWrite, true);
+    }
+
+    fn record(&self, rec: &mut Recorder, _r: &Resources) {
+        // One invocation per ray; each writes its AERIAL_SIZE slices.
+        dispatch_over(rec, self.pipeline.raw, &self.bindings, vk::Extent2D { width: AERIAL_SIZE, height: AERIAL_SIZE });
     }
 }

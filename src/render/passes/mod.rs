@@ -49,6 +49,11 @@ pub trait Pass {
     fn builds_sky_map(&self) -> bool {
         false
     }
+    /// Whether the pass only builds what depends on the sky and the camera's rays (the aerial
+    /// perspective), which a frame under the same sky and view can skip.
+    fn builds_for_view(&self) -> bool {
+        false
+    }
 }
 
 /// Points binding `FRAME_BINDING` (and `WAVES_BINDING` with `waves`) at one slot's window of the

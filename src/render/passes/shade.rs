@@ -15,6 +15,9 @@ use ash::vk;
 
 /// The train counters' binding (TrainCounts in glsl/shade.glsl).
 const TRAIN_COUNTS_BINDING: u32 = 4;
+/// The aerial perspective's atlases (glsl/shade.glsl; placeholders without the physical sky).
+const AERIAL_INSCATTER_BINDING: u32 = 5;
+const AERIAL_TRANSMITTANCE_BINDING: u32 = 6;
 
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
@@ -62,8 +65,16 @@ impl<'g> ShadePass<'g> {
                 (2, D::COMBINED_IMAGE_SAMPLER, compute),
                 (3, D::STORAGE_IMAGE, compute),
                 (TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, compute),
+                (AERIAL_INSCATTER_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (AERIAL_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
             ],
         )?;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        for (binding, image) in
+            [(AERIAL_INSCATTER_BINDING, &r.aerial_inscatter), (AERIAL_TRANSMITTANCE_BINDING, &r.aerial_transmittance)]
+        {
+            bindings.write_image(binding, D::COMBINED_IMAGE_SAMPLER, image.view, read, r.sky_sampler.raw);
+        }
         bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
         write_frame_uniforms(&bindings, r, true);
         bindings.write_image(
@@ -101,6 +112,8 @@ impl Pass for ShadePass<'_> {
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::ComputeSampled, false);
         t.image(&r.hdr, 0, 1, Access::ComputeStorageReadWrite, false);
+        t.image(&r.aerial_inscatter, 0, 1, Access::ComputeSampled, false);
+        t.image(&r.aerial_transmittance, 0, 1, Access::ComputeSampled, false);
         if self.counts {
             t.buffer(&r.train_counts, Access::ComputeStorageReadWrite);
         }
