@@ -59,14 +59,15 @@ float distance_to_top(float h, float mu) {
     return max(-r * mu + sqrt(max(top_discriminant(h, mu), 0.0)), 0.0);
 }
 
-// r^2 (mu^2 - 1) + R^2 = r^2 mu^2 - h (2R + h); the ray meets the ground where this is >= 0 and mu < 0.
+// r^2 (mu^2 - 1) + R^2 = r^2 mu^2 - h (2R + h); the ray enters the ground where this is > 0 and
+// mu < 0 (a ray along the tangent only touches it).
 float ground_discriminant(float h, float mu) {
     float r = bottom_radius() + h;
     return r * r * mu * mu - h * (2.0 * bottom_radius() + h);
 }
 
 bool meets_ground(float h, float mu) {
-    return mu < 0.0 && ground_discriminant(h, mu) >= 0.0;
+    return mu < 0.0 && ground_discriminant(h, mu) > 0.0;
 }
 
 float distance_to_ground(float h, float mu) {

@@ -9,6 +9,6 @@ layout(set = 0, binding = 4) uniform sampler2D hdr;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec3 mapped = tone_map(texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).rgb, frame.tone.x);
+    vec3 mapped = tone_map(texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).rgb);
     out_color = vec4(ENCODE_SRGB ? srgb_encode(mapped) : mapped, 1.0);
 }

@@ -12,6 +12,6 @@ void main() {
     ivec2 size = imageSize(hdr);
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, size))) return;
-    vec3 mapped = tone_map(imageLoad(hdr, p).rgb, frame.tone.x);
+    vec3 mapped = tone_map(imageLoad(hdr, p).rgb);
     ldr[p.y * size.x + p.x] = packUnorm4x8(vec4(srgb_encode(mapped), 1.0));
 }

@@ -429,7 +429,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 let stem = path.file_stem().unwrap_or_default().to_string_lossy().into_owned();
                 let images = [("", &truth.radiance), (".sun", &truth.sun), (".sky", &truth.sky), (".sea", &truth.sea)];
                 for (suffix, pixels) in images {
-                    let rgba = ocean::output::tonemap(pixels, scene.render.exposure);
+                    let rgba = ocean::output::tonemap(pixels, width, &scene.render);
                     ocean::output::write_png(
                         &path.with_file_name(format!("{stem}{suffix}.png")),
                         width,

@@ -19,6 +19,8 @@ const H: u32 = 120;
 /// long enough for the grid, so the visible point is the ray's hit on the rest plane.
 fn scene() -> Scene {
     let mut s = Scene::default();
+    // The f64 reference evaluates Preetham's sky, and the comparison is of linear radiance.
+    s.sky.model = ocean::model::scene::SkyKind::Preetham;
     s.camera.height_m = 30.0;
     s.camera.pitch_deg = -40.0;
     s.camera.fov_y_deg = 40.0;

@@ -18,6 +18,8 @@ fn temp_dir(name: &str) -> PathBuf {
 /// The sun below the horizon: no glints, so a few samples already say something.
 fn twilight() -> Scene {
     let mut s = Scene::default();
+    // The ground truth traces Preetham's sky.
+    s.sky.model = ocean::model::scene::SkyKind::Preetham;
     s.camera.height_m = 10.0;
     s.camera.pitch_deg = -12.0;
     s.sun.elevation_deg = -4.0;

@@ -171,7 +171,10 @@ fn the_reference_reports_its_progress_on_standard_error() {
     let dir = scratch("progress");
     let out = dir.join("ref.exr");
     let out_arg = out.display().to_string();
-    let run = ocean(&["reference", "--width", "40", "--height", "30", "--samples", "1", "--out", &out_arg]);
+    // A scene the ground truth traces (Preetham's sky).
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/figure/calm.toml");
+    let run =
+        ocean(&["reference", "--scene", scene, "--width", "40", "--height", "30", "--samples", "1", "--out", &out_arg]);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let stderr = String::from_utf8_lossy(&run.stderr);
     let lines: Vec<&str> = stderr.lines().collect();

@@ -163,7 +163,8 @@ pub fn distance_to_top(p: &AtmosphereParams, r: f64, mu: f64) -> f64 {
 /// Distance to the ground, where the ray meets it (mu < 0 and below the ground's horizon).
 pub fn distance_to_ground(p: &AtmosphereParams, r: f64, mu: f64) -> Option<f64> {
     let disc = r * r * (mu * mu - 1.0) + p.bottom_radius_m * p.bottom_radius_m;
-    (mu < 0.0 && disc >= 0.0).then(|| (-r * mu - disc.sqrt()).max(0.0))
+    // A ray along the tangent (disc = 0) only touches the ground.
+    (mu < 0.0 && disc > 0.0).then(|| (-r * mu - disc.sqrt()).max(0.0))
 }
 
 /// Transmittance from radius r along mu to the top of the atmosphere, by the trapezoid rule over

@@ -132,8 +132,14 @@ impl<'de> Deserialize<'de> for LongestWave {
 pub struct Render {
     /// Projected-grid cell size in pixels.
     pub grid_cell_px: f64,
-    /// Tone-mapping exposure per kcd/m^2 of radiance: display = 1 - exp(-exposure L).
-    pub exposure: f64,
+    /// Tone-mapping exposure per kcd/m^2 of radiance: display = curve(exposure L). Without it
+    /// and without `ev100`, the exposure is automatic.
+    pub exposure: Option<f64>,
+    /// Exposure value at ISO 100: a number puts the white (the curve's 1) at 1.2 2^EV100 cd/m^2,
+    /// "auto" takes it from each frame's log-average luminance (exposure.rs). Instead of `exposure`.
+    pub ev100: Option<Ev100>,
+    /// The display's curve from exposed radiance to [0, 1].
+    pub tone_curve: ToneCurve,
     pub time_s: f64,
     /// Maximum anisotropy of the sky-map sampler (1 = trilinear only).
     pub sky_anisotropy: f64,
@@ -162,7 +168,7 @@ impl Default for Sun {
 }
 impl Default for Sky {
     fn default() -> Self {
-        Self { model: SkyKind::Preetham, turbidity: 2.5, atmosphere: Default::default() }
+        Self { model: SkyKind::Physical, turbidity: 2.5, atmosphere: Default::default() }
     }
 }
 impl Default for Wind {
@@ -177,7 +183,86 @@ impl Default for Waves {
 }
 impl Default for Render {
     fn default() -> Self {
-        Self { grid_cell_px: 8.0, exposure: 0.1, time_s: 0.0, sky_anisotropy: 1.0 }
+        Self {
+            grid_cell_px: 8.0,
+            exposure: None,
+            ev100: None,
+            tone_curve: ToneCurve::Filmic,
+            time_s: 0.0,
+            sky_anisotropy: 1.0,
+        }
+    }
+}
+
+/// An exposure value at ISO 100, or automatic.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum Ev100 {
+    Value(f64),
+    Auto,
+}
+
+impl<'de> Deserialize<'de> for Ev100 {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> std::result::Result<Ev100, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Ev100;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an exposure value (EV100) or \"auto\"")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<Ev100, E> {
+                Ok(Ev100::Value(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<Ev100, E> {
+                Ok(Ev100::Value(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<Ev100, E> {
+                Ok(Ev100::Value(v as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<Ev100, E> {
+                match v {
+                    "auto" => Ok(Ev100::Auto),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// The display's tone curve (glsl/tone.glsl).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToneCurve {
+    /// 1 - exp(-x) per channel: the authors' demo.
+    Exponential,
+    /// Narkowicz (2015)'s fit of the ACES filmic curve on luminance, hue kept, desaturated only as
+    /// much as the brightest channel needs to stay displayable.
+    Filmic,
+}
+
+/// The exposure a frame's tone mapping uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Exposure {
+    /// Display scale per kcd/m^2.
+    PerKcd(f64),
+    /// From the frame's log-average luminance.
+    Auto,
+}
+
+/// A white at 1.2 2^EV100 cd/m^2 (saturation-based speed at ISO 100; Lagarde & de Rousiers,
+/// "Moving Frostbite to Physically Based Rendering", 2014) as a display scale per kcd/m^2.
+pub fn ev100_to_exposure(ev100: f64) -> f64 {
+    1000.0 / (1.2 * 2f64.powf(ev100))
+}
+
+impl Render {
+    pub fn exposure(&self) -> Exposure {
+        match (self.ev100, self.exposure) {
+            (Some(Ev100::Auto), _) => Exposure::Auto,
+            (Some(Ev100::Value(ev)), _) => Exposure::PerKcd(ev100_to_exposure(ev)),
+            (None, Some(e)) => Exposure::PerKcd(e),
+            (None, None) => Exposure::Auto,
+        }
     }
 }
 
@@ -266,7 +351,15 @@ impl Scene {
         }
         let r = &self.render;
         in_range("render.grid_cell_px", r.grid_cell_px, Bound::Closed(1.0), Bound::Closed(64.0))?;
-        in_range("render.exposure", r.exposure, Bound::Open(0.0), Bound::Closed(1e4))?;
+        if let Some(e) = r.exposure {
+            in_range("render.exposure", e, Bound::Open(0.0), Bound::Closed(1e4))?;
+        }
+        if let Some(Ev100::Value(ev)) = r.ev100 {
+            in_range("render.ev100", ev, Bound::Closed(-10.0), Bound::Closed(30.0))?;
+        }
+        if r.exposure.is_some() && r.ev100.is_some() {
+            return Err("render.exposure and render.ev100 both set: give one (ev100 wins otherwise, silently)".into());
+        }
         in_range("render.time_s", r.time_s, Bound::Closed(-1e9), Bound::Closed(1e9))?;
         in_range("render.sky_anisotropy", r.sky_anisotropy, Bound::Closed(1.0), Bound::Closed(16.0))?;
         Ok(())

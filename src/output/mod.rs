@@ -63,8 +63,25 @@ fn write_image(path: &Path, image: image::DynamicImage, format: image::ImageForm
     target::write(path, bytes.get_ref())
 }
 
-/// The tone mapping of glsl/tonemap.comp on the CPU: 1 - exp(-exposure L), then sRGB, as RGBA8.
-pub fn tonemap(hdr: &[[f32; 4]], exposure: f64) -> Vec<u8> {
+/// The tone mapping of glsl/tone.glsl on the CPU, then sRGB, as RGBA8: the scene's curve and
+/// exposure (automatic: from the log-average luminance of every 4th pixel of every 4th row, as
+/// glsl/exposure.comp).
+pub fn tonemap(hdr: &[[f32; 4]], width: u32, render: &crate::model::scene::Render) -> Vec<u8> {
+    use crate::model::scene::{ev100_to_exposure, Exposure, ToneCurve};
+    let exposure = match render.exposure() {
+        Exposure::PerKcd(e) => e,
+        Exposure::Auto => {
+            let w = width.max(1) as usize;
+            let logs: Vec<f64> = hdr
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| (i % w) % 4 == 0 && (i / w) % 4 == 0)
+                .map(|(_, p)| (1000.0 * luminance(*p)).max(1e-3).log2())
+                .collect();
+            let key = logs.iter().sum::<f64>() / logs.len().max(1) as f64;
+            ev100_to_exposure(key + (100.0f64 / 12.5).log2())
+        }
+    };
     let encode = |c: f64| {
         let c = c.clamp(0.0, 1.0);
         let s = if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
@@ -72,10 +89,30 @@ pub fn tonemap(hdr: &[[f32; 4]], exposure: f64) -> Vec<u8> {
     };
     hdr.iter()
         .flat_map(|p| {
-            let m = |c: f32| encode(1.0 - (-exposure * (c.max(0.0) as f64)).exp());
-            [m(p[0]), m(p[1]), m(p[2]), 255]
+            let x = [0, 1, 2].map(|c| exposure * p[c].max(0.0) as f64);
+            let mapped = match render.tone_curve {
+                ToneCurve::Exponential => x.map(|v| 1.0 - (-v).exp()),
+                ToneCurve::Filmic => filmic_curve(x),
+            };
+            [encode(mapped[0]), encode(mapped[1]), encode(mapped[2]), 255]
         })
         .collect()
+}
+
+/// glsl/tone.glsl's filmic_curve: Narkowicz (2015)'s ACES fit on luminance, hue kept, the colour
+/// moved towards its grey only as far as its brightest channel needs.
+pub fn filmic_curve(x: [f64; 3]) -> [f64; 3] {
+    let y = 0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2];
+    if !(y > 0.0) {
+        return [0.0; 3];
+    }
+    let yt = (y * (2.51 * y + 0.03) / (y * (2.43 * y + 0.59) + 0.14)).clamp(0.0, 1.0);
+    let mut c = x.map(|v| v * yt / y);
+    let peak = c[0].max(c[1]).max(c[2]);
+    if peak > 1.0 {
+        c = c.map(|v| yt + (v - yt) * (1.0 - yt) / (peak - yt));
+    }
+    c.map(|v| v.clamp(0.0, 1.0))
 }
 
 /// RGBA8 pixels as a PNG file's bytes (alpha dropped, as `write_png` writes them).

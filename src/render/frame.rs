@@ -305,7 +305,16 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         ],
         perez,
         sky_zenith: v4(sky.zenith_over_f0, sky.sky_scale),
-        tone: [scene.render.exposure as f32, SKY_MAP_EXTENT, 0.0, 0.0],
+        // An automatic exposure is measured on the GPU (passes/exposure.rs); x is then unused.
+        tone: [
+            match scene.render.exposure() {
+                crate::model::scene::Exposure::PerKcd(e) => e as f32,
+                crate::model::scene::Exposure::Auto => 0.0,
+            },
+            SKY_MAP_EXTENT,
+            0.0,
+            0.0,
+        ],
         wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, 0.0, 0.0, 0.0],
         baseline_sigma2: {
             let b = baseline_slope_variance(&camera, waves, scene.render.time_s, width, height);

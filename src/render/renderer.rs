@@ -11,6 +11,7 @@ use crate::render::in_flight::FrameSlot;
 use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::display::DisplayPass;
+use crate::render::passes::exposure::{ExposurePass, Tone};
 use crate::render::passes::ocean::{OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
@@ -143,8 +144,9 @@ pub struct Renderer<'g> {
     view_built: Option<ViewKey>,
     /// Whether the shading pass counts trains (ShaderConfig::count_trains).
     counts_trains: bool,
-    /// The sky model the pipelines were specialized for.
+    /// The sky model and the tone mapping the pipelines were specialized for.
     sky_model: SkyKind,
+    tone: Tone,
 }
 
 /// What the view-dependent passes depend on: the sky and the camera's rays and height, as the
@@ -227,13 +229,17 @@ impl<'g> Renderer<'g> {
         if let Some(resolved) = &resources.resolved {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }
+        let tone = Tone::of(scene);
+        if tone.auto {
+            passes.push(Box::new(ExposurePass::new(device, &resources)?));
+        }
         match options.output {
             Output::Readback => {
-                passes.push(Box::new(TonemapPass::new(device, &resources)?));
+                passes.push(Box::new(TonemapPass::new(device, &resources, tone)?));
                 passes.push(Box::new(ReadbackPass));
             }
             Output::Window { format, encode_srgb } => {
-                passes.push(Box::new(DisplayPass::new(device, &resources, format, encode_srgb)?));
+                passes.push(Box::new(DisplayPass::new(device, &resources, format, encode_srgb, tone)?));
             }
         }
         let window = matches!(options.output, Output::Window { .. });
@@ -263,7 +269,16 @@ impl<'g> Renderer<'g> {
             view_built: None,
             counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
             sky_model: scene.sky.model,
+            tone,
         })
+    }
+
+    /// Whether this renderer's pipelines and resources suit `scene` (else make a new renderer):
+    /// the sky's model and sampler, and the tone mapping.
+    pub fn fits(&self, scene: &Scene) -> bool {
+        scene.sky.model == self.sky_model
+            && scene.render.sky_anisotropy == self.anisotropy
+            && Tone::of(scene) == self.tone
     }
 
     pub fn memory(&self) -> MemoryReport {
@@ -424,6 +439,13 @@ impl<'g> Renderer<'g> {
     /// whatever can fail here leaves no image or semaphore signal pending: checks the scene
     /// against the renderer, builds the frame and writes the slot's uniforms and grid.
     pub fn prepare(&mut self, slot: usize, scene: &Scene, capture: Capture) -> Result<Prepared> {
+        if Tone::of(scene) != self.tone {
+            return Err(Error::Argument(format!(
+                "this renderer's tone mapping was built for {:?}, the scene asks {:?} (render.tone_curve, render.ev100)",
+                self.tone,
+                Tone::of(scene)
+            )));
+        }
         if scene.sky.model != self.sky_model {
             return Err(Error::Argument(format!(
                 "this renderer was built for sky.model = {:?}, the scene asks {:?}",

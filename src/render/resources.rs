@@ -16,6 +16,8 @@ pub const SKY_MAP_SIZE: u32 = 512;
 /// Binding numbers of the two per-frame uniform blocks (glsl/frame.glsl).
 pub const FRAME_BINDING: u32 = 0;
 pub const WAVES_BINDING: u32 = 1;
+/// Binding of the measured exposure in the exposure and tone-mapping passes (glsl/tone.glsl).
+pub const EXPOSURE_BINDING: u32 = 7;
 
 /// What the resources are made for.
 #[derive(Clone, Copy, Debug)]
@@ -95,6 +97,9 @@ pub struct Resources<'g> {
     /// that keep the shading pass's bindings valid (its code for them is specialized away).
     pub aerial_inscatter: Image<'g>,
     pub aerial_transmittance: Image<'g>,
+    /// The measured exposure (glsl/exposure.comp writes it, the tone mapping reads it as a
+    /// uniform block: MeasuredExposure); bound always, written only with render.ev100 = "auto".
+    pub exposure: Buffer<'g>,
 }
 
 /// Rays per side of the aerial perspective's camera volume, and slices along each.
@@ -192,6 +197,7 @@ impl<'g> Resources<'g> {
         let aerial_inscatter = Image::new(gpu, "aerial inscatter", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let aerial_transmittance = Image::new(gpu, "aerial transmittance", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let atmosphere = if atmosphere { Some(atmosphere_tables(gpu)?) } else { None };
+        let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
             waves,
@@ -205,6 +211,7 @@ impl<'g> Resources<'g> {
             atmosphere,
             aerial_inscatter,
             aerial_transmittance,
+            exposure,
         })
     }
 

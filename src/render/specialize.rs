@@ -57,8 +57,9 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
     let physical = scene.sky.model == SkyKind::Physical;
     options.shader.sky_physical = physical;
-    // The physical sky's sun goes when the planet hides the disc's centre; it has no dark night
-    // (its twilight fades smoothly below any threshold), so nothing is left out for the night.
+    // The physical sky's sun goes when the planet hides the disc's centre; its night is where
+    // astronomical twilight ends (the sun 18 degrees down, Preetham's fade too): the sunlight the
+    // air still scatters is then below the night sky's own light.
     // Hidden: the disc's centre below the eye's geometric horizon (the frame's eye is never
     // lower than the scene's, so it sees at least as far down).
     let sun_dark = if physical {
@@ -68,7 +69,7 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     } else {
         sky.sun_radiance.iter().all(|&l| l == 0.0)
     };
-    let night = !physical && sky.sky_scale == 0.0;
+    let night = if physical { scene.sun.elevation_deg <= -18.0 } else { sky.sky_scale == 0.0 };
     let terms = &mut options.shader.terms;
     if terms.sun && sun_dark {
         terms.sun = false;

@@ -38,6 +38,9 @@ pub enum Access {
     /// Each invocation reads texels and writes them back (in place).
     ComputeStorageReadWrite,
     ComputeSampled,
+    /// A uniform buffer read by a compute or a fragment shader.
+    ComputeUniformRead,
+    FragmentUniformRead,
     TransferRead,
     TransferWrite,
     /// vkCmdClearColorImage (the clear stage, not copy or blit).
@@ -59,7 +62,9 @@ impl Access {
             Access::ComputeStorageWrite
             | Access::ComputeStorageRead
             | Access::ComputeStorageReadWrite
-            | Access::ComputeSampled => S::COMPUTE_SHADER,
+            | Access::ComputeSampled
+            | Access::ComputeUniformRead => S::COMPUTE_SHADER,
+            Access::FragmentUniformRead => S::FRAGMENT_SHADER,
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
             Access::ClearWrite => S::CLEAR,
             Access::FragmentSampled => S::FRAGMENT_SHADER,
@@ -78,6 +83,7 @@ impl Access {
             Access::ComputeStorageRead => A::SHADER_STORAGE_READ,
             Access::ComputeStorageReadWrite => A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
             Access::ComputeSampled => A::SHADER_SAMPLED_READ,
+            Access::ComputeUniformRead | Access::FragmentUniformRead => A::UNIFORM_READ,
             Access::TransferRead => A::TRANSFER_READ,
             Access::TransferWrite | Access::ClearWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
@@ -100,7 +106,7 @@ impl Access {
             Access::ColorAttachmentWrite => L::COLOR_ATTACHMENT_OPTIMAL,
             // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
             Access::DepthAttachmentReadWrite => L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            Access::HostRead => L::GENERAL,
+            Access::HostRead | Access::ComputeUniformRead | Access::FragmentUniformRead => L::GENERAL,
             Access::Present => L::PRESENT_SRC_KHR,
         }
     }

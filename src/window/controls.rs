@@ -2,6 +2,7 @@
 //! the help text (`H`, and the README's table).
 
 use crate::model::scene::{wrap_degrees, Scene};
+use crate::model::scene::{Ev100, Exposure};
 use crate::render::passes::ocean::Method;
 use std::collections::HashSet;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta};
@@ -88,7 +89,13 @@ impl Controls {
             }
             KeyCode::Minus | KeyCode::Equal => {
                 let stops = if code == KeyCode::Minus { -0.25 } else { 0.25 };
-                render.exposure = (render.exposure * 2f64.powf(stops)).clamp(1e-4, 1e4);
+                // A stop brighter is one EV lower; automatic exposure has nothing to set.
+                match (render.ev100, render.exposure()) {
+                    (Some(Ev100::Auto), _) => return None,
+                    (Some(Ev100::Value(ev)), _) => render.ev100 = Some(Ev100::Value((ev - stops).clamp(-10.0, 30.0))),
+                    (None, Exposure::PerKcd(e)) => render.exposure = Some((e * 2f64.powf(stops)).clamp(1e-4, 1e4)),
+                    (None, Exposure::Auto) => return None,
+                }
                 changed
             }
             _ => None,

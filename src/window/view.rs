@@ -445,9 +445,14 @@ impl<'o> Session<'o> {
                 say!("method: {}", method.name());
             }
             Action::SceneChanged => {
-                let (sun, exposure) = (&self.scene.sun, self.scene.render.exposure);
+                let sun = &self.scene.sun;
+                let exposure = match (self.scene.render.ev100, self.scene.render.exposure()) {
+                    (Some(crate::model::scene::Ev100::Value(ev)), _) => format!("EV100 {ev:.2}"),
+                    (_, crate::model::scene::Exposure::PerKcd(e)) => format!("{e:.4} per kcd/m^2"),
+                    (_, crate::model::scene::Exposure::Auto) => "automatic".to_owned(),
+                };
                 say!(
-                    "sun elevation {:.0}, azimuth {:.0} degrees; exposure {exposure:.4}",
+                    "sun elevation {:.0}, azimuth {:.0} degrees; exposure {exposure}",
                     sun.elevation_deg,
                     sun.azimuth_deg
                 );
@@ -478,7 +483,7 @@ impl<'o> Session<'o> {
                 if scene.render.time_s != self.scene.render.time_s {
                     self.time_s = scene.render.time_s;
                 }
-                let rebuild = scene.render.sky_anisotropy != self.scene.render.sky_anisotropy;
+                let rebuild = presenter.renderer.as_ref().is_some_and(|r| !r.fits(&scene));
                 self.scene = scene;
                 if rebuild {
                     presenter.rebuild(&self.scene)?;

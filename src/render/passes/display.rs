@@ -3,29 +3,37 @@
 
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::{Resources, FRAME_BINDING};
+use crate::render::passes::exposure::Tone;
+use crate::render::resources::{Resources, EXPOSURE_BINDING, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
 use crate::vk::owned::Owned;
-use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc, Specialization};
+use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc};
 use ash::vk;
 
 pub struct DisplayPass<'g> {
     bindings: Bindings<'g>,
     pipeline: Owned<'g, vk::Pipeline>,
+    /// Whether the exposure is the exposure pass's measurement.
+    auto: bool,
 }
 
 impl<'g> DisplayPass<'g> {
     /// For swapchain images of `format`; `encode_srgb`: the format is UNORM and the shader encodes.
-    pub fn new(device: &'g Device, r: &Resources, format: vk::Format, encode_srgb: bool) -> Result<Self> {
+    pub fn new(device: &'g Device, r: &Resources, format: vk::Format, encode_srgb: bool, tone: Tone) -> Result<Self> {
         use vk::DescriptorType as D;
         let fragment = vk::ShaderStageFlags::FRAGMENT;
         let bindings = Bindings::new(
             device,
             "display",
-            &[(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, fragment), (4, D::COMBINED_IMAGE_SAMPLER, fragment)],
+            &[
+                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, fragment),
+                (4, D::COMBINED_IMAGE_SAMPLER, fragment),
+                (EXPOSURE_BINDING, D::UNIFORM_BUFFER, fragment),
+            ],
         )?;
+        bindings.write_buffer(EXPOSURE_BINDING, D::UNIFORM_BUFFER, r.exposure.raw);
         write_frame_uniforms(&bindings, r, false);
         // texelFetch ignores the sampler's filtering; any valid sampler does.
         bindings.write_image(
@@ -35,7 +43,7 @@ impl<'g> DisplayPass<'g> {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             r.sky_sampler.raw,
         );
-        let spec = Specialization::words(&[encode_srgb as u32]);
+        let spec = tone.specialization(encode_srgb);
         let pipeline = graphics_pipeline(
             device,
             bindings.layout(),
@@ -50,7 +58,7 @@ impl<'g> DisplayPass<'g> {
                 depth_compare: vk::CompareOp::ALWAYS,
             },
         )?;
-        Ok(DisplayPass { bindings, pipeline })
+        Ok(DisplayPass { bindings, pipeline, auto: tone.auto })
     }
 }
 
@@ -61,6 +69,9 @@ impl Pass for DisplayPass<'_> {
 
     fn declare(&self, r: &Resources, f: &Frame, t: &mut Tracker) {
         t.image(r.output(), 0, 1, Access::FragmentSampled, false);
+        if self.auto {
+            t.buffer(&r.exposure, Access::FragmentUniformRead);
+        }
         if let Some(image) = &f.swap_image {
             t.image(image, 0, 1, Access::ColorAttachmentWrite, true);
         }

@@ -5,6 +5,7 @@
 pub mod atmosphere;
 pub mod black;
 pub mod display;
+pub mod exposure;
 pub mod ocean;
 pub mod readback;
 pub mod resolve;

@@ -1,0 +1,44 @@
+#version 450
+// Automatic exposure (render.ev100 = "auto"): the frame's log-average luminance L (Reinhard et
+// al. 2002's key), read at every 4th pixel of every 4th row by one workgroup, sets
+// EV100 = log2(L S / K) with S = 100, K = 12.5 (the reflected-light meter's calibration; Lagarde &
+// de Rousiers 2014), and the display scale 1000 / (1.2 2^EV100) per kcd/m^2 (scene::ev100_to_exposure).
+// Luminance below 1e-3 cd/m^2 (where vision turns scotopic) counts as 1e-3, so black pixels
+// (night, the cleared background) neither send the logarithm to -inf nor dominate the key.
+layout(local_size_x = 256) in;
+layout(set = 0, binding = 4, rgba16f) readonly uniform image2D hdr;
+layout(set = 0, binding = 7, std140) writeonly buffer MeasuredExposure { vec4 measured; } result;
+
+const float DARKEST_CD = 1e-3;
+shared float partial[256];
+shared uint counted[256];
+
+void main() {
+    ivec2 size = imageSize(hdr);
+    float sum = 0.0;
+    uint n = 0u;
+    for (int y = 0; y < size.y; y += 4) {
+        for (int x = int(gl_LocalInvocationIndex) * 4; x < size.x; x += 256 * 4) {
+            vec3 L = imageLoad(hdr, ivec2(x, y)).rgb;
+            float Y = 1000.0 * dot(max(L, vec3(0.0)), vec3(0.2126, 0.7152, 0.0722));   // cd/m^2
+            sum += log2(max(Y, DARKEST_CD));
+            n += 1u;
+        }
+    }
+    partial[gl_LocalInvocationIndex] = sum;
+    counted[gl_LocalInvocationIndex] = n;
+    barrier();
+    for (uint stride = 128u; stride > 0u; stride >>= 1) {
+        if (gl_LocalInvocationIndex < stride) {
+            partial[gl_LocalInvocationIndex] += partial[gl_LocalInvocationIndex + stride];
+            counted[gl_LocalInvocationIndex] += counted[gl_LocalInvocationIndex + stride];
+        }
+        barrier();
+    }
+    if (gl_LocalInvocationIndex == 0u) {
+        // Every image has at least one pixel, so counted[0] >= 1.
+        float key = partial[0] / float(max(counted[0], 1u));
+        float ev100 = key + log2(100.0 / 12.5);
+        result.measured = vec4(1000.0 / (1.2 * exp2(ev100)), ev100, key, 0.0);
+    }
+}
