@@ -16,6 +16,7 @@ const int SKY_STEPS = 40;                          // atmosphere::SKY_STEPS
 const int MS_DIRECTIONS = 8;                       // atmosphere::MS_DIRECTIONS
 const int MS_STEPS = 20;                           // atmosphere::MS_STEPS
 const int AERIAL_SIZE = 32;                        // resources::AERIAL_SIZE: rays per side and slices
+const ivec2 SKY_VIEW_SIZE = ivec2(256, 128);       // atmosphere::SKY_VIEW_SIZE
 
 float bottom_radius() { return frame.atmosphere[0].x; }
 float top_radius() { return frame.atmosphere[0].y; }
@@ -86,6 +87,29 @@ float altitude_along(float h, float mu, float t) {
 
 float unit_to_texcoord(float x, int size) { return 0.5 / float(size) + x * (1.0 - 1.0 / float(size)); }
 float texcoord_to_unit(float u, int size) { return (u - 0.5 / float(size)) / (1.0 - 1.0 / float(size)); }
+
+// The sky-view table (Hillaire 2020's, over the upper hemisphere): u the azimuth from the sun's,
+// in [0, pi] (the sky is symmetric about the sun's vertical plane), as sqrt(phi / pi) so that the
+// glow around the sun gets the most texels; v the elevation in [0, pi/2] as sqrt(l / (pi/2)), so
+// that the horizon does.
+vec2 sky_view_uv(vec3 dir) {
+    vec3 sun = frame.sun_dir.xyz;
+    float l = asin(clamp(dir.z, 0.0, 1.0));
+    // The azimuth from the sun's: the angle between the two horizontal parts (0 where either is
+    // vertical: the sky is symmetric about the zenith then).
+    float cross_z = dir.x * sun.y - dir.y * sun.x, along = dir.x * sun.x + dir.y * sun.y;
+    float phi = (cross_z == 0.0 && along == 0.0) ? 0.0 : abs(atan(cross_z, along));
+    return vec2(unit_to_texcoord(sqrt(phi / PI), SKY_VIEW_SIZE.x), unit_to_texcoord(sqrt(l / (0.5 * PI)), SKY_VIEW_SIZE.y));
+}
+
+vec3 sky_view_direction(vec2 uv) {
+    float phi = PI * pow(texcoord_to_unit(uv.x, SKY_VIEW_SIZE.x), 2.0);
+    float l = 0.5 * PI * pow(texcoord_to_unit(uv.y, SKY_VIEW_SIZE.y), 2.0);
+    vec3 sun = frame.sun_dir.xyz;
+    float sun_azimuth = (sun.x == 0.0 && sun.y == 0.0) ? 0.0 : atan(sun.y, sun.x);
+    float a = sun_azimuth + phi;
+    return vec3(cos(l) * cos(a), cos(l) * sin(a), sin(l));
+}
 
 // Bruneton (2017): x_mu the distance to the top between its extremes, x_r = rho / H.
 vec2 transmittance_uv(float h, float mu) {

@@ -1,15 +1,12 @@
 // Level 0 of the stereographic sky map: texel centre u in [-R, R]^2 -> direction. Texels beyond the
 // unit disc take the folded (mirrored) direction, so filtering across the horizon stays smooth.
 // Entry points: sky_map.comp (Preetham's sky) and sky_map_physical.comp (PHYSICAL_SKY: the
-// atmosphere raymarched from the eye's altitude through its tables, glsl/atmosphere.glsl).
+// physical sky resampled from its sky-view table, glsl/sky_view.comp).
 #include "frame.glsl"
 #include "common.glsl"
 #include "sky.glsl"
 #ifdef PHYSICAL_SKY
-layout(set = 0, binding = 4) uniform sampler2D transmittance_table;
-layout(set = 0, binding = 5) uniform sampler2D multiple_scattering_table;
-#define TRANSMITTANCE_TABLE transmittance_table
-#define MULTIPLE_SCATTERING_TABLE multiple_scattering_table
+layout(set = 0, binding = 4) uniform sampler2D sky_view_table;
 #include "atmosphere.glsl"
 #endif
 
@@ -25,7 +22,7 @@ void main() {
     vec3 dir = inverse_stereographic(u);
     dir.z = abs(dir.z);
 #ifdef PHYSICAL_SKY
-    vec3 L = physical_sky_radiance(frame.atmosphere[4].z, dir);
+    vec3 L = textureLod(sky_view_table, sky_view_uv(dir), 0.0).rgb;
 #else
     vec3 L = preetham_sky(dir);
 #endif

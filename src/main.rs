@@ -281,6 +281,15 @@ enum Bench {
         #[arg(long)]
         device: Option<String>,
     },
+    /// What a moving sun costs: the default scene with the sun still and moving, frames interleaved.
+    Sky {
+        #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+        #[arg(long)]
+        device: Option<String>,
+    },
     /// B's GPU time against A's per scene and pass, with a 95% interval and a verdict (faster,
     /// slower, within noise); A and B are JSON files of `bench speed` or `profile`.
     Compare {
@@ -623,6 +632,17 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 let files: Vec<String> = variant.iter().map(|v| format!("speed.{}.json", v.label)).collect();
                 ocean::say!("wrote {}/{} (compare with `ocean bench compare`)", out.display(), files.join(", "));
             }
+            Ok(())
+        }
+        Command::Bench { bench: Bench::Sky { frames, out, device } } => {
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            let r = ocean::measure::bench::sky::run(&gpu, frames, &out)?;
+            ocean::say!(
+                "still sun {:.1} ms, moving sun {:.1} ms per frame; wrote {}/sky.md and sky.json",
+                r.still_sun_ms["total"],
+                r.moving_sun_ms["total"],
+                out.display()
+            );
             Ok(())
         }
         Command::Bench { bench: Bench::Compare { a, b, threshold, out } } => {

@@ -69,6 +69,10 @@ fn out_of_range_values_name_key_and_range() {
         ("[waves]\nlambda_min_m = 40.0", "waves.lambda_min_m"),
         ("[wind]\nspeed_mps = nan", "wind.speed_mps"),
         ("[render]\nexposure = inf", "render.exposure"),
+        ("[render]\nexposure = 0.0", "render.exposure"),
+        ("[render]\nexposure = nan", "render.exposure"),
+        ("[render]\nev100 = nan", "render.ev100"),
+        ("[render]\nev100 = 40.0", "render.ev100"),
         ("[render]\ngrid_cell_px = 0.5", "render.grid_cell_px"),
         ("[sky]\nturbidity = 1.0", "sky.turbidity"),
         ("[sun]\nelevation_deg = -90.5", "sun.elevation_deg"),
@@ -81,6 +85,16 @@ fn out_of_range_values_name_key_and_range() {
         assert!(e.contains(key), "{text:?}: {e}");
         assert!(e.contains("range") || e.contains("below"), "{text:?}: {e}");
         assert!(!e.contains('\n'), "one line: {e}");
+    }
+    // Not ranges: two keys that set the same thing, and words that are not allowed values.
+    let others = [
+        ("[render]\nev100 = 12.0\nexposure = 0.1", "render.exposure and render.ev100 both set"),
+        ("[render]\nev100 = \"bright\"", "an exposure value (EV100) or \"auto\""),
+        ("[render]\ntone_curve = \"reinhard\"", "unknown variant"),
+    ];
+    for (text, what) in others {
+        let e = parse_error(text);
+        assert!(e.contains(what) && !e.contains('\n'), "{text:?}: {e}");
     }
 }
 

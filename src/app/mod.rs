@@ -73,6 +73,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     };
     // The report names the loop the device actually runs.
     options.shader.train_reads = train_reads_on(&gpu.device, options.shader.train_reads);
+    let mut omitted = omitted;
     let (frame, memory, fastest, timings, statistics) = {
         let mut renderer = Renderer::new(gpu, scene, request.width, request.height, options)?;
         let mut frame = renderer.render(scene)?;
@@ -84,6 +85,14 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         let fastest = pass_statistic(&timings, minimum);
         if !timings.is_empty() {
             frame.pass_ms = pass_statistic(&timings, median);
+        }
+        if request.frames > 1 {
+            for pass in renderer.skipped_last_frame() {
+                omitted.push(crate::render::specialize::Omission {
+                    what: format!("{pass} in frames 2 to {}", request.frames),
+                    why: "its result was still current: the sun, the sky and the view did not change".into(),
+                });
+            }
         }
         let statistics = renderer.last_gpu_frame().filter(|_| options.statistics).map(|f| {
             f.passes.iter().filter_map(|p| p.statistics.map(|s| (p.name.to_owned(), s))).collect::<BTreeMap<_, _>>()

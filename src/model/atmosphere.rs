@@ -189,6 +189,8 @@ pub fn transmittance_to_top(p: &AtmosphereParams, r: f64, mu: f64, steps: usize)
 pub const TRANSMITTANCE_SIZE: (usize, usize) = (256, 64);
 /// Texture size of the multiple-scattering table (mu_s, r), as Hillaire (2020).
 pub const MULTIPLE_SCATTERING_SIZE: usize = 32;
+/// Texture size of the GPU's sky-view table (azimuth from the sun, elevation; glsl/atmosphere.glsl).
+pub const SKY_VIEW_SIZE: (usize, usize) = (256, 128);
 
 /// x in [0, 1] to a texture coordinate that puts 0 and 1 at the centres of the end texels.
 pub fn unit_to_texcoord(x: f64, size: usize) -> f64 {

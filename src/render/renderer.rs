@@ -142,6 +142,8 @@ pub struct Renderer<'g> {
     sky_in_map: Option<(Sun, Sky)>,
     /// The view (camera rays, eye height) the view-dependent passes last built for, with the sky.
     view_built: Option<ViewKey>,
+    /// The passes the last recorded frame left out, their results still current.
+    skipped_last_frame: Vec<&'static str>,
     /// Whether the shading pass counts trains (ShaderConfig::count_trains).
     counts_trains: bool,
     /// The sky model and the tone mapping the pipelines were specialized for.
@@ -267,6 +269,7 @@ impl<'g> Renderer<'g> {
             tracker: Tracker::default(),
             sky_in_map: None,
             view_built: None,
+            skipped_last_frame: Vec::new(),
             counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
             sky_model: scene.sky.model,
             tone,
@@ -291,6 +294,12 @@ impl<'g> Renderer<'g> {
 
     pub fn output(&self) -> Output {
         self.output
+    }
+
+    /// The passes the last recorded frame left out because their results were still current (the
+    /// sky's tables and map under the same sun and sky, the aerial perspective under the same view).
+    pub fn skipped_last_frame(&self) -> &[&'static str] {
+        &self.skipped_last_frame
     }
 
     /// The names of the passes, in execution order.
@@ -479,6 +488,7 @@ impl<'g> Renderer<'g> {
     fn record(&mut self, slot: usize, prepared: Prepared, image: Option<SwapImage>) -> Result<FrameData> {
         let Prepared { data, capture, sky } = prepared;
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
+        let air_current = self.sky_in_map.as_ref().is_some_and(|(_, s)| *s == sky.1);
         let view = ViewKey::new(&data, &sky);
         let view_current = sky_current && self.view_built.as_ref() == Some(&view);
         self.view_built = Some(view);
@@ -500,8 +510,12 @@ impl<'g> Renderer<'g> {
         if let Some(image) = &image {
             self.tracker.acquired(image, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
         }
-        let skipped =
-            |p: &&Box<dyn Pass + 'g>| (sky_current && p.builds_sky_map()) || (view_current && p.builds_for_view());
+        let skipped = |p: &&Box<dyn Pass + 'g>| {
+            (sky_current && p.builds_sky_map())
+                || (air_current && p.builds_for_sky())
+                || (view_current && p.builds_for_view())
+        };
+        self.skipped_last_frame = self.passes.iter().filter(skipped).map(|p| p.name()).collect();
         for pass in self.passes.iter().filter(|p| !skipped(p)) {
             s.profiler.begin(device, cmd, pass.name());
             pass.declare(&self.resources, &frame, &mut self.tracker);

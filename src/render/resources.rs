@@ -43,6 +43,9 @@ pub struct AtmosphereTables<'g> {
     pub transmittance: Image<'g>,
     /// Hillaire's multiple scattering psi_ms (atmosphere::MULTIPLE_SCATTERING_SIZE squared).
     pub multiple_scattering: Image<'g>,
+    /// The sky seen from the eye over the upper hemisphere (atmosphere::SKY_VIEW_SIZE), rebuilt
+    /// with the sky map, which is resampled from it.
+    pub sky_view: Image<'g>,
     pub sampler: Owned<'g, vk::Sampler>,
 }
 
@@ -222,7 +225,7 @@ impl<'g> Resources<'g> {
 }
 
 fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
-    use crate::model::atmosphere::{MULTIPLE_SCATTERING_SIZE, TRANSMITTANCE_SIZE};
+    use crate::model::atmosphere::{MULTIPLE_SCATTERING_SIZE, SKY_VIEW_SIZE, TRANSMITTANCE_SIZE};
     let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
     let (tw, th) = (TRANSMITTANCE_SIZE.0 as u32, TRANSMITTANCE_SIZE.1 as u32);
     let transmittance =
@@ -230,6 +233,8 @@ fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
     let n = MULTIPLE_SCATTERING_SIZE as u32;
     let multiple_scattering =
         Image::new(gpu, "atmosphere multiple scattering", HDR_FORMAT, vk::Extent2D { width: n, height: n }, 1, usage)?;
+    let view_extent = vk::Extent2D { width: SKY_VIEW_SIZE.0 as u32, height: SKY_VIEW_SIZE.1 as u32 };
+    let sky_view = Image::new(gpu, "atmosphere sky view", HDR_FORMAT, view_extent, 1, usage)?;
     let info = vk::SamplerCreateInfo::default()
         .mag_filter(vk::Filter::LINEAR)
         .min_filter(vk::Filter::LINEAR)
@@ -243,6 +248,7 @@ fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
     Ok(AtmosphereTables {
         transmittance,
         multiple_scattering,
+        sky_view,
         sampler: Owned::new(&gpu.device, sampler, "atmosphere tables sampler"),
     })
 }

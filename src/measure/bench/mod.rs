@@ -6,6 +6,7 @@
 
 pub mod compare;
 pub mod error_vs_time;
+pub mod sky;
 pub mod speed;
 pub mod startup;
 pub mod view;

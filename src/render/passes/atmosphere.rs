@@ -1,5 +1,5 @@
 //! The physical atmosphere's tables (compute): transmittance, then Hillaire's multiple
-//! scattering from it, rebuilt with the sky map only when the sun or the sky changes; and the
+//! scattering from it, rebuilt only when the sky (the air, not the sun) changes; and the
 //! aerial perspective between the eye and the sea, every frame (the eye moves).
 
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
@@ -77,7 +77,8 @@ impl Pass for AtmospherePass<'_> {
         "atmosphere"
     }
 
-    fn builds_sky_map(&self) -> bool {
+    /// The tables hold the air, not the sun's light: a moving sun keeps them.
+    fn builds_for_sky(&self) -> bool {
         true
     }
 

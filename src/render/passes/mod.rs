@@ -50,6 +50,11 @@ pub trait Pass {
     fn builds_sky_map(&self) -> bool {
         false
     }
+    /// Whether the pass only builds what depends on the sky alone, not the sun (the atmosphere's
+    /// tables), which a frame under the same sky can skip.
+    fn builds_for_sky(&self) -> bool {
+        false
+    }
     /// Whether the pass only builds what depends on the sky and the camera's rays (the aerial
     /// perspective), which a frame under the same sky and view can skip.
     fn builds_for_view(&self) -> bool {

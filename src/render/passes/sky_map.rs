@@ -1,6 +1,7 @@
-//! Sky map: level 0 of the stereographic sky texture from Preetham's model or the physical
-//! atmosphere's tables (compute); then, in
-//! its own pass, the full mip chain by successive linear blits, each level a barrier from the one above.
+//! Sky map: level 0 of the stereographic sky texture from Preetham's model, or resampled from the
+//! physical sky's sky-view table, raymarched first through the atmosphere's tables (compute); then,
+//! in its own pass, the full mip chain by successive linear blits, each level a barrier from the
+//! one above.
 
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
@@ -15,6 +16,8 @@ use ash::vk;
 pub struct SkyMapPass<'g> {
     bindings: Bindings<'g>,
     pipeline: Owned<'g, vk::Pipeline>,
+    /// The physical sky's sky-view table, raymarched first and resampled into the map.
+    sky_view: Option<(Bindings<'g>, Owned<'g, vk::Pipeline>)>,
 }
 
 impl<'g> SkyMapPass<'g> {
@@ -22,32 +25,40 @@ impl<'g> SkyMapPass<'g> {
     pub fn new(device: &'g Device, resources: &Resources) -> Result<Self> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
+        let (general, read) = (vk::ImageLayout::GENERAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
         let mut layout = vec![(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages), (3, D::STORAGE_IMAGE, stages)];
         if resources.atmosphere.is_some() {
             layout.push((4, D::COMBINED_IMAGE_SAMPLER, stages));
-            layout.push((5, D::COMBINED_IMAGE_SAMPLER, stages));
         }
         let bindings = Bindings::new(device, "sky map", &layout)?;
         write_frame_uniforms(&bindings, resources, false);
         let sky = &resources.sky_map;
-        bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, vk::ImageLayout::GENERAL, vk::Sampler::null());
-        let code = match &resources.atmosphere {
+        bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, general, vk::Sampler::null());
+        let (code, sky_view) = match &resources.atmosphere {
             Some(tables) => {
-                let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-                bindings.write_image(4, D::COMBINED_IMAGE_SAMPLER, tables.transmittance.view, read, tables.sampler.raw);
-                bindings.write_image(
-                    5,
-                    D::COMBINED_IMAGE_SAMPLER,
-                    tables.multiple_scattering.view,
-                    read,
-                    tables.sampler.raw,
-                );
-                shaders::SKY_MAP_PHYSICAL_COMP
+                bindings.write_image(4, D::COMBINED_IMAGE_SAMPLER, tables.sky_view.view, read, tables.sampler.raw);
+                let view_bindings = Bindings::new(
+                    device,
+                    "sky view",
+                    &[
+                        (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages),
+                        (3, D::STORAGE_IMAGE, stages),
+                        (4, D::COMBINED_IMAGE_SAMPLER, stages),
+                        (5, D::COMBINED_IMAGE_SAMPLER, stages),
+                    ],
+                )?;
+                write_frame_uniforms(&view_bindings, resources, false);
+                view_bindings.write_image(3, D::STORAGE_IMAGE, tables.sky_view.view, general, vk::Sampler::null());
+                let sampler = tables.sampler.raw;
+                view_bindings.write_image(4, D::COMBINED_IMAGE_SAMPLER, tables.transmittance.view, read, sampler);
+                view_bindings.write_image(5, D::COMBINED_IMAGE_SAMPLER, tables.multiple_scattering.view, read, sampler);
+                let pipeline = compute_pipeline(device, view_bindings.layout(), shaders::SKY_VIEW_COMP, "sky view")?;
+                (shaders::SKY_MAP_PHYSICAL_COMP, Some((view_bindings, pipeline)))
             }
-            None => shaders::SKY_MAP_COMP,
+            None => (shaders::SKY_MAP_COMP, None),
         };
         let pipeline = compute_pipeline(device, bindings.layout(), code, "sky map")?;
-        Ok(SkyMapPass { bindings, pipeline })
+        Ok(SkyMapPass { bindings, pipeline, sky_view })
     }
 }
 
@@ -64,11 +75,18 @@ impl Pass for SkyMapPass<'_> {
         if let Some(tables) = &r.atmosphere {
             t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
             t.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
+            t.image(&tables.sky_view, 0, 1, Access::ComputeStorageWrite, true);
         }
         t.image(&r.sky_map, 0, 1, Access::ComputeStorageWrite, true);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
+        if let (Some((bindings, pipeline)), Some(tables)) = (&self.sky_view, &r.atmosphere) {
+            dispatch_over(rec, pipeline.raw, bindings, tables.sky_view.extent);
+            // The map samples the table just written.
+            rec.tracker.image(&tables.sky_view, 0, 1, Access::ComputeSampled, false);
+            rec.tracker.flush(&rec.device.raw, rec.cmd);
+        }
         dispatch_over(rec, self.pipeline.raw, &self.bindings, r.sky_map.extent);
     }
 }
