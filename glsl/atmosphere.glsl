@@ -160,7 +160,8 @@ vec3 sun_transmittance(float h, float mu_s) {
 
 // Between the ray's origin and distance d along it: a ratio of transmittances to the top, both
 // taken pointing up for a ray that meets the ground (atmosphere::Atmosphere::transmittance_between).
-// The ratio is held to [0, 1]; a zero denominator (a path the table holds as opaque) gives 0.
+// The ratio is held to [0, 1]; a denominator below the smallest normal float (a path the binary16
+// table holds as opaque: its least value is 6e-8) gives 0.
 vec3 transmittance_between(float h, float mu, float d) {
     float r = bottom_radius() + h;
     float h_d = clamp(altitude_along(h, mu, d), 0.0, atmosphere_height());
@@ -174,7 +175,7 @@ vec3 transmittance_between(float h, float mu, float d) {
         a = transmittance(h, mu);
         b = transmittance(h_d, mu_d);
     }
-    return mix(vec3(0.0), min(a / max(b, vec3(1e-30)), vec3(1.0)), greaterThan(b, vec3(0.0)));
+    return mix(vec3(0.0), min(a / max(b, vec3(FLT_MIN_NORMAL)), vec3(1.0)), greaterThanEqual(b, vec3(FLT_MIN_NORMAL)));
 }
 
 // Transmittance over a path from the eye that stays in the air: a view ray towards the flat sea

@@ -19,6 +19,9 @@ const float FAR_LIMIT = 1.0e7;
 // exp(-x) underflows single precision (below FLT_MIN) once x exceeds ln(FLT_MAX) ~ 88.7;
 // 87 keeps the result a normal float. Past it the exact value is 0 to f32 precision.
 const float EXP_UNDERFLOW = 87.0;
+// The smallest normal single-precision value, 2^-126: a divisor at least this large keeps a quotient
+// of values <= 1 finite (below FLT_MAX).
+const float FLT_MIN_NORMAL = 1.17549435e-38;
 
 // The visibility pass stores each pixel's rest position in the HDR image's 64 bits (two f32 as
 // four 16-bit words); pixels without sea keep the clear value, +Inf in x (NO_SEA_BITS), which no
