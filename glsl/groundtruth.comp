@@ -2,7 +2,9 @@
 // Ground truth: N x N stratified samples per pixel, every wave train as exact surface geometry
 // (first hit of each sample ray with the displaced trochoid surface) and exact normals, no
 // slope-variance BRDF. Exact Fresnel for water, the sky from the analytic model in the exact
-// reflected direction, the sun as a disc of its true solid angle, occluded by the waves.
+// reflected direction, the sun as a disc of its true solid angle. A reflected ray that meets the
+// sea again is shaded there (its reflection and refracted light, and so on, up to tile.bounces
+// times); the reflected weight left after the last is recorded as cut off.
 #include "frame.glsl"
 #include "common.glsl"
 #include "sky.glsl"
@@ -13,8 +15,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_waves[]; };
 // Per pixel, four vec4: the sum over samples so far (rgb) with a = 1 where sub-samples resolve
 // the shortest train, 0 where not; the sum over the even strata, the (N/2) x (N/2) subset, for a
-// convergence estimate, with the sum of 1 - F (the refracted light's weight) in a; the reflected
-// sun's sum; the reflected sky's sum. Each dispatch adds one sample (stratum) to every pixel of a tile: a
+// convergence estimate, with the sum of the refracted light's weight (Sample::transmitted) in a;
+// the reflected sun's sum, with the cut-off weight's in a; the reflected sky's sum. Each dispatch adds one sample (stratum) to every pixel of a tile: a
 // dispatch per sample keeps each invocation's loop iterations bounded (lavapipe 22.3 stops every
 // loop of an invocation after 65535 iterations in total, silently).
 layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
@@ -28,7 +30,9 @@ layout(push_constant) uniform Tile {
     float lipschitz;    // bound on the surface's height slope, for safe marching steps
     float ior;          // refractive index of sea water
     uint seed;
-    uint max_march;     // marching steps per ray, within the per-invocation loop budget
+    uint max_march;     // marching steps of the camera ray, within the per-invocation loop budget
+    uint bounces;       // how many times a reflected ray may meet the sea again and be shaded there
+    uint bounce_march;  // marching steps of each reflected ray
 } tile;
 
 const int NEWTON_STEPS = 2;
@@ -87,7 +91,7 @@ float gap(vec3 o, vec3 r, float t, inout vec2 x, out Surface s) {
 // step dt, so dt = g / (L |r.xy| - r.z) does not cross the surface when L holds; should a step
 // still land below it (or below every trough, or run out of steps going down), bisection on the
 // bracket finds the crossing. (Results travel as floats, control flow has one exit.)
-float intersect(vec3 o, vec3 r, float t0, out Surface s_hit) {
+float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
     float height = frame.cam_forward.w;
     float closing = tile.lipschitz * length(r.xy) - r.z;
     float top = -height + tile.slab;
@@ -104,7 +108,7 @@ float intersect(vec3 o, vec3 r, float t0, out Surface s_hit) {
     Surface s = surface(x);
     float t_above = t;        // last point known above the surface
     float t_below = -1.0;     // first point known below it, once bracketed
-    for (uint it = 0u; it < tile.max_march && searching > 0.0; ++it) {
+    for (uint it = 0u; it < max_march && searching > 0.0; ++it) {
         vec3 p = o + t * r;
         if (r.z >= 0.0 && (p.z > top + 1e-3 || closing <= 0.0)) {
             searching = 0.0;   // left the slab upwards, or rising faster than any slope: a miss
@@ -156,33 +160,63 @@ uint hash(uint x) {
 }
 
 // What one sample sees: the reflected sun, the reflected sky and the refracted sea light where it
-// meets the sea, or the sky (and sun disc) straight on where it does not.
+// meets the sea (through every reflection traced), or the sky (and sun disc) straight on where it
+// does not.
 struct Sample {
     vec3 sun;
     vec3 sky;
     vec3 sea;
     vec3 total;
-    float transmitted;   // 1 - F where the sample meets the sea, else 0
+    float transmitted;   // the sum over the hits of the reflected weight there times 1 - F
+    float cut_off;       // the reflected weight left untraced after the last bounce
 };
 
-Sample shade_hit(vec3 r, float t, Surface s) {
+vec3 surface_normal(Surface s) {
     vec3 tx = vec3(1.0 + s.j[0][0], s.j[0][1], s.grad_z.x);
     vec3 ty = vec3(s.j[1][0], 1.0 + s.j[1][1], s.grad_z.y);
     vec3 c = cross(tx, ty);
     float len2 = dot(c, c);
-    vec3 n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
-    float cos_v = clamp(dot(n, -r), 0.0, 1.0);
-    float fresnel = fresnel_exact(cos_v, tile.ior);
-    vec3 refl = reflect(r, n);
+    return len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+}
+
+// From the first hit (at distance t along the unit camera ray r, surface s): at each hit, the
+// refracted light enters with weight w (1 - F); the reflected ray then either leaves the sea (the
+// sky there, and the sun where the ray falls in its disc) or meets it again, and is shaded there
+// with weight w F, up to tile.bounces times. A ray can only leave upwards: one going down meets
+// the sea (intersect brackets it below every trough), so the sky is never read below the horizon.
+Sample shade_hit(vec3 r, float t, Surface s) {
     Sample o;
-    o.sky = fresnel * preetham_sky(vec3(refl.xy, abs(refl.z)));
-    o.sun = vec3(0.0);
-    if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= frame.sun_dir.w) {
-        Surface s2;
-        // Start a little off the surface; a wave in the way shadows the sun.
-        if (intersect(t * r, refl, 1e-3 + 1e-5 * t, s2) < 0.0) o.sun = fresnel * frame.sun_radiance.rgb;
+    o.sun = o.sky = vec3(0.0);
+    o.transmitted = 0.0;
+    o.cut_off = 0.0;
+    vec3 p = t * r;
+    vec3 dir = r;
+    float w = 1.0;
+    bool tracing = true;
+    for (uint b = 0u; b <= tile.bounces && tracing; ++b) {
+        vec3 n = surface_normal(s);
+        float fresnel = fresnel_exact(clamp(dot(n, -dir), 0.0, 1.0), tile.ior);
+        o.transmitted += w * (1.0 - fresnel);
+        vec3 refl = reflect(dir, n);
+        Surface next;
+        // Start a little off the surface; the ray leaves when it meets no wave.
+        float t_next = intersect(p, refl, 1e-3 + 1e-5 * length(p), tile.bounce_march, next);
+        if (t_next < 0.0) {
+            o.sky += w * fresnel * preetham_sky(refl);
+            if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= frame.sun_dir.w) {
+                o.sun += w * fresnel * frame.sun_radiance.rgb;
+            }
+            tracing = false;
+        } else if (b == tile.bounces) {
+            o.cut_off = w * fresnel;
+            tracing = false;
+        } else {
+            w *= fresnel;
+            p += t_next * refl;
+            dir = refl;
+            s = next;
+        }
     }
-    o.transmitted = 1.0 - fresnel;
     o.sea = o.transmitted * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
     o.total = o.sun + o.sky + o.sea;
     return o;
@@ -191,13 +225,14 @@ Sample shade_hit(vec3 r, float t, Surface s) {
 Sample shade_sample(vec3 ray) {
     vec3 r = normalize(ray);
     Surface s;
-    float t = intersect(vec3(0.0), r, 0.0, s);
+    float t = intersect(vec3(0.0), r, 0.0, tile.max_march, s);
     Sample o;
     if (t >= 0.0) {
         o = shade_hit(r, t, s);
     } else {
         o.sun = o.sky = o.sea = vec3(0.0);
         o.transmitted = 0.0;
+        o.cut_off = 0.0;
         o.total = preetham_sky(r) + sun_disc(r);
     }
     return o;
@@ -231,13 +266,13 @@ void main() {
         }
         pixels[index] = vec4(L, resolved);
         pixels[index + 1u] = vec4(in_subset ? L : vec3(0.0), o.transmitted);
-        pixels[index + 2u] = vec4(o.sun, 0.0);
+        pixels[index + 2u] = vec4(o.sun, o.cut_off);
         pixels[index + 3u] = vec4(o.sky, 0.0);
     } else {
         pixels[index].rgb += L;
         if (in_subset) pixels[index + 1u].rgb += L;
         pixels[index + 1u].a += o.transmitted;
-        pixels[index + 2u].rgb += o.sun;
+        pixels[index + 2u] += vec4(o.sun, o.cut_off);
         pixels[index + 3u].rgb += o.sky;
     }
 }

@@ -122,6 +122,10 @@ enum Command {
         /// Samples per pixel along each axis (N x N per pixel).
         #[arg(long, default_value_t = 8)]
         samples: u32,
+        /// Times a reflected ray that meets the sea again is shaded there (its reflection and
+        /// refracted light); the report gives the reflected weight cut off after the last.
+        #[arg(long, default_value_t = ocean::measure::groundtruth::DEFAULT_BOUNCES)]
+        bounces: u32,
         #[arg(long, default_value = "reference.exr")]
         out: PathBuf,
         /// Also write tone-mapped PNGs (the scene's exposure): the total, and NAME.sun.png,
@@ -411,6 +415,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
         Command::Reference {
             view: ViewArgs { scene, width, height, validation, device },
             samples,
+            bounces,
             out,
             png,
             report,
@@ -428,10 +433,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
             let label = format!("ground truth {width}x{height}, {samples}x{samples} samples per pixel");
             let mut progress: Option<Progress> = None;
-            let truth = ocean::measure::groundtruth::render(&gpu, &scene, width, height, samples, |done, total| {
-                // Work units are weighted by what a tile costs, so the time left holds.
-                progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
-            })?;
+            let truth =
+                ocean::measure::groundtruth::render(&gpu, &scene, width, height, samples, bounces, |done, total| {
+                    // Work units are weighted by what a tile costs, so the time left holds.
+                    progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
+                })?;
             truth.save(&scene, &out)?;
             if let Some(path) = png {
                 // The total, and each term beside it (NAME.sun.png, NAME.sky.png, NAME.sea.png).
@@ -454,12 +460,14 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let r = &truth.report;
             let convergence = r.convergence_rms_relative.map_or("n/a".into(), |c| format!("{:.2}%", 100.0 * c));
             ocean::say!(
-                "{}: {}x{} with {}x{} samples per pixel in {:.1} s; convergence {convergence}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
+                "{}: {}x{} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them), in {:.1} s; convergence {convergence}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
                 out.display(),
                 width,
                 height,
                 samples,
                 samples,
+                r.bounces,
+                100.0 * r.cut_off_fraction,
                 r.gpu_seconds,
                 r.unresolved_pixels,
                 r.validation_errors,

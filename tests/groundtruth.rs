@@ -36,7 +36,7 @@ fn the_reference_converges_as_samples_grow() {
     let gpu = gpu();
     let scene = twilight();
     let (w, h) = (32, 24);
-    let truth = |n| groundtruth::render(&gpu, &scene, w, h, n, |_, _| {}).unwrap();
+    let truth = |n| groundtruth::render(&gpu, &scene, w, h, n, groundtruth::DEFAULT_BOUNCES, |_, _| {}).unwrap();
     let best = truth(8);
     assert_eq!(best.report.nonfinite_pixels, 0);
     assert_eq!(best.report.validation_errors, 0);
@@ -66,18 +66,23 @@ fn the_reference_converges_as_samples_grow() {
 #[test]
 fn the_method_keeps_energy_better_than_the_constant_brdf() {
     // 10 m above a 10 m/s sea, looking 12 degrees down, the sun behind: the sky's reflection and
-    // the refracted light per distance band, against exact geometry (64x48, 4x4 samples).
-    // Measured: the method within 1-12% (sky) and 2% (sea) where the view is at least 10 degrees
-    // below the horizon (bands up to 50 m), drifting to +30..+75% (sky) towards the horizon; the
-    // constant BRDF drifts about twice as fast. Asserted: the method within 15% / 5% there, and
-    // never further off than the constant BRDF in any band.
+    // the refracted light per distance band, against exact geometry (64x48, 4x4 samples; reflected
+    // rays that meet the sea again traced up to 3 times). Measured: the method +10% and +18% (sky)
+    // and within 2% (sea) where the view is at least 10 degrees below the horizon (bands up to
+    // 50 m), drifting to +24..+98% (sky) towards the horizon: it reads the sky for every reflected
+    // ray, also those another wave stops (against a ground truth that read the mirrored sky for
+    // those, it was within 1-12%). The constant BRDF drifts about twice as fast. Asserted: the
+    // method within 20% / 5% there, and never further off than the constant BRDF in any band.
     let gpu = gpu();
     let mut scene = twilight();
     scene.sun.elevation_deg = 25.0;
     scene.sun.azimuth_deg = 180.0; // behind: its glints are out of view
     let dir = temp_dir("energy");
     let reference = dir.join("ref.exr");
-    groundtruth::render(&gpu, &scene, 64, 48, 4, |_, _| {}).unwrap().save(&scene, &reference).unwrap();
+    groundtruth::render(&gpu, &scene, 64, 48, 4, groundtruth::DEFAULT_BOUNCES, |_, _| {})
+        .unwrap()
+        .save(&scene, &reference)
+        .unwrap();
     let rows = errorbench::run(&gpu, &scene, "test scene", &reference, 1, &dir).unwrap();
     let row = |method: &str| rows.iter().find(|r| r.method == method && r.setting == "default").unwrap();
     const SKY: usize = 2;
@@ -92,7 +97,7 @@ fn the_method_keeps_energy_better_than_the_constant_brdf() {
         let (f, c) = (full.energy_error[SKY].abs(), constant.energy_error[SKY].abs());
         assert!(f <= c + 0.02, "band {b}: the method's sky energy ({f:.3}) drifts more than the baseline's ({c:.3})");
         if errorbench::BANDS_M[b + 1] <= steep {
-            assert!(f < 0.15, "band {b}: method's sky energy off by {f:.3}");
+            assert!(f < 0.20, "band {b}: method's sky energy off by {f:.3}");
             let sea = full.energy_error[SEA].abs();
             assert!(sea < 0.05, "band {b}: method's refracted energy off by {sea:.3}");
         }
@@ -107,7 +112,10 @@ fn the_bench_writes_a_finite_row_per_method() {
     let scene = twilight();
     let dir = temp_dir("bench");
     let reference = dir.join("ref.exr");
-    groundtruth::render(&gpu, &scene, 32, 24, 2, |_, _| {}).unwrap().save(&scene, &reference).unwrap();
+    groundtruth::render(&gpu, &scene, 32, 24, 2, groundtruth::DEFAULT_BOUNCES, |_, _| {})
+        .unwrap()
+        .save(&scene, &reference)
+        .unwrap();
     errorbench::run(&gpu, &scene, "test scene", &reference, 1, &dir).unwrap();
     let csv = std::fs::read_to_string(dir.join("error_vs_time.csv")).unwrap();
     let mut lines = csv.lines();
@@ -186,12 +194,20 @@ fn bad_references_and_sample_counts_are_refused() {
     let gpu = gpu();
     let scene = twilight();
     for n in [0, groundtruth::MAX_SAMPLES + 1] {
-        let e = groundtruth::render(&gpu, &scene, 8, 8, n, |_, _| {}).err().expect("refused");
+        let e =
+            groundtruth::render(&gpu, &scene, 8, 8, n, groundtruth::DEFAULT_BOUNCES, |_, _| {}).err().expect("refused");
         assert!(e.to_string().contains("--samples"), "{e}");
+    }
+    for b in [0, groundtruth::MAX_BOUNCES + 1] {
+        let e = groundtruth::render(&gpu, &scene, 8, 8, 1, b, |_, _| {}).err().expect("refused");
+        assert!(e.to_string().contains(&format!("--bounces {b} is out of range [1, 16]")), "{e}");
     }
     let dir = temp_dir("mismatch");
     let reference = dir.join("ref.exr");
-    groundtruth::render(&gpu, &scene, 16, 12, 1, |_, _| {}).unwrap().save(&scene, &reference).unwrap();
+    groundtruth::render(&gpu, &scene, 16, 12, 1, groundtruth::DEFAULT_BOUNCES, |_, _| {})
+        .unwrap()
+        .save(&scene, &reference)
+        .unwrap();
     let Err(e) = errorbench::run(&gpu, &Scene::default(), "scenes/default.toml", &reference, 1, &dir) else {
         panic!("a reference of another scene must be refused");
     };
@@ -199,4 +215,25 @@ fn bad_references_and_sample_counts_are_refused() {
     assert!(message.contains("ref.exr") && message.contains("scenes/default.toml"), "{message}");
     assert!(!dir.join("error_vs_time.csv").exists(), "nothing written for a refused bench");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn reflected_rays_that_meet_the_sea_again_are_traced_and_what_is_cut_off_shrinks_with_bounces() {
+    let gpu = gpu();
+    // Grazing over a rough sea: reflected rays often run into the next wave.
+    let mut scene = Scene::default();
+    scene.sky.model = ocean::model::scene::SkyKind::Preetham;
+    scene.camera.height_m = 3.0;
+    scene.camera.pitch_deg = -4.0;
+    scene.wind.speed_mps = 15.0;
+    scene.sun.elevation_deg = 20.0;
+    let cut = |bounces| {
+        let truth = groundtruth::render(&gpu, &scene, 32, 24, 1, bounces, |_, _| {}).unwrap();
+        assert_eq!(truth.report.validation_errors, 0);
+        assert_eq!(truth.report.nonfinite_pixels, 0);
+        truth.report.cut_off_fraction
+    };
+    let (one, three, eight) = (cut(1), cut(3), cut(8));
+    assert!(one > 0.0, "some reflected rays meet another wave ({one})");
+    assert!(three < one && eight < three, "cut off: {one} after 1 bounce, {three} after 3, {eight} after 8");
 }

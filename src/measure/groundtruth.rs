@@ -37,6 +37,8 @@ struct TilePush {
     ior: f32,
     seed: u32,
     max_march: u32,
+    bounces: u32,
+    bounce_march: u32,
 }
 
 /// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
@@ -48,13 +50,24 @@ const MAX_MARCH: u32 = 160;
 /// Bisection steps after a bracketed crossing (glsl/groundtruth.comp).
 const BISECTION_STEPS: u32 = 16;
 
-/// Marching steps that keep one sample within the loop budget: a camera ray and a sun ray, each
-/// step (and each bisection step) evaluating the surface three times (two Newton steps and the
-/// result) over every train.
-fn march_budget(wave_count: u32) -> u32 {
-    let per_step = 2 * (3 * wave_count + 1);
-    let fixed = 2 * (BISECTION_STEPS + 2) * (3 * wave_count + 1) + 4 * wave_count + 64;
-    (LOOP_BUDGET.saturating_sub(fixed) / per_step).clamp(8, MAX_MARCH)
+/// Reflected rays a sample may trace again after the first: `--bounces` (glsl/groundtruth.comp).
+pub const DEFAULT_BOUNCES: u32 = 3;
+pub const MAX_BOUNCES: u32 = 16;
+
+/// Marching steps that keep one sample within the loop budget: (camera ray, each reflected ray).
+/// The camera ray and the `bounces + 1` reflected rays may each end in a bisection; every step
+/// (and bisection step) evaluates the surface three times (two Newton steps and the result) over
+/// every train. The camera ray, which may have to cross a grazing slab kilometres long, gets as
+/// many steps as all the reflected rays together, which mostly leave the slab or meet a wave
+/// within a few steps (a reflected ray that runs out going up counts as leaving: the sky).
+fn march_budget(wave_count: u32, bounces: u32) -> (u32, u32) {
+    let per_eval = 3 * wave_count + 1;
+    let rays = bounces + 2;
+    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * wave_count + 64;
+    let steps = LOOP_BUDGET.saturating_sub(fixed) / per_eval;
+    let primary = (steps / 2).clamp(8, MAX_MARCH);
+    let reflected = ((steps - primary.min(steps)) / (bounces + 1)).clamp(8, MAX_MARCH);
+    (primary, reflected)
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -72,6 +85,11 @@ pub struct GroundTruthReport {
     pub noise_floor_rmse: Option<f64>,
     /// Pixels whose sub-samples step more than half a turn of the shortest wave.
     pub unresolved_pixels: u64,
+    /// Reflected rays traced again where they meet the sea (`--bounces`).
+    pub bounces: u32,
+    /// The reflected weight left untraced after the last bounce, as a fraction of the sea's
+    /// samples' reflected weight, and its mean over the sea's pixels (what `--bounces` cuts off).
+    pub cut_off_fraction: f64,
     pub nonfinite_pixels: u64,
     pub mean_radiance: [f64; 3],
     pub validation_errors: u32,
@@ -124,10 +142,14 @@ pub fn render(
     width: u32,
     height: u32,
     samples: u32,
+    bounces: u32,
     mut progress: impl FnMut(u64, u64),
 ) -> Result<GroundTruth> {
     if samples == 0 || samples > MAX_SAMPLES {
         return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
+    }
+    if !(1..=MAX_BOUNCES).contains(&bounces) {
+        return Err(Error::Argument(format!("--bounces {bounces} is out of range [1, {MAX_BOUNCES}]")));
     }
     if scene.sky.model != crate::model::scene::SkyKind::Preetham {
         return Err(Error::Argument(
@@ -195,7 +217,9 @@ pub fn render(
         origin: [0, 0],
         samples,
         stratum: 0,
-        max_march: march_budget(exact.len() as u32),
+        max_march: march_budget(exact.len() as u32, bounces).0,
+        bounces,
+        bounce_march: march_budget(exact.len() as u32, bounces).1,
         wave_count: exact.len() as u32,
         slab: wave_set.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
         // Height slope of the displaced surface: sum k h over 1 - sum k h where the trains cannot
@@ -284,6 +308,14 @@ pub fn render(
             [weight * sea_radiance[0], weight * sea_radiance[1], weight * sea_radiance[2], 1.0]
         })
         .collect();
+    // The cut-off weight (sun's sums, a) over the sea's pixels, against their reflected weight:
+    // the mean of F summed over the hits traced, i.e. the samples less the refracted weight.
+    let (cut, reflected): (f64, f64) = sees_sea
+        .iter()
+        .zip(words.chunks_exact(16))
+        .filter(|(sea, _)| **sea)
+        .fold((0.0, 0.0), |(c, r), (_, p)| (c + p[11] as f64, r + (all - p[7]).max(0.0) as f64));
+    let cut_off_fraction = if reflected > 0.0 { cut / reflected } else { 0.0 };
     let stats = crate::output::stats(&radiance);
     let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
     let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
@@ -298,6 +330,8 @@ pub fn render(
         convergence_rms_relative,
         noise_floor_rmse,
         unresolved_pixels,
+        bounces,
+        cut_off_fraction,
         nonfinite_pixels: stats.nonfinite_pixels,
         mean_radiance: stats.mean_radiance,
         validation_errors: gpu.validation_counts().error_total() - before,
