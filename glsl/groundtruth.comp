@@ -16,7 +16,9 @@ layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_wav
 // Per pixel, four vec4: the sum over samples so far (rgb) with a = 1 where sub-samples resolve
 // the shortest train, 0 where not; the sum over the even strata, the (N/2) x (N/2) subset, for a
 // convergence estimate, with the sum of the refracted light's weight (Sample::transmitted) in a;
-// the reflected sun's sum, with the cut-off weight's in a; the reflected sky's sum. Each dispatch adds one sample (stratum) to every pixel of a tile: a
+// the reflected sun's sum, with the cut-off weight's in a; the reflected sky's sum; and the sums
+// of squares of the Rec. 709 luminances of the total, the sun, the sky, and of the refracted
+// weight (five vec4 in all), for each pixel's sample variance. Each dispatch adds one sample (stratum) to every pixel of a tile: a
 // dispatch per sample keeps each invocation's loop iterations bounded (lavapipe 22.3 stops every
 // loop of an invocation after 65535 iterations in total, silently).
 layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
@@ -249,7 +251,10 @@ void main() {
     Sample o = shade_sample(camera_ray(pixel_to_ndc(vec2(pixel) + (vec2(i, j) + jitter) / float(n))));
     vec3 L = o.total;
     bool in_subset = (i & 1u) == 0u && (j & 1u) == 0u;
-    uint index = 4u * (pixel.y * size.x + pixel.x);
+    uint index = 5u * (pixel.y * size.x + pixel.x);
+    const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
+    vec4 squares = vec4(dot(L, REC709), dot(o.sun, REC709), dot(o.sky, REC709), o.transmitted);
+    squares *= squares;
     if (tile.stratum == 0u) {
         // Does the sub-sample spacing resolve the shortest train (at most half a turn per step)?
         vec3 ray = camera_ray(pixel_to_ndc(vec2(pixel) + 0.5));
@@ -268,11 +273,13 @@ void main() {
         pixels[index + 1u] = vec4(in_subset ? L : vec3(0.0), o.transmitted);
         pixels[index + 2u] = vec4(o.sun, o.cut_off);
         pixels[index + 3u] = vec4(o.sky, 0.0);
+        pixels[index + 4u] = squares;
     } else {
         pixels[index].rgb += L;
         if (in_subset) pixels[index + 1u].rgb += L;
         pixels[index + 1u].a += o.transmitted;
         pixels[index + 2u] += vec4(o.sun, o.cut_off);
         pixels[index + 3u].rgb += o.sky;
+        pixels[index + 4u] += squares;
     }
 }

@@ -61,6 +61,15 @@ fn the_reference_converges_as_samples_grow() {
         measured / predicted > 0.5 && measured / predicted < 2.0,
         "4x4 noise: predicted {predicted}, measured {measured}"
     );
+    // Each pixel's variance of its mean (what the bench's energy uncertainties are made of) falls
+    // as 1 / N^2 per axis: 2x2 to 4x4 samples about a quarter, and it predicts the 4x4 estimate's
+    // real scatter about the 8x8 one (the mean of (F4 - F8)^2 is s4^2 + s8^2, 1.25 s4^2).
+    let mean_variance =
+        |t: &groundtruth::GroundTruth| sea.iter().map(|&i| t.variance[i][0] as f64).sum::<f64>() / sea.len() as f64;
+    let (v2, v4) = (mean_variance(&coarse[1]), mean_variance(&coarse[2]));
+    assert!(v2 > 0.0 && v4 < 0.5 * v2, "variance of the mean for 2x2 and 4x4 samples: {v2}, {v4}");
+    let ratio = measured * measured / (1.25 * v4);
+    assert!(ratio > 0.25 && ratio < 4.0, "the 4x4 variance predicts its scatter within a factor 4: {ratio}");
 }
 
 #[test]

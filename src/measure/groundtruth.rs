@@ -19,7 +19,7 @@ use std::time::Instant;
 /// Refractive index of sea water for visible light (about 1.34; 1.333 for pure water at 20 C).
 pub const SEA_WATER_IOR: f32 = 1.34;
 /// Four vec4 per pixel: total and mask, subset, sun, sky (glsl/groundtruth.comp).
-const BYTES_PER_PIXEL: u64 = 64;
+const BYTES_PER_PIXEL: u64 = 80;
 /// Pixels per tile side: one dispatch and one fence per tile.
 const TILE: u32 = 32;
 /// Largest samples per pixel per axis: 64 x 64 = 4096 samples.
@@ -106,6 +106,9 @@ pub struct GroundTruth {
     pub sun: Vec<[f32; 4]>,
     pub sky: Vec<[f32; 4]>,
     pub sea: Vec<[f32; 4]>,
+    /// The variance of each pixel's mean luminance: total, sun, sky, sea (rgba), for the
+    /// uncertainty of the energies compared with it (NAME.var.exr).
+    pub variance: Vec<[f32; 4]>,
     pub report: GroundTruthReport,
 }
 
@@ -289,15 +292,15 @@ pub fn render(
         }
     }
     let gpu_seconds = started.elapsed().as_secs_f64();
-    let words: Vec<f32> = output.read(16 * pixels as usize)?;
+    let words: Vec<f32> = output.read(20 * pixels as usize)?;
     // Sums to means: N x N samples, and the strata with even indices on both axes.
     let all = (samples * samples) as f32;
     let even = samples.div_ceil(2).pow(2) as f32;
     let mean = |p: &[f32], count: f32, a: f32| [p[0] / count, p[1] / count, p[2] / count, a];
-    let radiance: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[0..4], all, p[3])).collect();
-    let subset: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[4..8], even, 0.0)).collect();
-    let sun: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[8..12], all, 1.0)).collect();
-    let sky: Vec<[f32; 4]> = words.chunks_exact(16).map(|p| mean(&p[12..16], all, 1.0)).collect();
+    let radiance: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[0..4], all, p[3])).collect();
+    let subset: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[4..8], even, 0.0)).collect();
+    let sun: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[8..12], all, 1.0)).collect();
+    let sky: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[12..16], all, 1.0)).collect();
     // The refracted light: the mean of 1 - F times the deep water's (constant) radiance.
     let u = &data.uniforms;
     let sea_radiance: [f32; 3] = std::array::from_fn(|c| u.sea_albedo[c] * u.sky_irradiance[c] / std::f32::consts::PI);
@@ -312,10 +315,36 @@ pub fn render(
     // the mean of F summed over the hits traced, i.e. the samples less the refracted weight.
     let (cut, reflected): (f64, f64) = sees_sea
         .iter()
-        .zip(words.chunks_exact(16))
+        .zip(words.chunks_exact(20))
         .filter(|(sea, _)| **sea)
         .fold((0.0, 0.0), |(c, r), (_, p)| (c + p[11] as f64, r + (all - p[7]).max(0.0) as f64));
     let cut_off_fraction = if reflected > 0.0 { cut / reflected } else { 0.0 };
+    // The variance of each pixel's mean (luminance, per term): the samples' variance over their
+    // count, strata taken as independent samples (stratification only lowers it: an upper bound).
+    let sea_luminance = crate::output::luminance([sea_radiance[0], sea_radiance[1], sea_radiance[2], 0.0]) as f32;
+    let variance: Vec<[f32; 4]> = words
+        .chunks_exact(20)
+        .map(|p| {
+            let sums = [
+                crate::output::luminance([p[0], p[1], p[2], 0.0]) as f32,
+                luminance3(&p[8..11]),
+                luminance3(&p[12..15]),
+                p[7],
+            ];
+            std::array::from_fn(|t| {
+                if all < 2.0 {
+                    return 0.0;
+                }
+                let mean = sums[t] / all;
+                let var = ((p[16 + t] - all * mean * mean) / (all - 1.0)).max(0.0) / all;
+                if t == 3 {
+                    var * sea_luminance * sea_luminance
+                } else {
+                    var
+                }
+            })
+        })
+        .collect();
     let stats = crate::output::stats(&radiance);
     let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
     let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
@@ -336,7 +365,11 @@ pub fn render(
         mean_radiance: stats.mean_radiance,
         validation_errors: gpu.validation_counts().error_total() - before,
     };
-    Ok(GroundTruth { width, height, radiance, subset, sun, sky, sea, report })
+    Ok(GroundTruth { width, height, radiance, subset, sun, sky, sea, variance, report })
+}
+
+fn luminance3(c: &[f32]) -> f32 {
+    crate::output::luminance([c[0], c[1], c[2], 0.0]) as f32
 }
 
 fn convergence(full: &[[f32; 4]], subset: &[[f32; 4]], mean: [f64; 3]) -> f64 {
@@ -390,6 +423,8 @@ pub struct GroundTruthFiles {
     pub sun: Vec<[f32; 4]>,
     pub sky: Vec<[f32; 4]>,
     pub sea: Vec<[f32; 4]>,
+    /// Variance of each pixel's mean luminance: total, sun, sky, sea.
+    pub variance: Vec<[f32; 4]>,
 }
 
 fn sibling(path: &std::path::Path, suffix: &str) -> std::path::PathBuf {
@@ -410,6 +445,7 @@ impl GroundTruth {
         write_exr_rgba(&sibling(path, "sun.exr"), self.width, self.height, &self.sun)?;
         write_exr_rgba(&sibling(path, "sky.exr"), self.width, self.height, &self.sky)?;
         write_exr_rgba(&sibling(path, "sea.exr"), self.width, self.height, &self.sea)?;
+        write_exr_rgba(&sibling(path, "var.exr"), self.width, self.height, &self.variance)?;
         let meta = GroundTruthMeta {
             scene: scene.clone(),
             width: self.width,
@@ -443,6 +479,7 @@ impl GroundTruthFiles {
             sun: read(&sibling(path, "sun.exr"))?,
             sky: read(&sibling(path, "sky.exr"))?,
             sea: read(&sibling(path, "sea.exr"))?,
+            variance: read(&sibling(path, "var.exr"))?,
             meta,
         })
     }

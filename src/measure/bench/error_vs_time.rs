@@ -36,6 +36,9 @@ pub struct Setting {
 pub struct TermErrors {
     pub rmse: [f64; 4],
     pub energy_error: [f64; 4],
+    /// The standard error of the energy error from the ground truth's own sampling noise: the
+    /// square root of the summed variances of its pixels' means, over its summed energy.
+    pub energy_uncertainty: [f64; 4],
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -71,22 +74,32 @@ pub fn settings(scene: &Scene) -> Vec<Setting> {
 }
 
 /// Errors of `images` (total, sun, sky, sea) against the ground truth over the pixels `select`ed.
-fn errors(images: &[Vec<[f32; 4]>; 4], truth: &[&[[f32; 4]]; 4], select: &[usize]) -> TermErrors {
+/// `variance`: the ground truth's variance of each pixel's mean luminance, per term.
+fn errors(
+    images: &[Vec<[f32; 4]>; 4],
+    truth: &[&[[f32; 4]]; 4],
+    variance: &[[f32; 4]],
+    select: &[usize],
+) -> TermErrors {
     let mut e = TermErrors::default();
     if select.is_empty() {
-        return TermErrors { rmse: [f64::NAN; 4], energy_error: [f64::NAN; 4] };
+        return TermErrors { rmse: [f64::NAN; 4], energy_error: [f64::NAN; 4], energy_uncertainty: [f64::NAN; 4] };
     }
     for t in 0..4 {
-        let (mut sq, mut sum_m, mut sum_r) = (0.0, 0.0, 0.0);
+        let (mut sq, mut sum_m, mut sum_r, mut var) = (0.0, 0.0, 0.0, 0.0);
         for &i in select {
             let (m, r) = (luminance(images[t][i]), luminance(truth[t][i]));
             sq += (m - r) * (m - r);
             sum_m += m;
             sum_r += r;
+            var += variance[i][t] as f64;
         }
         let n = select.len() as f64;
         e.rmse[t] = (sq / n).sqrt();
         e.energy_error[t] = if sum_r > 0.0 { (sum_m - sum_r) / sum_r } else { f64::NAN };
+        // (sum_m - sum_r) / sum_r moves by sum_m / sum_r^2 per unit of sum_r: the truth's standard
+        // error carried through (the method's own frames are deterministic).
+        e.energy_uncertainty[t] = if sum_r > 0.0 { var.sqrt() * sum_m / (sum_r * sum_r) } else { f64::NAN };
     }
     e
 }
@@ -152,14 +165,14 @@ pub fn run(
             .iter()
             .map(|b| {
                 let unresolved = b.iter().filter(|&&i| truth.total[i][3] == 0.0).count() as f64 / b.len().max(1) as f64;
-                (b.len(), unresolved, errors(&images, &truth_images, b))
+                (b.len(), unresolved, errors(&images, &truth_images, &truth.variance, b))
             })
             .collect();
         let row = Row {
             method: setting.method.name().into(),
             setting: setting.label.clone(),
             gpu_ms: median(&times),
-            all: errors(&images, &truth_images, &sea),
+            all: errors(&images, &truth_images, &truth.variance, &sea),
             bands: band_rows,
         };
         progress.println(&format!(
@@ -175,12 +188,14 @@ pub fn run(
 }
 
 fn term_columns() -> String {
-    TERMS.iter().map(|t| format!(",rmse_{t},energy_error_{t}")).collect()
+    TERMS.iter().map(|t| format!(",rmse_{t},energy_error_{t},energy_uncertainty_{t}")).collect()
 }
 
 fn term_values(e: &TermErrors) -> String {
     let value = |v: f64| if v.is_finite() { format!("{v:.6}") } else { String::new() };
-    (0..4).map(|t| format!(",{},{}", value(e.rmse[t]), value(e.energy_error[t]))).collect()
+    (0..4)
+        .map(|t| format!(",{},{},{}", value(e.rmse[t]), value(e.energy_error[t]), value(e.energy_uncertainty[t])))
+        .collect()
 }
 
 /// What the outputs say of the ground truth they were measured against.
@@ -224,7 +239,7 @@ fn write_outputs(
     let front = pareto_front(rows);
     let mut md = format!(
         "Error against GPU time: scene `{scene_name}` at {w}x{h}, reference `{}`, median of {frames} frames.\n\
-         RMSE of Rec. 709 luminance (kcd/m^2) over the sea; energy error = (mean - reference mean) / reference mean.\n\
+         RMSE of Rec. 709 luminance (kcd/m^2) over the sea; energy error = (mean - reference mean) / reference mean, ± its standard error from the reference's own sampling noise.\n\
          `*` marks the Pareto front (no other row is both faster and more accurate in total).\n\
          The ground truth's own noise floor over the sea: {} (no method can show a smaller RMSE against it).\n\n\
          | method | setting | GPU ms | RMSE total | energy total | energy sun | energy sky | energy sea |\n|---|---|---|---|---|---|---|---|\n",
@@ -235,15 +250,19 @@ fn write_outputs(
         let star = if front.contains(&i) { " *" } else { "" };
         writeln!(
             md,
-            "| {}{star} | {} | {:.1} | {:.4} | {:+.3} | {:+.3} | {:+.3} | {:+.3} |",
+            "| {}{star} | {} | {:.1} | {:.4} | {:+.3} ± {:.3} | {:+.3} ± {:.3} | {:+.3} ± {:.3} | {:+.3} ± {:.3} |",
             r.method,
             r.setting,
             r.gpu_ms,
             r.all.rmse[0],
             r.all.energy_error[0],
+            r.all.energy_uncertainty[0],
             r.all.energy_error[1],
+            r.all.energy_uncertainty[1],
             r.all.energy_error[2],
-            r.all.energy_error[3]
+            r.all.energy_uncertainty[2],
+            r.all.energy_error[3],
+            r.all.energy_uncertainty[3]
         )
         .unwrap();
     }
