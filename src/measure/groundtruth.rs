@@ -19,7 +19,9 @@ use std::time::Instant;
 /// Refractive index of sea water for visible light (about 1.34; 1.333 for pure water at 20 C).
 pub const SEA_WATER_IOR: f32 = 1.34;
 /// Four vec4 per pixel: total and mask, subset, sun, sky (glsl/groundtruth.comp).
-const BYTES_PER_PIXEL: u64 = 80;
+/// Floats per pixel in the accumulation buffer: five vec4 (glsl/groundtruth.comp, Pixels).
+const WORDS_PER_PIXEL: usize = 20;
+const BYTES_PER_PIXEL: u64 = 4 * WORDS_PER_PIXEL as u64;
 /// Pixels per tile side: one dispatch and one fence per tile.
 const TILE: u32 = 32;
 /// Largest samples per pixel per axis: 64 x 64 = 4096 samples.
@@ -292,20 +294,20 @@ pub fn render(
         }
     }
     let gpu_seconds = started.elapsed().as_secs_f64();
-    let words: Vec<f32> = output.read(20 * pixels as usize)?;
+    let words: Vec<f32> = output.read(WORDS_PER_PIXEL * pixels as usize)?;
     // Sums to means: N x N samples, and the strata with even indices on both axes.
     let all = (samples * samples) as f32;
     let even = samples.div_ceil(2).pow(2) as f32;
     let mean = |p: &[f32], count: f32, a: f32| [p[0] / count, p[1] / count, p[2] / count, a];
-    let radiance: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[0..4], all, p[3])).collect();
-    let subset: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[4..8], even, 0.0)).collect();
-    let sun: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[8..12], all, 1.0)).collect();
-    let sky: Vec<[f32; 4]> = words.chunks_exact(20).map(|p| mean(&p[12..16], all, 1.0)).collect();
+    let radiance: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[0..4], all, p[3])).collect();
+    let subset: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[4..8], even, 0.0)).collect();
+    let sun: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[8..12], all, 1.0)).collect();
+    let sky: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[12..16], all, 1.0)).collect();
     // The refracted light: the mean of 1 - F times the deep water's (constant) radiance.
     let u = &data.uniforms;
     let sea_radiance: [f32; 3] = std::array::from_fn(|c| u.sea_albedo[c] * u.sky_irradiance[c] / std::f32::consts::PI);
     let sea: Vec<[f32; 4]> = words
-        .chunks_exact(16)
+        .chunks_exact(WORDS_PER_PIXEL)
         .map(|p| {
             let weight = p[7] / all;
             [weight * sea_radiance[0], weight * sea_radiance[1], weight * sea_radiance[2], 1.0]
@@ -315,7 +317,7 @@ pub fn render(
     // the mean of F summed over the hits traced, i.e. the samples less the refracted weight.
     let (cut, reflected): (f64, f64) = sees_sea
         .iter()
-        .zip(words.chunks_exact(20))
+        .zip(words.chunks_exact(WORDS_PER_PIXEL))
         .filter(|(sea, _)| **sea)
         .fold((0.0, 0.0), |(c, r), (_, p)| (c + p[11] as f64, r + (all - p[7]).max(0.0) as f64));
     let cut_off_fraction = if reflected > 0.0 { cut / reflected } else { 0.0 };
@@ -323,7 +325,7 @@ pub fn render(
     // count, strata taken as independent samples (stratification only lowers it: an upper bound).
     let sea_luminance = crate::output::luminance([sea_radiance[0], sea_radiance[1], sea_radiance[2], 0.0]) as f32;
     let variance: Vec<[f32; 4]> = words
-        .chunks_exact(20)
+        .chunks_exact(WORDS_PER_PIXEL)
         .map(|p| {
             let sums = [
                 crate::output::luminance([p[0], p[1], p[2], 0.0]) as f32,
