@@ -18,8 +18,8 @@ use std::time::Instant;
 
 /// Refractive index of sea water for visible light (about 1.34; 1.333 for pure water at 20 C).
 pub const SEA_WATER_IOR: f32 = 1.34;
-/// Four vec4 per pixel: total and mask, subset, sun, sky (glsl/groundtruth.comp).
-/// Floats per pixel in the accumulation buffer: five vec4 (glsl/groundtruth.comp, Pixels).
+/// Floats per pixel in the accumulation buffer: five vec4 (total and mask, subset, sun, sky, the
+/// sums of squares; glsl/groundtruth.comp, Pixels).
 const WORDS_PER_PIXEL: usize = 20;
 const BYTES_PER_PIXEL: u64 = 4 * WORDS_PER_PIXEL as u64;
 /// Pixels per tile side: one dispatch and one fence per tile.
