@@ -457,7 +457,8 @@ pub fn shared(params: &AtmosphereParams) -> std::sync::Arc<Atmosphere> {
 pub fn sun_and_sky(params: &AtmosphereParams, eye_m: f64, sun: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     use std::sync::Mutex;
     type Key = (AtmosphereParams, [u64; 4]);
-    static LAST: Mutex<Option<(Key, ([f64; 3], [f64; 3]))>> = Mutex::new(None);
+    type SunAndSky = ([f64; 3], [f64; 3]);
+    static LAST: Mutex<Option<(Key, SunAndSky)>> = Mutex::new(None);
     let key = (params.clone(), [eye_m.to_bits(), sun[0].to_bits(), sun[1].to_bits(), sun[2].to_bits()]);
     let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
     if let Some((k, v)) = last.as_ref() {

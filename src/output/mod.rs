@@ -103,7 +103,7 @@ pub fn tonemap(hdr: &[[f32; 4]], width: u32, render: &crate::model::scene::Rende
 /// moved towards its grey only as far as its brightest channel needs.
 pub fn filmic_curve(x: [f64; 3]) -> [f64; 3] {
     let y = 0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2];
-    if !(y > 0.0) {
+    if y.is_nan() || y <= 0.0 {
         return [0.0; 3];
     }
     let yt = (y * (2.51 * y + 0.03) / (y * (2.43 * y + 0.59) + 0.14)).clamp(0.0, 1.0);

@@ -510,13 +510,13 @@ impl<'g> Renderer<'g> {
         if let Some(image) = &image {
             self.tracker.acquired(image, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
         }
-        let skipped = |p: &&Box<dyn Pass + 'g>| {
+        let skipped = |p: &(dyn Pass + 'g)| {
             (sky_current && p.builds_sky_map())
                 || (air_current && p.builds_for_sky())
                 || (view_current && p.builds_for_view())
         };
-        self.skipped_last_frame = self.passes.iter().filter(skipped).map(|p| p.name()).collect();
-        for pass in self.passes.iter().filter(|p| !skipped(p)) {
+        self.skipped_last_frame = self.passes.iter().filter(|p| skipped(p.as_ref())).map(|p| p.name()).collect();
+        for pass in self.passes.iter().filter(|p| !skipped(p.as_ref())) {
             s.profiler.begin(device, cmd, pass.name());
             pass.declare(&self.resources, &frame, &mut self.tracker);
             self.tracker.flush(&device.raw, cmd);

@@ -94,7 +94,8 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
         );
     }
     // The physical sky behind the sea is read from the map too.
-    if !options.shader.terms.sky && !(physical && options.shader.background) && options.sky_map {
+    let map_read = options.shader.terms.sky || (physical && options.shader.background);
+    if !map_read && options.sky_map {
         options.sky_map = false;
         omit("sky map and its mip chain (512x512, 10 levels)", "nothing samples it: no sky term".into());
     }
