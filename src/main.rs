@@ -699,7 +699,6 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 validation,
                 device,
             };
-            ocean::app::profile::check(&request)?;
             let r = ocean::app::profile::profile(&request)?;
             for p in r.passes.iter().chain(std::iter::once(&r.total)) {
                 let per = match (p.ns_per_fragment, p.ns_per_invocation) {

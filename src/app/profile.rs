@@ -112,19 +112,24 @@ pub fn check(request: &ProfileRequest) -> Result<()> {
     Ok(())
 }
 
-/// Profiles on a new context (its creation is the trace's first span).
+/// Profiles on a new context (its creation is the trace's first span); bad arguments are refused
+/// before the context is made.
 pub fn profile(request: &ProfileRequest) -> Result<ProfileReport> {
     check(request)?;
     let origin = host_now_ns();
     let mut setup = CpuSpans::default();
     let gpu = setup.time("Vulkan instance and device", || Gpu::new(request.validation, request.device.as_deref()))?;
-    profile_on(&gpu, request, setup, origin)
+    profile_checked(&gpu, request, setup, origin)
 }
 
 /// Profiles on an existing context (tests share one); `setup`: spans already spent, from `origin`
 /// on the host clock (the trace's time 0).
-pub fn profile_on(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, origin: u64) -> Result<ProfileReport> {
+pub fn profile_on(gpu: &Gpu, request: &ProfileRequest, setup: CpuSpans, origin: u64) -> Result<ProfileReport> {
     check(request)?;
+    profile_checked(gpu, request, setup, origin)
+}
+
+fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, origin: u64) -> Result<ProfileReport> {
     let before = gpu.validation_counts();
     let scene = &request.scene;
     let (width, height) = (request.width, request.height);

@@ -415,24 +415,10 @@ impl Atmosphere {
         self.sun_transmittance(r, mu_s).map(|t| t * mean)
     }
 
-    /// Irradiance on a horizontal plane at altitude `eye_m` from the sky dome (klux), by midpoint
-    /// quadrature in (cos theta, phi) over the table-based radiance.
+    /// Irradiance on a horizontal plane at altitude `eye_m` from the sky dome (klux), over the
+    /// table-based radiance (16 x 32 cells: the sky's raymarches are the cost).
     pub fn sky_irradiance(&self, eye_m: f64, sun: [f64; 3]) -> [f64; 3] {
-        const NU: usize = 16;
-        const NPHI: usize = 32;
-        let mut e = [0.0; 3];
-        for i in 0..NU {
-            let mu = (i as f64 + 0.5) / NU as f64;
-            let sin_t = (1.0 - mu * mu).sqrt();
-            for j in 0..NPHI {
-                let phi = (j as f64 + 0.5) / NPHI as f64 * 2.0 * PI;
-                let l = self.sky_radiance(eye_m, [sin_t * phi.cos(), sin_t * phi.sin(), mu], sun, SKY_STEPS);
-                for c in 0..3 {
-                    e[c] += l[c] * mu;
-                }
-            }
-        }
-        e.map(|v| v * (1.0 / NU as f64) * (2.0 * PI / NPHI as f64))
+        crate::model::sky::horizontal_irradiance(16, 32, |dir| self.sky_radiance(eye_m, dir, sun, SKY_STEPS))
     }
 }
 

@@ -83,24 +83,10 @@ impl SkyModel {
         xyy_to_linear_srgb(yxy[1], yxy[2], yxy[0]).map(|v| (v * self.sky_scale).max(0.0))
     }
 
-    /// Irradiance on a horizontal plane from the sky dome (klux per channel), by midpoint
-    /// quadrature in (cos theta, phi); the integrand is smooth, 64 x 128 cells give < 1e-3.
+    /// Irradiance on a horizontal plane from the sky dome (klux per channel); the integrand is
+    /// smooth, 64 x 128 cells give < 1e-3.
     pub fn sky_irradiance(&self) -> [f64; 3] {
-        const NU: usize = 64;
-        const NPHI: usize = 128;
-        let mut e = [0.0; 3];
-        for i in 0..NU {
-            let mu = (i as f64 + 0.5) / NU as f64;
-            let sin_t = (1.0 - mu * mu).sqrt();
-            for j in 0..NPHI {
-                let phi = (j as f64 + 0.5) / NPHI as f64 * 2.0 * PI;
-                let l = self.radiance([sin_t * phi.cos(), sin_t * phi.sin(), mu]);
-                for c in 0..3 {
-                    e[c] += l[c] * mu;
-                }
-            }
-        }
-        e.map(|v| v * (1.0 / NU as f64) * (2.0 * PI / NPHI as f64))
+        horizontal_irradiance(64, 128, |dir| self.radiance(dir))
     }
 
     /// Solid angle of the sun disc.
@@ -118,6 +104,24 @@ impl SkyModel {
     pub fn sun_slope_variance() -> f64 {
         (SUN_ANGULAR_RADIUS / 2.0).powi(2) / 4.0
     }
+}
+
+/// Irradiance on a horizontal plane from the radiance of the upper hemisphere, by midpoint
+/// quadrature over `nu` cells in cos theta and `nphi` in phi (cos theta dOmega = mu dmu dphi).
+pub fn horizontal_irradiance(nu: usize, nphi: usize, radiance: impl Fn([f64; 3]) -> [f64; 3]) -> [f64; 3] {
+    let mut e = [0.0; 3];
+    for i in 0..nu {
+        let mu = (i as f64 + 0.5) / nu as f64;
+        let sin_t = (1.0 - mu * mu).sqrt();
+        for j in 0..nphi {
+            let phi = (j as f64 + 0.5) / nphi as f64 * 2.0 * PI;
+            let l = radiance([sin_t * phi.cos(), sin_t * phi.sin(), mu]);
+            for c in 0..3 {
+                e[c] += l[c] * mu;
+            }
+        }
+    }
+    e.map(|v| v * (1.0 / nu as f64) * (2.0 * PI / nphi as f64))
 }
 
 /// Perez et al. (1993): F = (1 + A exp(B / cos theta)) (1 + C exp(D gamma) + E cos^2 gamma).

@@ -73,24 +73,24 @@ impl GpuFrame {
     /// The frame's scopes on the host clock.
     pub fn new(scopes: &[Scope], submission: Submission, fence_ns: u64, clock: &DeviceClock) -> GpuFrame {
         let first = scopes.iter().find_map(|s| s.device_ns.map(|(begin, _)| begin));
-        let (alignment, to_host): (Alignment, Box<dyn Fn(u64) -> f64>) = match (first, submission.calibration) {
-            (None, _) => (Alignment::NoTimestamps, Box::new(|_| 0.0)),
-            (Some(_), Some(cal)) => (
-                Alignment::Calibrated { max_deviation_ns: cal.max_deviation_ns },
-                Box::new(move |ns| clock.to_host(ns, &cal)),
-            ),
-            (Some(first), None) => {
-                let at = Calibration { device_ns: first, host_ns: submission.submit_ns, max_deviation_ns: 0 };
-                (Alignment::AtSubmit, Box::new(move |ns| clock.to_host(ns, &at)))
+        // Without a calibration, the first timestamp and the submit stand for one.
+        let (alignment, at) = match (first, submission.calibration) {
+            (None, _) => {
+                return GpuFrame { submission, fence_ns, passes: Vec::new(), alignment: Alignment::NoTimestamps }
             }
+            (Some(_), Some(cal)) => (Alignment::Calibrated { max_deviation_ns: cal.max_deviation_ns }, cal),
+            (Some(first), None) => (
+                Alignment::AtSubmit,
+                Calibration { device_ns: first, host_ns: submission.submit_ns, max_deviation_ns: 0 },
+            ),
         };
         let passes = scopes
             .iter()
             .filter_map(|s| {
                 s.device_ns.map(|(begin, end)| GpuSpan {
                     name: s.name,
-                    begin_ns: to_host(begin),
-                    end_ns: to_host(end),
+                    begin_ns: clock.to_host(begin, &at),
+                    end_ns: clock.to_host(end, &at),
                     statistics: s.statistics,
                 })
             })
