@@ -1,11 +1,13 @@
 // The paper's BRDF terms: reflected sun (Gaussian slopes, Smith shadowing, Schlick Fresnel),
 // reflected sky (filtered environment lookup and mean Fresnel), refracted sea light.
 // Requires frame.glsl, common.glsl, sky.glsl, a `sky_map` sampler and the TERM_* specialization
-// constants in scope.
+// constants in scope. METHOD_FULL departs from the paper in two places, both in the sky lookup
+// (docs/results.md measures each): it is centred on the slopes of the facets actually seen, and
+// reflections below the horizon meet the sea (the sky map's outer region) instead of a mirrored sky.
 #ifndef BRDF_GLSL
 #define BRDF_GLSL
 
-const float FRESNEL_R0 = 0.02;   // water at normal incidence (paper, section 5)
+#include "slopes.glsl"
 
 // Local frame at a pixel: n the resolved normal, t_x/t_y the wind axes in its tangent plane.
 struct Frame3 { vec3 t_x; vec3 t_y; vec3 n; };
@@ -59,34 +61,29 @@ vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2) {
     return frame.sun_irradiance.rgb * (fresnel * p_over_hz4 * cl / (4.0 * denom));
 }
 
-// Directional slope variance along the azimuth of v; for v along n the azimuth is undefined and
-// the mean of the two axes is its limit under any direction average.
-float directional_variance(vec3 vl, vec2 sigma2) {
-    float s2 = vl.x * vl.x + vl.y * vl.y;
-    return s2 > 0.0 ? (sigma2.x * vl.x * vl.x + sigma2.y * vl.y * vl.y) / s2 : 0.5 * (sigma2.x + sigma2.y);
-}
-
-// Mean Fresnel over the visible slopes (paper, eq. for F-bar, fitted to numerical integration).
-float mean_fresnel(float cos_v, float sigma_v) {
-    return FRESNEL_R0 + (1.0 - FRESNEL_R0) * pow(1.0 - cos_v, 5.0 * exp(-2.69 * sigma_v))
-         / (1.0 + 22.7 * pow(sigma_v, 1.5));
-}
-
-// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u.
+// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
+// paper folds directions below the horizon onto their mirror image; METHOD_FULL keeps the whole
+// plane, where they lie beyond the unit circle and read the sea they meet (glsl/sky_map.glsl).
 vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
     vec3 facet = normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n);
-    return stereographic(reflect(-v, facet));
+    vec3 r = reflect(-v, facet);
+    return METHOD == METHOD_FULL ? stereographic_plane(r) : stereographic(r);
 }
 
 // Average sky radiance over the slope distribution: one textureGrad lookup whose footprint is the
-// image of the 2-sigma slope ellipse (paper, algorithm 5.1; eps by finite differences).
-vec3 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
+// image of the 2-sigma slope ellipse (paper, algorithm 5.1; eps by finite differences), centred on
+// the mirror direction (the paper) or on the visible facets' mean slope (METHOD_FULL). rgb: the
+// reflected sky; a: the share of the reflections that meet the sea again and enter it there (0
+// for the paper, whose map holds none).
+vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
     const float eps = 1e-3;
-    vec2 u0 = reflected_u(f, v, vec2(0.0));
-    vec2 dx = (reflected_u(f, v, vec2(eps, 0.0)) - u0) * (2.0 * sqrt(sigma2.x) / eps);
-    vec2 dy = (reflected_u(f, v, vec2(0.0, eps)) - u0) * (2.0 * sqrt(sigma2.y) / eps);
+    vec2 centre = METHOD == METHOD_FULL ? visible_slope_shift(to_local(f, v), sigma2) : vec2(0.0);
+    vec2 u0 = reflected_u(f, v, centre);
+    vec2 dx = (reflected_u(f, v, centre + vec2(eps, 0.0)) - u0) * (2.0 * sqrt(sigma2.x) / eps);
+    vec2 dy = (reflected_u(f, v, centre + vec2(0.0, eps)) - u0) * (2.0 * sqrt(sigma2.y) / eps);
     float to_uv = 0.5 / frame.tone.y;
-    return textureGrad(sky_map, sky_map_uv(u0), dx * to_uv, dy * to_uv).rgb;
+    vec4 m = textureGrad(sky_map, sky_map_uv(u0), dx * to_uv, dy * to_uv);
+    return vec4(m.rgb, METHOD == METHOD_FULL ? m.a : 0.0);
 }
 
 // Everything the sea sends towards v at one pixel.
@@ -105,8 +102,12 @@ vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2) {
     vec3 color = vec3(0.0);
     if (TERM_SUN && frame.sun_irradiance.w > 0.0) color += reflected_sun(f, v, frame.sun_dir.xyz, sigma2);
     float fresnel = mean_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
-    if (TERM_SKY) color += fresnel * mean_sky_radiance(f, v, sigma2);
-    if (TERM_SEA) color += (1.0 - fresnel) * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
+    // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
+    // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
+    bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
+    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2) : vec4(0.0);
+    if (TERM_SKY) color += fresnel * sky.rgb;
+    if (TERM_SEA) color += (1.0 - fresnel * (1.0 - sky.a)) * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
     return color;
 }
 

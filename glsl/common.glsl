@@ -7,9 +7,10 @@ const float SQRT_PI = 1.77245385090552;
 // How the waves are split between geometry, normals and BRDF (specialization constant 3,
 // `Method` in src/render/passes/ocean.rs).
 layout(constant_id = 3) const int METHOD = 0;
-const int METHOD_FULL = 0;           // the paper
+const int METHOD_PAPER = 0;          // the paper as published
 const int METHOD_CONSTANT_BRDF = 1;  // baseline: unresolved slopes dropped, a constant roughness
 const int METHOD_NO_FILTER = 2;      // every train in geometry and normals, unfiltered; mirror BRDF
+const int METHOD_FULL = 3;           // the paper with ours: the visible facets' sky, the sea seen below the horizon
 
 // Largest finite binary16: the HDR target's range. Radiance above it is clamped, never Inf.
 const float HDR_MAX = 65504.0;

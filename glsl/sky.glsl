@@ -62,6 +62,15 @@ vec2 stereographic(vec3 r) {
     return r.xy / (1.0 + abs(r.z));
 }
 
+// The whole stereographic plane (METHOD_FULL's reflections): u = r.xy / (1 + r.z), directions below
+// the horizon beyond |u| = 1, out to the map's extent R; deeper ones (1 + r.z < |r.xy| / R) are held
+// at radius R along their azimuth. Straight down (r.xy = 0, r.z = -1) has no azimuth and takes a
+// point of that rim, where every direction is as deep as the map holds.
+vec2 stereographic_plane(vec3 r) {
+    float d = max(1.0 + r.z, length(r.xy) / frame.tone.y);
+    return d > 0.0 ? r.xy / d : vec2(frame.tone.y, 0.0);
+}
+
 vec3 inverse_stereographic(vec2 u) {
     float u2 = dot(u, u);
     return vec3(2.0 * u, 1.0 - u2) / (1.0 + u2);
@@ -73,9 +82,15 @@ vec2 sky_map_uv(vec2 u) {
 
 #ifdef SKY_MAP_SAMPLER
 // The sky seen directly (the sun disc not included): the physical sky from the map that holds
-// it, Preetham's evaluated. Directions below the horizon see the map's mirror image.
+// it, Preetham's evaluated. Directions below the horizon see the map's mirror image. Where the map
+// holds the sea below the horizon (METHOD_FULL: rgb F2 L, alpha 1 - F2), rgb / (1 - alpha) is the
+// sky again, for each texel and for any blend of them near the rim: a weighted mean of sky
+// radiances. 1 - alpha >= FRESNEL_R0 > 0 on every texel, so on every blend.
 vec3 sky_radiance(vec3 dir) {
-    if (SKY_PHYSICAL) return textureLod(SKY_MAP_SAMPLER, sky_map_uv(stereographic(dir)), 0.0).rgb;
+    if (SKY_PHYSICAL) {
+        vec4 m = textureLod(SKY_MAP_SAMPLER, sky_map_uv(stereographic(dir)), 0.0);
+        return m.rgb / (1.0 - m.a);
+    }
     return preetham_sky(dir);
 }
 #endif

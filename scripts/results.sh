@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates docs/results/: for a calm and an agitated sea, the ground truth, the method and its
+# Regenerates docs/results/: for a calm and an agitated sea, the ground truth, the full method, the paper's and its
 # constant-BRDF baseline (total, reflected sun, reflected sky as PNGs), and the error-against-time
 # and energy-against-distance tables and plots (SVG). About 36 minutes on two cores with lavapipe
 # (measured last), nearly all of it the two ground truths.
@@ -26,8 +26,8 @@ for sea in "${seas[@]}"; do
     say "$sea: ground truth ${W}x${H}, ${N}x${N} samples per pixel (the longest step)"
     "$bin" reference --scene "$scene" --width "$W" --height "$H" --samples "$N" \
         --out "$out/reference.exr" --png "$out/reference.png" --report "$out/reference.json"
-    say "$sea: the method and its baseline, total and per term (6 renders)"
-    for method in full constant-brdf; do
+    say "$sea: the full method, the paper's and its baseline, total and per term (9 renders)"
+    for method in full paper constant-brdf; do
         for terms in sun,sky,sea sun sky; do
             name=$method; [ "$terms" = sun,sky,sea ] || name=$method.$terms
             "$bin" render --scene "$scene" --width "$W" --height "$H" --method "$method" --terms "$terms" \

@@ -3,14 +3,14 @@
 
 mod common;
 
-use common::{gpu, render_terms};
+use common::{gpu, render_terms_by};
 use ocean::measure::reference::ReferenceScene;
 use ocean::model::scene::{LongestWave, Scene};
 use ocean::model::sky::SkyModel;
 use ocean::model::waves::generate;
 use ocean::render::footprint::Footprint;
 use ocean::render::frame::{CameraFrame, GEOMETRY_STEPS};
-use ocean::render::passes::ocean::Terms;
+use ocean::render::passes::ocean::{Method, Terms};
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -38,6 +38,18 @@ fn relative_error(gpu: f64, cpu: f64, floor: f64) -> f64 {
 
 #[test]
 fn gpu_shading_matches_the_f64_reference() {
+    check_against_reference(Method::Paper);
+}
+
+/// The full method's sky against the same quadrature with each facet weighted by its projected
+/// area and the reflections below the horizon meeting the sea: one shifted textureGrad lookup
+/// against the integral it stands for.
+#[test]
+fn full_method_shading_matches_the_f64_reference() {
+    check_against_reference(Method::Full);
+}
+
+fn check_against_reference(method: Method) {
     let scene = scene();
     let waves = generate(&scene);
     let camera = CameraFrame::new(&scene, &waves, W, H);
@@ -45,6 +57,7 @@ fn gpu_shading_matches_the_f64_reference() {
     let reference = ReferenceScene {
         footprint: Footprint { camera: &camera, waves: &waves, time_s: scene.render.time_s, width: W, height: H },
         sky: &sky,
+        full: method == Method::Full,
     };
 
     // Precondition: nothing is displaced anywhere on screen (every train unresolved per grid cell).
@@ -65,7 +78,7 @@ fn gpu_shading_matches_the_f64_reference() {
     }
 
     let gpu = gpu();
-    let only = |sun, sky, sea| render_terms(&gpu, &scene, W, H, Terms { sun, sky, sea });
+    let only = |sun, sky, sea| render_terms_by(&gpu, &scene, W, H, Terms { sun, sky, sea }, method);
     let (sun_frame, sky_frame, sea_frame) =
         (only(true, false, false), only(false, true, false), only(false, false, true));
     let counts = gpu.validation_counts();

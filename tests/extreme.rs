@@ -25,19 +25,51 @@ fn row_luminance(frame: &RenderedFrame, y: u32) -> f64 {
 }
 
 /// The rows within `reach` of the horizon that stand out from both their neighbours (brighter or
-/// darker than each by more than 15% of their difference plus 2%): lines, not transitions.
+/// darker than each by more than 15% of their difference plus 2%) and continue the trend of
+/// neither side (off the line through the two rows there by more than half their step plus 2%):
+/// lines, not transitions, and not the sky's own glow steepening towards the horizon above a
+/// darker sea.
 fn rows_standing_out(frame: &RenderedFrame, horizon_row: u32, reach: u32) -> Vec<(u32, String)> {
-    let lo = horizon_row.saturating_sub(reach).max(1);
-    let hi = (horizon_row + reach).min(frame.height - 2);
+    let rows: Vec<f64> = (0..frame.height).map(|y| row_luminance(frame, y)).collect();
+    lines_in(&rows, horizon_row, reach)
+}
+
+fn lines_in(rows: &[f64], horizon_row: u32, reach: u32) -> Vec<(u32, String)> {
+    let lo = horizon_row.saturating_sub(reach).max(2);
+    let hi = (horizon_row + reach).min(rows.len() as u32 - 3);
     (lo..=hi)
         .filter_map(|y| {
-            let (above, here, below) =
-                (row_luminance(frame, y - 1), row_luminance(frame, y), row_luminance(frame, y + 1));
+            let at = |dy: i32| rows[(y as i32 + dy) as usize];
+            let (above, here, below) = (at(-1), at(0), at(1));
             let slack = 0.15 * (above - below).abs() + 0.02 * above.max(below);
-            let spike = here > above.max(below) + slack || here < above.min(below) - slack;
-            spike.then(|| (y, format!("row {y} ({here:.3}) stands out between {above:.3} and {below:.3}")))
+            let stands_out = here > above.max(below) + slack || here < above.min(below) - slack;
+            let off_trend = |near: f64, far: f64| {
+                (here - (2.0 * near - far)).abs() > 0.5 * (near - far).abs() + 0.02 * near.max(here)
+            };
+            (stands_out && off_trend(above, at(-2)) && off_trend(below, at(2)))
+                .then(|| (y, format!("row {y} ({here:.3}) stands out between {above:.3} and {below:.3}")))
         })
         .collect()
+}
+
+/// The detector itself: a one-row dip or spike at the sea's edge is a line; the sky brightening
+/// ever faster down to the horizon above a dark sea, or a plain step, is not.
+#[test]
+fn the_seam_detector_tells_lines_from_gradients() {
+    // The kilometre-wave scene's rows at the horizon under the full method (its sky glowing at sunset).
+    let glow = [5.632, 6.066, 6.566, 7.162, 7.917, 8.953, 2.256, 2.124, 2.859, 5.103, 8.258];
+    assert!(lines_in(&glow, 5, 3).is_empty(), "{:?}", lines_in(&glow, 5, 3));
+    let step = [8.0, 8.0, 8.0, 8.0, 8.0, 8.0, 3.0, 3.0, 3.0, 3.0, 3.0];
+    assert!(lines_in(&step, 5, 3).is_empty());
+    let mut dark_edge = step;
+    dark_edge[6] = 1.5;
+    assert_eq!(lines_in(&dark_edge, 5, 3).iter().map(|l| l.0).collect::<Vec<_>>(), [6]);
+    let mut bright_edge = glow;
+    bright_edge[6] = 12.0;
+    let mut dark_glow = glow;
+    dark_glow[6] = 0.5;
+    assert_eq!(lines_in(&dark_glow, 5, 3).iter().map(|l| l.0).collect::<Vec<_>>(), [6]);
+    assert_eq!(lines_in(&bright_edge, 5, 3).iter().map(|l| l.0).collect::<Vec<_>>(), [6]);
 }
 
 /// A seam is a line fixed to the screen and one pixel thick at any resolution. The scene's own

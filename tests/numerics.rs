@@ -190,6 +190,7 @@ fn normal_weights_across_the_screen() {
     let reference = reference::ReferenceScene {
         footprint: Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: 64, height: 64 },
         sky: &sky,
+        full: false,
     };
     let mut args = Vec::new();
     let mut cpu = Vec::new();
@@ -218,4 +219,81 @@ fn normal_weights_across_the_screen() {
     eprintln!("normal weights: largest absolute error {worst_abs:.2e} over {} cases", cpu.len());
     assert!(worst_abs < 1e-5, "normal weight off by {worst_abs}");
     assert!(gpu_w.contains(&1.0) && gpu_w.contains(&0.0) && gpu_w.iter().any(|&w| w > 0.0 && w < 1.0));
+}
+
+/// The visible facets' mean slope, integrated numerically in f64 over the Gaussian slopes with
+/// each facet weighted by its projected area (v_z - zeta . v_xy)^+: independent of the closed form
+/// the shader uses (glsl/slopes.glsl).
+fn visible_mean_slope(v: [f64; 3], sigma2: [f64; 2]) -> [f64; 2] {
+    let (sx, sy) = (sigma2[0].sqrt(), sigma2[1].sqrt());
+    let n = 600;
+    let (mut w_sum, mut zx_sum, mut zy_sum) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        for j in 0..n {
+            // Midpoints over +-8 sigma on each axis.
+            let (a, b) = (-8.0 + 16.0 * (i as f64 + 0.5) / n as f64, -8.0 + 16.0 * (j as f64 + 0.5) / n as f64);
+            let (zx, zy) = (a * sx, b * sy);
+            let w = (-0.5 * (a * a + b * b)).exp() * (v[2] - zx * v[0] - zy * v[1]).max(0.0);
+            w_sum += w;
+            zx_sum += w * zx;
+            zy_sum += w * zy;
+        }
+    }
+    [zx_sum / w_sum, zy_sum / w_sum]
+}
+
+#[test]
+fn visible_slope_shift_matches_the_integral() {
+    let mut args = Vec::new();
+    for elevation_deg in [90.0, 60.0, 30.0, 10.0, 3.0, 1.0, 0.0] {
+        for azimuth in [0.0, 0.7, PI / 2.0, 2.5] {
+            for sigma2 in [[0.01, 0.01], [0.04, 0.01], [0.002, 0.03], [0.2, 0.1]] {
+                let v = direction(f64::to_radians(elevation_deg), azimuth);
+                args.push([[v[0], v[1], v[2], 0.0], [sigma2[0] as f32, sigma2[1] as f32, 0.0, 0.0]]);
+            }
+        }
+    }
+    let out = run(Function::VisibleSlopeShift, &args, 0.0);
+    let mut worst_rel = 0.0f64;
+    for (a, r) in args.iter().zip(&out) {
+        let v = [a[0][0] as f64, a[0][1] as f64, a[0][2] as f64];
+        let sigma2 = [a[1][0] as f64, a[1][1] as f64];
+        let exact = visible_mean_slope(v, sigma2);
+        // Relative to the slopes' spread: the shift is a fraction of sigma.
+        let scale = sigma2[0].max(sigma2[1]).sqrt();
+        let e = (r[0] as f64 - exact[0]).abs().max((r[1] as f64 - exact[1]).abs()) / scale;
+        assert!(e < 1e-3, "shift off by {e} sigma at v {v:?}, sigma^2 {sigma2:?}: GPU {r:?}, integral {exact:?}");
+        worst_rel = worst_rel.max(e);
+    }
+    eprintln!("visible slope shift: largest error {worst_rel:.2e} sigma");
+    // At grazing view the shift is Phi(0) / phi(0) = 1.2533 sigma towards the viewer.
+    let grazing = run(Function::VisibleSlopeShift, &[[[1.0, 0.0, 0.0, 0.0], [0.01, 0.01, 0.0, 0.0]]], 0.0);
+    assert!((grazing[0][0] as f64 + 0.1 * (PI / 2.0).sqrt()).abs() < 1e-5, "grazing shift {:?}", grazing[0]);
+}
+
+#[test]
+fn the_whole_stereographic_plane_is_held_at_the_maps_extent() {
+    let extent = ocean::render::frame::SKY_MAP_EXTENT as f64;
+    let mut args = Vec::new();
+    for elevation_deg in [90.0, 45.0, 1.0, 0.0, -1.0, -10.0, -22.0, -23.0, -45.0, -89.9, -90.0] {
+        for azimuth in [0.0, 1.0, PI] {
+            let v = direction(f64::to_radians(elevation_deg), azimuth);
+            args.push([[v[0], v[1], v[2], 0.0], [0.0; 4]]);
+        }
+    }
+    let out = run(Function::StereographicPlane, &args, 0.0);
+    for (a, r) in args.iter().zip(&out) {
+        let d = glam::DVec3::new(a[0][0] as f64, a[0][1] as f64, a[0][2] as f64);
+        let xy = glam::DVec2::new(d.x, d.y);
+        // Beyond the extent (|xy| / (1 + z) > R) the rim point along the azimuth.
+        let u = if xy.length() == 0.0 && d.z < 0.0 {
+            glam::DVec2::new(extent, 0.0)
+        } else if xy.length() > extent * (1.0 + d.z) {
+            xy.normalize() * extent
+        } else {
+            xy / (1.0 + d.z)
+        };
+        let e = (r[0] as f64 - u.x).abs().max((r[1] as f64 - u.y).abs());
+        assert!(r[0].is_finite() && r[1].is_finite() && e < 1e-5, "u of {d:?}: GPU {r:?}, f64 {u:?}");
+    }
 }

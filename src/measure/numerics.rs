@@ -32,6 +32,10 @@ pub enum Function {
     /// (ndc x, ndc y, k turns x, y), (k h) -> the train's weight in the per-pixel normal, for the
     /// default scene's camera at 64 x 64
     NormalWeight = 6,
+    /// (v in the local frame), (sigma_x^2, sigma_y^2) -> the visible facets' mean slope
+    VisibleSlopeShift = 7,
+    /// (direction) -> its u on the whole stereographic plane, held at the sky map's extent
+    StereographicPlane = 8,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's

@@ -31,6 +31,9 @@ pub struct PixelRadiance {
 pub struct ReferenceScene<'a> {
     pub footprint: Footprint<'a>,
     pub sky: &'a SkyModel,
+    /// The full method's sky (Method::Full) instead of the paper's: each facet weighted by its
+    /// projected area towards the eye, and a reflection below the horizon meeting the sea.
+    pub full: bool,
 }
 
 impl ReferenceScene<'_> {
@@ -86,12 +89,12 @@ impl ReferenceScene<'_> {
             0.5 * (sigma2[0] + sigma2[1])
         };
         let fresnel = mean_fresnel(cos_v, sigma_v2.sqrt());
-        let sky_l = self.mean_sky_radiance([t_x, t_y, n], v, sigma2);
+        let (sky_l, enters) = self.mean_sky_radiance([t_x, t_y, n], v, sigma2);
         let e_sky = self.sky.sky_irradiance();
         PixelRadiance {
             sun,
             sky: sky_l.map(|l| fresnel * l),
-            sea: std::array::from_fn(|c| (1.0 - fresnel) * SEA_ALBEDO[c] * e_sky[c] / PI),
+            sea: std::array::from_fn(|c| (1.0 - fresnel * (1.0 - enters)) * SEA_ALBEDO[c] * e_sky[c] / PI),
             normal: n.to_array(),
             sigma2,
         }
@@ -100,29 +103,54 @@ impl ReferenceScene<'_> {
 
 impl ReferenceScene<'_> {
     /// Sky radiance averaged over the Gaussian slope distribution (paper's L-bar), by a product
-    /// midpoint rule over +-4 sigma per axis. Directions reflected below the horizon see the sky
-    /// mirrored, as the sky map folds them.
-    pub fn mean_sky_radiance(&self, frame: [DVec3; 3], v: DVec3, sigma2: [f64; 2]) -> [f64; 3] {
+    /// midpoint rule over +-4 sigma per axis. The paper: directions reflected below the horizon see
+    /// the sky mirrored, as its sky map folds them. Full: each facet weighted by its projected
+    /// area (v.f)^+ / f_z as well, and a reflection below the horizon meets the sea, seen from there
+    /// over all its slopes: the sky mirrored again times the mean Fresnel F2 there, the rest
+    /// entering the water. Returns the mean sky radiance and the mean entering share.
+    pub fn mean_sky_radiance(&self, frame: [DVec3; 3], v: DVec3, sigma2: [f64; 2]) -> ([f64; 3], f64) {
         const N: usize = 33;
         let [t_x, t_y, n] = frame;
         let (sx, sy) = (sigma2[0].sqrt(), sigma2[1].sqrt());
+        let sea = self.footprint.waves;
+        let wind = DVec2::from(sea.wind_direction);
         let mut sum = [0.0; 3];
-        let mut weight_sum = 0.0;
+        let (mut weight_sum, mut enters_sum) = (0.0, 0.0);
         for i in 0..N {
             let gx = (i as f64 + 0.5) / N as f64 * 8.0 - 4.0;
             for j in 0..N {
                 let gy = (j as f64 + 0.5) / N as f64 * 8.0 - 4.0;
-                let weight = (-0.5 * (gx * gx + gy * gy)).exp();
-                let facet = (n - gx * sx * t_x - gy * sy * t_y).normalize();
+                let mut weight = (-0.5 * (gx * gx + gy * gy)).exp();
+                let (zx, zy) = (gx * sx, gy * sy);
+                if self.full {
+                    weight *= (v.dot(n) - zx * v.dot(t_x) - zy * v.dot(t_y)).max(0.0);
+                }
+                let facet = (n - zx * t_x - zy * t_y).normalize();
                 let r = 2.0 * v.dot(facet) * facet - v;
-                let l = self.sky.radiance([r.x, r.y, r.z.abs()]);
+                let mut l = self.sky.radiance([r.x, r.y, r.z.abs()]);
+                if self.full && r.z < 0.0 {
+                    let d = DVec2::new(r.x, r.y);
+                    let (along, across) = (d.dot(wind), d.perp_dot(wind));
+                    let spread2 = along * along + across * across;
+                    let var = if spread2 > 0.0 {
+                        (sea.sigma2[0] * along * along + sea.sigma2[1] * across * across) / spread2
+                    } else {
+                        0.5 * (sea.sigma2[0] + sea.sigma2[1])
+                    };
+                    let f2 = mean_fresnel(-r.z, var.sqrt());
+                    l = l.map(|x| f2 * x);
+                    enters_sum += weight * (1.0 - f2);
+                }
                 for c in 0..3 {
                     sum[c] += weight * l[c];
                 }
                 weight_sum += weight;
             }
         }
-        sum.map(|s| s / weight_sum)
+        if weight_sum <= 0.0 {
+            return ([0.0; 3], 0.0);
+        }
+        (sum.map(|s| s / weight_sum), enters_sum / weight_sum)
     }
 }
 

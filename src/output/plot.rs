@@ -75,6 +75,7 @@ pub fn error_vs_time(
     rows: &[Point],
     front: &[usize],
     noise_floor: Option<f64>,
+    what: &str,
 ) -> Result<()> {
     let fail = plot_error(path);
     let mut svg = String::new();
@@ -82,7 +83,7 @@ pub fn error_vs_time(
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
         let (lo, hi) = value_range(rows.iter().map(|r| r.rmse).chain(noise_floor));
-        let plot = ErrorPlot { title, rows, front, noise_floor };
+        let plot = ErrorPlot { title, rows, front, noise_floor, what };
         if hi / lo > 10.0 {
             plot.draw(&root, (lo / 1.25..hi * 1.25).log_scale(), "log scale")
         } else {
@@ -100,6 +101,8 @@ struct ErrorPlot<'a> {
     rows: &'a [Point<'a>],
     front: &'a [usize],
     noise_floor: Option<f64>,
+    /// What the RMSE axis measures, as its label says it.
+    what: &'a str,
 }
 
 impl ErrorPlot<'_> {
@@ -123,7 +126,7 @@ impl ErrorPlot<'_> {
         chart
             .configure_mesh()
             .x_desc("GPU time per frame (ms)")
-            .y_desc(format!("RMSE of luminance over the sea ({unit})"))
+            .y_desc(format!("{} ({unit})", self.what))
             .axis_desc_style((FONT, 15))
             .label_style((FONT, 13))
             .y_labels(10)

@@ -13,8 +13,11 @@ use glam::{DMat4, DVec3, Mat4};
 /// dropped to the next scale below 4. (The authors' demo ramps over 1 to 1.5 cells per wavelength.)
 pub const GEOMETRY_STEPS: [f32; 2] = [0.125, 0.25];
 pub const NORMAL_STEPS: [f32; 2] = [0.125, 0.25];
-/// Stereographic sky-map extent: u in [-R, R]^2 covers a little beyond the horizon circle |u| = 1.
-pub const SKY_MAP_EXTENT: f32 = 1.125;
+/// Stereographic sky-map extent: u in [-R, R]^2 covers the horizon circle |u| = 1 and directions
+/// below it, to 22.6 degrees down along the axes (|u| = tan(45 + 22.6 / 2) = 1.5) and 39.6 in
+/// the corners: the full method's reflections that meet the sea read it there, the paper's
+/// footprints that cross the horizon its mirror image.
+pub const SKY_MAP_EXTENT: f32 = 1.5;
 /// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
 pub const SEA_ALBEDO: [f64; 3] = [10.0 / 255.0 * 0.1, 40.0 / 255.0 * 0.1, 120.0 / 255.0 * 0.1];
 /// Near plane of the reversed-Z infinite projection (m).

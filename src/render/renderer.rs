@@ -12,7 +12,7 @@ use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::exposure::{ExposurePass, Tone};
-use crate::render::passes::ocean::{OceanPass, ShaderConfig};
+use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
 use crate::render::passes::shade::ShadePass;
@@ -97,7 +97,17 @@ pub struct Prepared {
     data: FrameData,
     capture: Capture,
     /// The sun and sky the frame's sky map must hold.
-    sky: (Sun, Sky),
+    sky: MapKey,
+}
+
+/// What the sky map depends on: the sun and sky, and the sea's slopes (their variances and the
+/// wind's axes, as the frame's uniforms hold them, bit-exact), which shape the full method's
+/// region below the horizon.
+#[derive(Clone, Debug, PartialEq)]
+struct MapKey {
+    sun: Sun,
+    sky: Sky,
+    slopes: [u32; 4],
 }
 
 /// Pixels copied out of a window frame, row-major from the top-left.
@@ -139,7 +149,7 @@ pub struct Renderer<'g> {
     resources: Resources<'g>,
     tracker: Tracker,
     /// The sun and sky the sky map holds, once built: frames under the same sky skip rebuilding it.
-    sky_in_map: Option<(Sun, Sky)>,
+    sky_in_map: Option<MapKey>,
     /// The view (camera rays, eye height) the view-dependent passes last built for, with the sky.
     view_built: Option<ViewKey>,
     /// The passes the last recorded frame left out, their results still current.
@@ -155,12 +165,12 @@ pub struct Renderer<'g> {
 /// frame's uniforms hold them (bit-exact).
 #[derive(Clone, Debug, PartialEq)]
 struct ViewKey {
-    sky: (Sun, Sky),
+    sky: MapKey,
     camera: [u32; 16],
 }
 
 impl ViewKey {
-    fn new(data: &FrameData, sky: &(Sun, Sky)) -> ViewKey {
+    fn new(data: &FrameData, sky: &MapKey) -> ViewKey {
         let u = &data.uniforms;
         let mut camera = [0u32; 16];
         let values = [u.cam_right, u.cam_down, u.cam_forward, u.atmosphere[4]];
@@ -199,6 +209,10 @@ impl<'g> Renderer<'g> {
         options.shader.sky_physical = scene.sky.model == SkyKind::Physical;
         options.sky_map |= options.shader.sky_physical && options.shader.background;
         assert!(options.sky_map || !options.shader.terms.sky, "the sky term samples the sky map");
+        assert!(
+            options.sky_map || !options.shader.terms.sea || options.shader.method != Method::Full,
+            "the full method's refracted term samples the sky map"
+        );
         let frames_in_flight = options.frames_in_flight.max(1);
         let spec = ResourceSpec {
             width,
@@ -216,7 +230,7 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(AtmospherePass::new(device, &resources, tables)?));
         }
         if options.sky_map {
-            passes.push(Box::new(SkyMapPass::new(device, &resources)?));
+            passes.push(Box::new(SkyMapPass::new(device, &resources, options.shader.method)?));
             passes.push(Box::new(SkyMipsPass));
         }
         if let (Some(tables), false) = (&resources.atmosphere, options.shader.draws_nothing()) {
@@ -481,14 +495,15 @@ impl<'g> Renderer<'g> {
         if capture != Capture::None {
             self.prepare_capture(capture)?;
         }
-        Ok(Prepared { data, capture, sky: (scene.sun.clone(), scene.sky.clone()) })
+        let slopes = data.uniforms.wind.map(f32::to_bits);
+        Ok(Prepared { data, capture, sky: MapKey { sun: scene.sun.clone(), sky: scene.sky.clone(), slopes } })
     }
 
     /// Records the frame `prepared` for `slot` into the slot's command buffer.
     fn record(&mut self, slot: usize, prepared: Prepared, image: Option<SwapImage>) -> Result<FrameData> {
         let Prepared { data, capture, sky } = prepared;
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
-        let air_current = self.sky_in_map.as_ref().is_some_and(|(_, s)| *s == sky.1);
+        let air_current = self.sky_in_map.as_ref().is_some_and(|k| k.sky == sky.sky);
         let view = ViewKey::new(&data, &sky);
         let view_current = sky_current && self.view_built.as_ref() == Some(&view);
         self.view_built = Some(view);

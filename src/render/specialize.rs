@@ -7,7 +7,7 @@ use crate::model::scene::{Scene, SkyKind};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
 use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
-use crate::render::passes::ocean::TrainReads;
+use crate::render::passes::ocean::{Method, TrainReads};
 use crate::render::renderer::Options;
 use serde::Serialize;
 
@@ -93,11 +93,16 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             "no term to shade and no sky behind the sea: the image is black (cleared)".into(),
         );
     }
-    // The physical sky behind the sea is read from the map too.
-    let map_read = options.shader.terms.sky || (physical && options.shader.background);
+    // The physical sky behind the sea is read from the map too, and so is the share of the
+    // reflections that enter the sea again (the full method's refracted term).
+    let sea_reads_map = options.shader.terms.sea && options.shader.method == Method::Full;
+    let map_read = options.shader.terms.sky || sea_reads_map || (physical && options.shader.background);
     if !map_read && options.sky_map {
         options.sky_map = false;
-        omit("sky map and its mip chain (512x512, 10 levels)", "nothing samples it: no sky term".into());
+        omit(
+            "sky map and its mip chain (512x512, 10 levels)",
+            "nothing samples it: no sky term, no sky behind the sea".into(),
+        );
     }
     let k = options.ssaa;
     let camera = CameraFrame::new(scene, waves, width * k, height * k);

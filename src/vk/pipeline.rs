@@ -27,6 +27,14 @@ impl Specialization {
         Specialization { entries, data: values.to_vec() }
     }
 
+    /// Only the constants named, by id.
+    pub fn constants(values: &[(u32, u32)]) -> Specialization {
+        let entries = (0..values.len() as u32)
+            .map(|i| vk::SpecializationMapEntry { constant_id: values[i as usize].0, offset: 4 * i, size: 4 })
+            .collect();
+        Specialization { entries, data: values.iter().map(|v| v.1).collect() }
+    }
+
     pub fn info(&self) -> vk::SpecializationInfo<'_> {
         // SAFETY: u32 has no padding; the slice's bytes are exactly the constants.
         let bytes = unsafe { std::slice::from_raw_parts(self.data.as_ptr() as *const u8, 4 * self.data.len()) };

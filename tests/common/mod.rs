@@ -29,7 +29,19 @@ pub fn render_with(gpu: &Gpu, scene: &Scene, width: u32, height: u32, options: O
 
 /// Renders with only some BRDF terms (specialization constants).
 pub fn render_terms(gpu: &Gpu, scene: &Scene, width: u32, height: u32, terms: Terms) -> RenderedFrame {
-    let options = Options { shader: ShaderConfig::terms_only(terms, Method::Full), ..Options::default() };
+    render_terms_by(gpu, scene, width, height, terms, Method::Full)
+}
+
+/// Renders with only some BRDF terms, by `method`.
+pub fn render_terms_by(
+    gpu: &Gpu,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    terms: Terms,
+    method: Method,
+) -> RenderedFrame {
+    let options = Options { shader: ShaderConfig::terms_only(terms, method), ..Options::default() };
     let mut renderer = Renderer::new(gpu, scene, width, height, options).unwrap();
     renderer.render(scene).unwrap()
 }

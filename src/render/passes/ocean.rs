@@ -26,23 +26,30 @@ impl Terms {
     pub const ALL: Terms = Terms { sun: true, sky: true, sea: true };
 }
 
-/// How the waves are split between geometry, normals and BRDF (specialization constant 3).
+/// How the waves are split between geometry, normals and BRDF, and how the sky is reflected
+/// (specialization constant 3: the discriminant, as glsl/common.glsl numbers them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
-    /// The paper: filtered geometry and normals, the unresolved slopes in the BRDF.
-    Full,
+    /// The paper, and ours beyond it: its sky lookup centred on the facets actually seen, and
+    /// reflections below the horizon meeting the sea instead of a mirrored sky (docs/results.md).
+    Full = 3,
+    /// The paper as published: filtered geometry and normals, the unresolved slopes in the BRDF.
+    Paper = 0,
     /// The paper's baseline: the same geometry and normals, unresolved waves dropped, a constant
     /// roughness (the residual slope variance of the nearest visible sea).
-    ConstantBrdf,
+    ConstantBrdf = 1,
     /// Every train in geometry and normals, unfiltered, with a mirror BRDF (aliased).
-    NoFilter,
+    NoFilter = 2,
 }
 
 impl Method {
+    pub const ALL: [Method; 4] = [Method::Full, Method::Paper, Method::ConstantBrdf, Method::NoFilter];
+
     pub fn name(self) -> &'static str {
         match self {
             Method::Full => "full",
+            Method::Paper => "paper",
             Method::ConstantBrdf => "constant-brdf",
             Method::NoFilter => "no-filter",
         }

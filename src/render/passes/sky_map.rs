@@ -5,13 +5,17 @@
 
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
+use crate::render::passes::ocean::Method;
 use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
 use crate::vk::owned::Owned;
-use crate::vk::pipeline::{compute_pipeline, Bindings};
+use crate::vk::pipeline::{compute_pipeline, specialized_compute_pipeline, Bindings, Specialization};
 use ash::vk;
+
+/// glsl/common.glsl's METHOD.
+const METHOD_CONSTANT: u32 = 3;
 
 pub struct SkyMapPass<'g> {
     bindings: Bindings<'g>,
@@ -21,8 +25,9 @@ pub struct SkyMapPass<'g> {
 }
 
 impl<'g> SkyMapPass<'g> {
-    /// Preetham's sky, or the physical one from the atmosphere's tables where the resources have them.
-    pub fn new(device: &'g Device, resources: &Resources) -> Result<Self> {
+    /// Preetham's sky, or the physical one from the atmosphere's tables where the resources have them;
+    /// below the horizon what `method`'s lookups expect there (glsl/sky_map.glsl).
+    pub fn new(device: &'g Device, resources: &Resources, method: Method) -> Result<Self> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
         let (general, read) = (vk::ImageLayout::GENERAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
@@ -57,7 +62,8 @@ impl<'g> SkyMapPass<'g> {
             }
             None => (shaders::SKY_MAP_COMP, None),
         };
-        let pipeline = compute_pipeline(device, bindings.layout(), code, "sky map")?;
+        let method = Specialization::constants(&[(METHOD_CONSTANT, method as u32)]);
+        let pipeline = specialized_compute_pipeline(device, bindings.layout(), code, Some(&method), "sky map")?;
         Ok(SkyMapPass { bindings, pipeline, sky_view })
     }
 }
