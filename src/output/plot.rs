@@ -1,6 +1,6 @@
 //! Plots of the error bench as SVG (plotters; SVG text needs no font files and shows in any
 //! browser and in rendered markdown): titled, with labelled axes, units, tick values and a
-//! legend. Methods by colour: full blue, constant-brdf orange, no-filter red.
+//! legend. Methods by colour: full blue, paper green, constant-brdf orange, no-filter red.
 
 use crate::error::{Error, Result};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
@@ -14,6 +14,7 @@ const FONT: &str = "sans-serif";
 fn colour(method: &str) -> RGBColor {
     match method {
         "full" => RGBColor(31, 119, 180),
+        "paper" => RGBColor(44, 160, 44),
         "constant-brdf" => RGBColor(255, 127, 14),
         _ => RGBColor(214, 39, 40),
     }
@@ -150,7 +151,7 @@ impl ErrorPlot<'_> {
         chart
             .draw_series(on_front.iter().map(|r| Circle::new((r.gpu_ms, rmse(r)), 8, BLACK.stroke_width(1))))
             .map_err(e)?;
-        for method in ["full", "constant-brdf", "no-filter"] {
+        for method in ["full", "paper", "constant-brdf", "no-filter"] {
             let points: Vec<&Point> = self.rows.iter().filter(|r| r.method == method && rmse(r).is_finite()).collect();
             if points.is_empty() {
                 continue;

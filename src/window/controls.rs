@@ -77,6 +77,7 @@ impl Controls {
             KeyCode::Digit1 => Some(Action::Method(Method::Full)),
             KeyCode::Digit2 => Some(Action::Method(Method::ConstantBrdf)),
             KeyCode::Digit3 => Some(Action::Method(Method::NoFilter)),
+            KeyCode::Digit4 => Some(Action::Method(Method::Paper)),
             KeyCode::BracketLeft | KeyCode::BracketRight => {
                 let step = if code == KeyCode::BracketLeft { -1.0 } else { 1.0 };
                 sun.elevation_deg = (sun.elevation_deg + step).clamp(-90.0, 90.0);
