@@ -2,7 +2,8 @@
 // Ground truth: N x N stratified samples per pixel, every wave train as exact surface geometry
 // (first hit of each sample ray with the displaced trochoid surface) and exact normals, no
 // slope-variance BRDF. Exact Fresnel for water, the sky from the analytic model in the exact
-// reflected direction, the sun as a disc of its true solid angle. A reflected ray that meets the
+// reflected direction, the reflected sun as its irradiance over a cone around it (tile.sun_cos_kernel;
+// the disc itself at the disc's radius), the sun seen directly as its disc. A reflected ray that meets the
 // sea again is shaded there (its reflection and refracted light, and so on, up to tile.bounces
 // times); the reflected weight left after the last is recorded as cut off.
 #include "frame.glsl"
@@ -35,6 +36,8 @@ layout(push_constant) uniform Tile {
     uint max_march;     // marching steps of the camera ray, within the per-invocation loop budget
     uint bounces;       // how many times a reflected ray may meet the sea again and be shaded there
     uint bounce_march;  // marching steps of each reflected ray
+    float sun_cos_kernel;    // cos of the cone the reflected sun's energy is spread over (its estimate)
+    float sun_kernel_scale;  // the sun disc's solid angle over the cone's (<= 1)
 } tile;
 
 const int NEWTON_STEPS = 2;
@@ -205,8 +208,10 @@ Sample shade_hit(vec3 r, float t, Surface s) {
         float t_next = intersect(p, refl, 1e-3 + 1e-5 * length(p), tile.bounce_march, next);
         if (t_next < 0.0) {
             o.sky += w * fresnel * preetham_sky(refl);
-            if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= frame.sun_dir.w) {
-                o.sun += w * fresnel * frame.sun_radiance.rgb;
+            // The sun's irradiance spread evenly over a cone around it (src/measure/groundtruth.rs,
+            // DEFAULT_SUN_KERNEL_DEG): at the disc's own radius the disc itself.
+            if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= tile.sun_cos_kernel) {
+                o.sun += w * fresnel * tile.sun_kernel_scale * frame.sun_radiance.rgb;
             }
             tracing = false;
         } else if (b == tile.bounces) {

@@ -126,6 +126,10 @@ enum Command {
         /// refracted light); the report gives the reflected weight cut off after the last.
         #[arg(long, default_value_t = ocean::measure::groundtruth::DEFAULT_BOUNCES)]
         bounces: u32,
+        /// Angular radius (degrees) of the cone the reflected sun's energy is spread over for its
+        /// estimate, from the sun's own radius (0.2666: the disc, a scatter of rare glints) to 10.
+        #[arg(long, default_value_t = ocean::measure::groundtruth::DEFAULT_SUN_KERNEL_DEG)]
+        sun_kernel_deg: f64,
         #[arg(long, default_value = "reference.exr")]
         out: PathBuf,
         /// Also write tone-mapped PNGs (the scene's exposure): the total, and NAME.sun.png,
@@ -416,6 +420,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             view: ViewArgs { scene, width, height, validation, device },
             samples,
             bounces,
+            sun_kernel_deg,
             out,
             png,
             report,
@@ -433,11 +438,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
             let label = format!("ground truth {width}x{height}, {samples}x{samples} samples per pixel");
             let mut progress: Option<Progress> = None;
-            let truth =
-                ocean::measure::groundtruth::render(&gpu, &scene, width, height, samples, bounces, |done, total| {
-                    // Work units are weighted by what a tile costs, so the time left holds.
-                    progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
-                })?;
+            let sampling = ocean::measure::groundtruth::Sampling { samples, bounces, sun_kernel_deg };
+            let truth = ocean::measure::groundtruth::render(&gpu, &scene, width, height, &sampling, |done, total| {
+                // Work units are weighted by what a tile costs, so the time left holds.
+                progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
+            })?;
             truth.save(&scene, &out)?;
             if let Some(path) = png {
                 // The total, and each term beside it (NAME.sun.png, NAME.sky.png, NAME.sea.png).

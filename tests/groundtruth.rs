@@ -5,7 +5,7 @@ mod common;
 
 use common::gpu;
 use ocean::measure::bench::error_vs_time as errorbench;
-use ocean::measure::groundtruth;
+use ocean::measure::groundtruth::{self, Sampling};
 use ocean::model::scene::Scene;
 use std::path::PathBuf;
 
@@ -36,7 +36,7 @@ fn the_reference_converges_as_samples_grow() {
     let gpu = gpu();
     let scene = twilight();
     let (w, h) = (32, 24);
-    let truth = |n| groundtruth::render(&gpu, &scene, w, h, n, groundtruth::DEFAULT_BOUNCES, |_, _| {}).unwrap();
+    let truth = |n| groundtruth::render(&gpu, &scene, w, h, &Sampling::new(n), |_, _| {}).unwrap();
     let best = truth(8);
     assert_eq!(best.report.nonfinite_pixels, 0);
     assert_eq!(best.report.validation_errors, 0);
@@ -90,10 +90,7 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
     scene.sun.azimuth_deg = 180.0; // behind: its glints are out of view
     let dir = temp_dir("energy");
     let reference = dir.join("ref.exr");
-    groundtruth::render(&gpu, &scene, 64, 48, 4, groundtruth::DEFAULT_BOUNCES, |_, _| {})
-        .unwrap()
-        .save(&scene, &reference)
-        .unwrap();
+    groundtruth::render(&gpu, &scene, 64, 48, &Sampling::new(4), |_, _| {}).unwrap().save(&scene, &reference).unwrap();
     let rows = errorbench::run(&gpu, &scene, "test scene", &reference, 1, &dir).unwrap();
     let bands = |method: &str| &rows.iter().find(|r| r.method == method && r.setting == "default").unwrap().bands;
     const SKY: usize = 2;
@@ -152,10 +149,7 @@ fn the_bench_writes_a_finite_row_per_method() {
     let scene = twilight();
     let dir = temp_dir("bench");
     let reference = dir.join("ref.exr");
-    groundtruth::render(&gpu, &scene, 32, 24, 2, groundtruth::DEFAULT_BOUNCES, |_, _| {})
-        .unwrap()
-        .save(&scene, &reference)
-        .unwrap();
+    groundtruth::render(&gpu, &scene, 32, 24, &Sampling::new(2), |_, _| {}).unwrap().save(&scene, &reference).unwrap();
     errorbench::run(&gpu, &scene, "test scene", &reference, 1, &dir).unwrap();
     let csv = std::fs::read_to_string(dir.join("error_vs_time.csv")).unwrap();
     let mut lines = csv.lines();
@@ -242,20 +236,23 @@ fn bad_references_and_sample_counts_are_refused() {
     let gpu = gpu();
     let scene = twilight();
     for n in [0, groundtruth::MAX_SAMPLES + 1] {
-        let e =
-            groundtruth::render(&gpu, &scene, 8, 8, n, groundtruth::DEFAULT_BOUNCES, |_, _| {}).err().expect("refused");
+        let e = groundtruth::render(&gpu, &scene, 8, 8, &Sampling::new(n), |_, _| {}).err().expect("refused");
         assert!(e.to_string().contains("--samples"), "{e}");
     }
     for b in [0, groundtruth::MAX_BOUNCES + 1] {
-        let e = groundtruth::render(&gpu, &scene, 8, 8, 1, b, |_, _| {}).err().expect("refused");
+        let e = groundtruth::render(&gpu, &scene, 8, 8, &Sampling { bounces: b, ..Sampling::new(1) }, |_, _| {})
+            .err()
+            .expect("refused");
         assert!(e.to_string().contains(&format!("--bounces {b} is out of range [1, 16]")), "{e}");
+    }
+    for k in [0.1, 10.5, f64::NAN] {
+        let sampling = Sampling { sun_kernel_deg: k, ..Sampling::new(1) };
+        let e = groundtruth::render(&gpu, &scene, 8, 8, &sampling, |_, _| {}).err().expect("refused");
+        assert!(e.to_string().contains("--sun-kernel-deg") && e.to_string().contains("out of range"), "{e}");
     }
     let dir = temp_dir("mismatch");
     let reference = dir.join("ref.exr");
-    groundtruth::render(&gpu, &scene, 16, 12, 1, groundtruth::DEFAULT_BOUNCES, |_, _| {})
-        .unwrap()
-        .save(&scene, &reference)
-        .unwrap();
+    groundtruth::render(&gpu, &scene, 16, 12, &Sampling::new(1), |_, _| {}).unwrap().save(&scene, &reference).unwrap();
     let Err(e) = errorbench::run(&gpu, &Scene::default(), "scenes/default.toml", &reference, 1, &dir) else {
         panic!("a reference of another scene must be refused");
     };
@@ -276,7 +273,8 @@ fn reflected_rays_that_meet_the_sea_again_are_traced_and_what_is_cut_off_shrinks
     scene.wind.speed_mps = 15.0;
     scene.sun.elevation_deg = 20.0;
     let cut = |bounces| {
-        let truth = groundtruth::render(&gpu, &scene, 32, 24, 1, bounces, |_, _| {}).unwrap();
+        let truth =
+            groundtruth::render(&gpu, &scene, 32, 24, &Sampling { bounces, ..Sampling::new(1) }, |_, _| {}).unwrap();
         assert_eq!(truth.report.validation_errors, 0);
         assert_eq!(truth.report.nonfinite_pixels, 0);
         truth.report.cut_off_fraction
@@ -284,4 +282,30 @@ fn reflected_rays_that_meet_the_sea_again_are_traced_and_what_is_cut_off_shrinks
     let (one, three, eight) = (cut(1), cut(3), cut(8));
     assert!(one > 0.0, "some reflected rays meet another wave ({one})");
     assert!(three < one && eight < three, "cut off: {one} after 1 bounce, {three} after 3, {eight} after 8");
+}
+
+#[test]
+fn the_sun_kernel_keeps_the_reflected_suns_energy_and_cuts_its_noise() {
+    // The sun 20 degrees up ahead, its glitter in view: the disc itself (the kernel at the sun's
+    // radius) against the default 2-degree cone, each with its standard error over the sea.
+    let gpu = gpu();
+    let mut scene = twilight();
+    scene.sun.elevation_deg = 20.0;
+    scene.sun.azimuth_deg = scene.camera.yaw_deg;
+    let energy = |kernel: f64| {
+        let sampling = Sampling { sun_kernel_deg: kernel, ..Sampling::new(6) };
+        let truth = groundtruth::render(&gpu, &scene, 40, 30, &sampling, |_, _| {}).unwrap();
+        assert_eq!(truth.report.validation_errors, 0);
+        assert_eq!(truth.report.sun_kernel_deg, kernel);
+        let sum: f64 = truth.sun.iter().map(|p| ocean::output::luminance(*p)).sum();
+        let variance: f64 = truth.variance.iter().map(|v| v[1] as f64).sum();
+        (sum, variance.sqrt())
+    };
+    let disc = energy(ocean::model::sky::SUN_ANGULAR_RADIUS.to_degrees());
+    let cone = energy(groundtruth::DEFAULT_SUN_KERNEL_DEG);
+    eprintln!("reflected sun: disc {:.1} ± {:.1}, 2-degree cone {:.1} ± {:.1}", disc.0, disc.1, cone.0, cone.1);
+    assert!(disc.0 > 0.0, "the view catches some glints");
+    assert!(cone.1 < disc.1 / 3.0, "the cone's standard error {} against the disc's {}", cone.1, disc.1);
+    let apart = (cone.0 - disc.0).abs();
+    assert!(apart < 3.0 * (disc.1 * disc.1 + cone.1 * cone.1).sqrt() + 0.01 * disc.0, "energies {disc:?} and {cone:?}");
 }

@@ -41,6 +41,8 @@ struct TilePush {
     max_march: u32,
     bounces: u32,
     bounce_march: u32,
+    sun_cos_kernel: f32,
+    sun_kernel_scale: f32,
 }
 
 /// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
@@ -55,6 +57,57 @@ const BISECTION_STEPS: u32 = 16;
 /// Reflected rays a sample may trace again after the first: `--bounces` (glsl/groundtruth.comp).
 pub const DEFAULT_BOUNCES: u32 = 3;
 pub const MAX_BOUNCES: u32 = 16;
+
+/// Angular radius (degrees) of the cone over which the reflected sun's energy is spread for its
+/// estimate (`--sun-kernel-deg`): a reflected ray within it gathers the sun's irradiance over the
+/// cone's solid angle. At the sun's own radius (0.27 degrees) the estimate is the sun disc itself,
+/// unbiased but a scatter of rare glints; 2 degrees makes a hit (7.5 / 0.27)^2 ~ 55 times likelier,
+/// its standard error 7 times smaller, and moves each band's energy only by the curvature of the
+/// reflected directions' density over the cone, whose spread is the slopes' (tens of degrees):
+/// below a percent (docs/results.md measures it).
+pub const DEFAULT_SUN_KERNEL_DEG: f64 = 2.0;
+pub const MAX_SUN_KERNEL_DEG: f64 = 10.0;
+
+/// How the ground truth samples: N x N strata per pixel, the bounces traced, the sun's kernel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sampling {
+    pub samples: u32,
+    pub bounces: u32,
+    pub sun_kernel_deg: f64,
+}
+
+impl Sampling {
+    /// `samples` per axis with the default bounces and sun kernel.
+    pub fn new(samples: u32) -> Sampling {
+        Sampling { samples, bounces: DEFAULT_BOUNCES, sun_kernel_deg: DEFAULT_SUN_KERNEL_DEG }
+    }
+
+    fn check(&self) -> Result<()> {
+        let Sampling { samples, bounces, sun_kernel_deg } = *self;
+        if samples == 0 || samples > MAX_SAMPLES {
+            return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
+        }
+        if !(1..=MAX_BOUNCES).contains(&bounces) {
+            return Err(Error::Argument(format!("--bounces {bounces} is out of range [1, {MAX_BOUNCES}]")));
+        }
+        let sun_deg = crate::model::sky::SUN_ANGULAR_RADIUS.to_degrees();
+        if !(sun_kernel_deg >= sun_deg && sun_kernel_deg <= MAX_SUN_KERNEL_DEG) {
+            return Err(Error::Argument(format!(
+                "--sun-kernel-deg {sun_kernel_deg} is out of range [{sun_deg:.4}, {MAX_SUN_KERNEL_DEG}] (the sun's own radius to 10 degrees)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// cos of the kernel's radius, and the sun disc's solid angle over the kernel's: 1 - cos x as
+    /// 2 sin^2(x / 2), which keeps its digits at fractions of a degree.
+    fn sun_kernel(&self) -> (f32, f32) {
+        let one_minus_cos = |x: f64| 2.0 * (x / 2.0).sin().powi(2);
+        let kernel = self.sun_kernel_deg.to_radians();
+        let scale = one_minus_cos(crate::model::sky::SUN_ANGULAR_RADIUS) / one_minus_cos(kernel);
+        (kernel.cos() as f32, scale.min(1.0) as f32)
+    }
+}
 
 /// Marching steps that keep one sample within the loop budget: (camera ray, each reflected ray).
 /// The camera ray and the `bounces + 1` reflected rays may each end in a bisection; every step
@@ -89,6 +142,8 @@ pub struct GroundTruthReport {
     pub unresolved_pixels: u64,
     /// Reflected rays traced again where they meet the sea (`--bounces`).
     pub bounces: u32,
+    /// The cone (angular radius, degrees) the reflected sun's energy is spread over (`--sun-kernel-deg`).
+    pub sun_kernel_deg: f64,
     /// The reflected weight left untraced after the last bounce, as a fraction of the sea's
     /// samples' reflected weight, and its mean over the sea's pixels (what `--bounces` cuts off).
     pub cut_off_fraction: f64,
@@ -146,16 +201,12 @@ pub fn render(
     scene: &Scene,
     width: u32,
     height: u32,
-    samples: u32,
-    bounces: u32,
+    sampling: &Sampling,
     mut progress: impl FnMut(u64, u64),
 ) -> Result<GroundTruth> {
-    if samples == 0 || samples > MAX_SAMPLES {
-        return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
-    }
-    if !(1..=MAX_BOUNCES).contains(&bounces) {
-        return Err(Error::Argument(format!("--bounces {bounces} is out of range [1, {MAX_BOUNCES}]")));
-    }
+    sampling.check()?;
+    let Sampling { samples, bounces, sun_kernel_deg } = *sampling;
+    let (sun_cos_kernel, sun_kernel_scale) = sampling.sun_kernel();
     if scene.sky.model != crate::model::scene::SkyKind::Preetham {
         return Err(Error::Argument(
             "the ground truth evaluates sky.model = \"preetham\" only: the physical sky is not traced yet".into(),
@@ -232,6 +283,8 @@ pub fn render(
         lipschitz: if kh_sum < 0.9 { (kh_sum / (1.0 - kh_sum)) as f32 } else { 10.0 },
         ior: SEA_WATER_IOR,
         seed: scene.waves.seed as u32,
+        sun_cos_kernel,
+        sun_kernel_scale,
     };
     let tiles_x = width.div_ceil(TILE);
     let tiles_y = height.div_ceil(TILE);
@@ -362,6 +415,7 @@ pub fn render(
         noise_floor_rmse,
         unresolved_pixels,
         bounces,
+        sun_kernel_deg,
         cut_off_fraction,
         nonfinite_pixels: stats.nonfinite_pixels,
         mean_radiance: stats.mean_radiance,
