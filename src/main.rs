@@ -232,6 +232,25 @@ enum Bench {
         #[arg(long)]
         device: Option<String>,
     },
+    /// Temporal flicker per distance band of every method over a short animation, against a
+    /// heavily supersampled render of the full method.
+    Flicker {
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        #[arg(long, default_value_t = 240)]
+        height: u32,
+        /// Frames of the animation (the change is measured between consecutive ones).
+        #[arg(long, default_value_t = 30)]
+        frames: u32,
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+        #[arg(long)]
+        device: Option<String>,
+    },
     /// GPU time of every preset and extreme scene with the general pipeline and with what it needs.
     Specialize {
         /// Timed frames per scene and pipeline, after one warm-up frame.
@@ -578,6 +597,14 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg",
                 out.display()
             );
+            Ok(())
+        }
+        Command::Bench { bench: Bench::Flicker { scene, width, height, frames, fps, out, device } } => {
+            let (scene, name) = load_scene(scene)?;
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            let run = ocean::measure::bench::flicker::FlickerRun { width, height, frames, fps };
+            ocean::measure::bench::flicker::run(&gpu, &scene, &name, run, &out)?;
+            ocean::say!("wrote {}/flicker.csv and flicker.md", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Specialize { frames, out, device } } => {

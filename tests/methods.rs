@@ -76,3 +76,31 @@ fn unfiltered_waves_alias_where_filtered_ones_do_not() {
     let unfiltered = roughness(&render(&gpu, &scene, w, h, Method::NoFilter, 1), rows);
     assert!(unfiltered > 3.0 * full, "pixel-to-pixel variation: unfiltered {unfiltered:.4}, full {full:.4}");
 }
+
+/// The flicker bench tells shimmer from the waves' motion: the unfiltered method changes from
+/// frame to frame several times as much as the supersampled reference somewhere, the filtered
+/// methods no more than it (plus a margin for 16 samples against one) in any band.
+#[test]
+fn the_unfiltered_method_flickers_and_the_filtered_ones_do_not() {
+    use ocean::measure::bench::flicker::{run, FlickerRun};
+    let gpu = gpu();
+    let dir = std::env::temp_dir().join(format!("ocean-flicker-{}", std::process::id()));
+    let settings = FlickerRun { width: 64, height: 48, frames: 6, fps: 30.0 };
+    let rows = run(&gpu, &Scene::default(), "default", settings, &dir).unwrap();
+    assert_eq!(gpu.validation_counts().error_total(), 0);
+    let ratios = |method: &str| -> Vec<f64> {
+        let row = rows.iter().find(|r| r.method == method && r.ssaa == 1).unwrap();
+        row.bands.iter().map(|b| b.3).filter(|r| r.is_finite()).collect()
+    };
+    let unfiltered = ratios("no-filter");
+    assert!(unfiltered.iter().any(|&r| r > 3.0), "the unfiltered method's flicker ratios {unfiltered:?}");
+    for method in ["full", "paper", "constant-brdf"] {
+        let r = ratios(method);
+        assert!(!r.is_empty() && r.iter().all(|&x| x < 1.5), "{method}'s flicker ratios {r:?}");
+    }
+    let md = std::fs::read_to_string(dir.join("flicker.md")).unwrap();
+    assert!(md.contains("| no-filter | 1x1 |") && dir.join("flicker.csv").is_file(), "{md}");
+    let bad = run(&gpu, &Scene::default(), "default", FlickerRun { frames: 1, ..settings }, &dir).err().unwrap();
+    assert!(bad.to_string().contains("--frames 1 is out of range [2, 1000]"), "{bad}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
