@@ -71,16 +71,21 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
 }
 
 // Average sky radiance over the slope distribution: one textureGrad lookup whose footprint is the
-// image of the 2-sigma slope ellipse (paper, algorithm 5.1; eps by finite differences), centred on
-// the mirror direction (the paper) or on the visible facets' mean slope (METHOD_FULL). rgb: the
-// reflected sky; a: the share of the reflections that meet the sea again and enter it there (0
-// for the paper, whose map holds none).
+// image of the 2-sigma slope ellipse (paper, algorithm 5.1; derivatives by finite differences
+// along its axes), centred on the mirror direction (the paper) or, for METHOD_FULL, the ellipse
+// of the visible facets' slopes (slopes.glsl). rgb: the reflected sky; a: the share of the
+// reflections that meet the sea again and enter it there (0 for the paper, whose map holds none).
 vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
     const float eps = 1e-3;
-    vec2 centre = METHOD == METHOD_FULL ? visible_slope_shift(to_local(f, v), sigma2) : vec2(0.0);
-    vec2 u0 = reflected_u(f, v, centre);
-    vec2 dx = (reflected_u(f, v, centre + vec2(eps, 0.0)) - u0) * (2.0 * sqrt(sigma2.x) / eps);
-    vec2 dy = (reflected_u(f, v, centre + vec2(0.0, eps)) - u0) * (2.0 * sqrt(sigma2.y) / eps);
+    VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2)
+                         : VisibleSlopes(vec2(0.0), vec2(sqrt(sigma2.x), 0.0), vec2(0.0, sqrt(sigma2.y)));
+    vec2 u0 = reflected_u(f, v, slopes.mean);
+    // u's derivative along each axis's direction, times twice its length (0 for a zero axis).
+    float len_a = length(slopes.axis_along), len_b = length(slopes.axis_across);
+    vec2 dir_a = len_a > 0.0 ? slopes.axis_along / len_a : vec2(0.0);
+    vec2 dir_b = len_b > 0.0 ? slopes.axis_across / len_b : vec2(0.0);
+    vec2 dx = (reflected_u(f, v, slopes.mean + eps * dir_a) - u0) * (2.0 * len_a / eps);
+    vec2 dy = (reflected_u(f, v, slopes.mean + eps * dir_b) - u0) * (2.0 * len_b / eps);
     float to_uv = 0.5 / frame.tone.y;
     vec4 m = textureGrad(sky_map, sky_map_uv(u0), dx * to_uv, dy * to_uv);
     return vec4(m.rgb, METHOD == METHOD_FULL ? m.a : 0.0);

@@ -44,6 +44,12 @@ void main() {
     }
     case 7u: r.xy = visible_slope_shift(a.xyz, b.xy); break;              // v (local), sigma^2
     case 8u: r.xy = stereographic_plane(a.xyz); break;                     // direction
+    case 9u: {                                                             // v (local), sigma^2
+        VisibleSlopes s = visible_slopes(a.xyz, b.xy);
+        mat2 cov = outerProduct(s.axis_along, s.axis_along) + outerProduct(s.axis_across, s.axis_across);
+        r.xyz = vec3(cov[0][0], cov[1][0], cov[1][1]);
+        break;
+    }
     default: break;
     }
     results[i] = r;

@@ -29,25 +29,38 @@ float normal_cdf_positive(float r) {
     return 1.0 - 0.5 * poly * exp(-x * x);
 }
 
-// Mean slope of the facets seen from v (local frame), with each weighted by its projected area
-// (v_z - zeta . v_xy)^+: for Gaussian slopes of covariance diag(sigma2) and s = zeta along v's
-// azimuth, of variance sigma_s^2 and with cot(theta_v) = c, E[s] = -sigma_s^2 / (c + sigma_s
-// phi(r) / Phi(r)) at r = c / sigma_s, and zeta follows s by its regression sigma2 v_xy / sigma_s^2:
-// shift = -sigma2 * v_xy_unit / (c + sigma_s phi(r) / Phi(r)), facets leaning towards the viewer.
-// At grazing view (c = 0) it is -1.25 sigma_s along the azimuth; seen from above, 0. The
-// divisor is at least sigma_s phi(r) / Phi(r) > 0 while sigma_s > 0 and r finite; phi(r)
-// underflows to 0 only where c itself is large.
-vec2 visible_slope_shift(vec3 v_local, vec2 sigma2) {
+// The slopes of the facets seen from v (local frame), each weighted by its projected area
+// (v_z - zeta . v_xy)^+, for Gaussian slopes of covariance diag(sigma2): their mean and the two
+// 1-sigma axes of their covariance. In whitened slopes z = zeta / sigma the weight depends on z
+// along w = sigma v_xy_unit / sigma_s only (sigma_s^2 the variance along v's azimuth): with
+// r = cot(theta_v) / sigma_s and m = phi(r) / Phi(r), the weighted mean there is -1 / (r + m) and
+// the variance k = (r + 2m) / (r + m) - 1 / (r + m)^2 (moments of a Gaussian under a linear ramp),
+// across w unchanged. So zeta's mean is -sigma2 v_xy_unit / (cot theta + sigma_s m), facets leaning
+// towards the viewer, and its axes sigma (sqrt(k) w) and sigma w_perp. Seen from above (r large)
+// m -> 0, k -> 1: the plain Gaussian; at grazing (r = 0) the mean is -1.25 sigma_s and k = 0.43.
+// Phi(r) >= 0.5 for r >= 0; r + m >= m > 0 while r is finite; phi underflows only where r is large.
+struct VisibleSlopes { vec2 mean; vec2 axis_along; vec2 axis_across; };
+
+VisibleSlopes visible_slopes(vec3 v_local, vec2 sigma2) {
+    vec2 sigma = sqrt(sigma2);
+    VisibleSlopes plain = VisibleSlopes(vec2(0.0), vec2(sigma.x, 0.0), vec2(0.0, sigma.y));
     float sin2 = dot(v_local.xy, v_local.xy);
     float var = directional_variance(v_local, sigma2);
-    if (sin2 <= 0.0 || var <= 0.0) return vec2(0.0);
+    if (sin2 <= 0.0 || var <= 0.0) return plain;
     float sin_v = sqrt(sin2);
     vec2 azimuth = v_local.xy / sin_v;
-    float sigma = sqrt(var);
-    float c = max(v_local.z, 0.0) / sin_v;
-    float r = c / sigma;
-    float mills = 0.39894228 * exp(-0.5 * min(r * r, 2.0 * EXP_UNDERFLOW)) / normal_cdf_positive(r);
-    return -sigma2 * azimuth / (c + sigma * mills);
+    float sigma_s = sqrt(var);
+    float r = max(v_local.z, 0.0) / sin_v / sigma_s;
+    float m = 0.39894228 * exp(-0.5 * min(r * r, 2.0 * EXP_UNDERFLOW)) / normal_cdf_positive(r);
+    float k = clamp((r + 2.0 * m) / (r + m) - 1.0 / ((r + m) * (r + m)), 0.0, 1.0);
+    vec2 w = sigma * azimuth / sigma_s;   // unit: |sigma * azimuth|^2 = var
+    vec2 w_perp = vec2(-w.y, w.x);
+    return VisibleSlopes(-sigma2 * azimuth / (sigma_s * (r + m)), sigma * w * sqrt(k), sigma * w_perp);
+}
+
+// The visible facets' mean slope alone (visible_slopes).
+vec2 visible_slope_shift(vec3 v_local, vec2 sigma2) {
+    return visible_slopes(v_local, sigma2).mean;
 }
 
 #endif

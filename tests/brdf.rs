@@ -38,7 +38,7 @@ fn relative_error(gpu: f64, cpu: f64, floor: f64) -> f64 {
 
 #[test]
 fn gpu_shading_matches_the_f64_reference() {
-    check_against_reference(Method::Paper);
+    check_against_reference(Method::Paper, scene(), Tolerance::STEEP);
 }
 
 /// The full method's sky against the same quadrature with each facet weighted by its projected
@@ -46,11 +46,36 @@ fn gpu_shading_matches_the_f64_reference() {
 /// against the integral it stands for.
 #[test]
 fn full_method_shading_matches_the_f64_reference() {
-    check_against_reference(Method::Full);
+    check_against_reference(Method::Full, scene(), Tolerance::STEEP);
 }
 
-fn check_against_reference(method: Method) {
-    let scene = scene();
+/// The same at grazing view on a rough sea, where a good part of every footprint reflects below
+/// the horizon: the map's region beyond it (the sea met again) and the entering share in the
+/// refracted term.
+#[test]
+fn full_method_shading_matches_the_f64_reference_at_grazing_view() {
+    let mut s = scene();
+    s.camera.pitch_deg = -3.0;
+    s.wind.speed_mps = 15.0;
+    s.sun.elevation_deg = 10.0; // its glitter in view
+                                // Measured: sky 22% at worst and 8.8% on average (the paper's own lookup against its own
+                                // integral in this view: 20% and 8.2%), sea 3.4% at worst.
+    check_against_reference(Method::Full, s, Tolerance { sky: 0.25, sky_mean: 0.10, sea_full: 0.05 });
+}
+
+/// Per-pixel and mean relative errors allowed for the sky, and per pixel for the full method's
+/// refracted term (the paper's is analytic: 0.5%).
+struct Tolerance {
+    sky: f64,
+    sky_mean: f64,
+    sea_full: f64,
+}
+
+impl Tolerance {
+    const STEEP: Tolerance = Tolerance { sky: 0.20, sky_mean: 0.08, sea_full: 0.05 };
+}
+
+fn check_against_reference(method: Method, scene: Scene, tolerance: Tolerance) {
     let waves = generate(&scene);
     let camera = CameraFrame::new(&scene, &waves, W, H);
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
@@ -64,7 +89,9 @@ fn check_against_reference(method: Method) {
     let cells = scene.render.grid_cell_px;
     for py in (0..H).step_by(4) {
         for px in (0..W).step_by(4) {
-            let (_, a_u, a_v) = reference.plane_hit(reference.pixel_ray(px as f64, py as f64)).expect("sea everywhere");
+            let Some((_, a_u, a_v)) = reference.plane_hit(reference.pixel_ray(px as f64, py as f64)) else {
+                continue; // sky
+            };
             for t in &waves.trains {
                 let k = glam::DVec2::from(t.direction) / t.wavelength;
                 let step = k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs());
@@ -88,7 +115,7 @@ fn check_against_reference(method: Method) {
     let mut samples = Vec::new();
     for py in (3..H).step_by(9) {
         for px in (3..W).step_by(11) {
-            let cpu = reference.shade(px as f64, py as f64).unwrap();
+            let Some(cpu) = reference.shade(px as f64, py as f64) else { continue };
             let i = (py * W + px) as usize;
             sun_peak = sun_peak.max(cpu.sun[1]);
             samples.push((px, py, cpu, sun_frame.hdr[i], sky_frame.hdr[i], sea_frame.hdr[i]));
@@ -111,8 +138,11 @@ fn check_against_reference(method: Method) {
             // per pixel and 8% on average.
             sky_sum += e_sky;
             sky_count += 1.0;
-            assert!(e_sky < 0.20, "sky at ({px}, {py}) channel {c}: GPU {} CPU {}", sky[c], cpu.sky[c]);
-            assert!(e_sea < 0.005, "sea at ({px}, {py}) channel {c}: GPU {} CPU {}", sea[c], cpu.sea[c]);
+            assert!(e_sky < tolerance.sky, "sky at ({px}, {py}) channel {c}: GPU {} CPU {}", sky[c], cpu.sky[c]);
+            // The paper's refracted term is analytic; the full method's takes the share of the
+            // reflections entering the sea again from the same filtered lookup as the sky.
+            let sea_limit = if method == Method::Full { tolerance.sea_full } else { 0.005 };
+            assert!(e_sea < sea_limit, "sea at ({px}, {py}) channel {c}: GPU {} CPU {}", sea[c], cpu.sea[c]);
             worst_sun = worst_sun.max(e_sun);
             worst_sky = worst_sky.max(e_sky);
             worst_sea = worst_sea.max(e_sea);
@@ -122,5 +152,5 @@ fn check_against_reference(method: Method) {
     eprintln!(
         "largest relative errors: sun {worst_sun:.4}, sky {worst_sky:.4} (mean {sky_mean:.4}), sea {worst_sea:.4}"
     );
-    assert!(sky_mean < 0.08, "mean sky error {sky_mean}");
+    assert!(sky_mean < tolerance.sky_mean, "mean sky error {sky_mean}");
 }

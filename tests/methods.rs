@@ -33,7 +33,7 @@ fn roughness(frame: &RenderedFrame, rows: std::ops::Range<u32>) -> f64 {
 #[test]
 fn every_method_renders_clean_with_and_without_supersampling() {
     let gpu = gpu();
-    for method in [Method::Full, Method::ConstantBrdf, Method::NoFilter] {
+    for method in Method::ALL {
         for ssaa in [1, 2] {
             let frame = render(&gpu, &Scene::default(), 96, 64, method, ssaa);
             assert_eq!(frame.hdr.len(), 96 * 64);

@@ -225,9 +225,16 @@ fn normal_weights_across_the_screen() {
 /// each facet weighted by its projected area (v_z - zeta . v_xy)^+: independent of the closed form
 /// the shader uses (glsl/slopes.glsl).
 fn visible_mean_slope(v: [f64; 3], sigma2: [f64; 2]) -> [f64; 2] {
+    let (mean, _) = visible_slope_moments(v, sigma2);
+    mean
+}
+
+/// The visible facets' mean slope and slope covariance (xx, xy, yy), by the same integral.
+fn visible_slope_moments(v: [f64; 3], sigma2: [f64; 2]) -> ([f64; 2], [f64; 3]) {
     let (sx, sy) = (sigma2[0].sqrt(), sigma2[1].sqrt());
     let n = 600;
     let (mut w_sum, mut zx_sum, mut zy_sum) = (0.0, 0.0, 0.0);
+    let (mut xx, mut xy, mut yy) = (0.0, 0.0, 0.0);
     for i in 0..n {
         for j in 0..n {
             // Midpoints over +-8 sigma on each axis.
@@ -237,9 +244,13 @@ fn visible_mean_slope(v: [f64; 3], sigma2: [f64; 2]) -> [f64; 2] {
             w_sum += w;
             zx_sum += w * zx;
             zy_sum += w * zy;
+            xx += w * zx * zx;
+            xy += w * zx * zy;
+            yy += w * zy * zy;
         }
     }
-    [zx_sum / w_sum, zy_sum / w_sum]
+    let (mx, my) = (zx_sum / w_sum, zy_sum / w_sum);
+    ([mx, my], [xx / w_sum - mx * mx, xy / w_sum - mx * my, yy / w_sum - my * my])
 }
 
 #[test]
@@ -266,6 +277,22 @@ fn visible_slope_shift_matches_the_integral() {
         worst_rel = worst_rel.max(e);
     }
     eprintln!("visible slope shift: largest error {worst_rel:.2e} sigma");
+    // The footprint's axes span the visible slopes' covariance (relative to sigma^2).
+    let out = run(Function::VisibleSlopeCovariance, &args, 0.0);
+    let mut worst_cov = 0.0f64;
+    for (a, r) in args.iter().zip(&out) {
+        let v = [a[0][0] as f64, a[0][1] as f64, a[0][2] as f64];
+        let sigma2 = [a[1][0] as f64, a[1][1] as f64];
+        let (_, exact) = visible_slope_moments(v, sigma2);
+        let scale = sigma2[0].max(sigma2[1]);
+        let e = (0..3).map(|i| (r[i] as f64 - exact[i]).abs()).fold(0.0, f64::max) / scale;
+        assert!(
+            e < 2e-3,
+            "covariance off by {e} sigma^2 at v {v:?}, sigma^2 {sigma2:?}: GPU {r:?}, integral {exact:?}"
+        );
+        worst_cov = worst_cov.max(e);
+    }
+    eprintln!("visible slope covariance: largest error {worst_cov:.2e} sigma^2");
     // At grazing view the shift is Phi(0) / phi(0) = 1.2533 sigma towards the viewer.
     let grazing = run(Function::VisibleSlopeShift, &[[[1.0, 0.0, 0.0, 0.0], [0.01, 0.01, 0.0, 0.0]]], 0.0);
     assert!((grazing[0][0] as f64 + 0.1 * (PI / 2.0).sqrt()).abs() < 1e-5, "grazing shift {:?}", grazing[0]);

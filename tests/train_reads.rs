@@ -39,6 +39,7 @@ fn blocks_and_per_train_reads_agree() {
         ("default.toml", (1, 1), Method::Full),
         ("default.toml", (64, 40), Method::ConstantBrdf),
         ("default.toml", (64, 40), Method::NoFilter),
+        ("default.toml", (64, 40), Method::Paper),
         ("extreme/one_wave.toml", (40, 30), Method::Full),
         ("extreme/waves_256.toml", (40, 30), Method::Full),
         ("extreme/look_down.toml", (33, 17), Method::Full),

@@ -36,6 +36,9 @@ pub enum Function {
     VisibleSlopeShift = 7,
     /// (direction) -> its u on the whole stereographic plane, held at the sky map's extent
     StereographicPlane = 8,
+    /// (v in the local frame), (sigma_x^2, sigma_y^2) -> the visible facets' slope covariance
+    /// (xx, xy, yy) from the footprint's two axes
+    VisibleSlopeCovariance = 9,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's

@@ -14,6 +14,12 @@ use std::f64::consts::PI;
 
 /// Schlick's R0 for water (paper, section 5).
 const R0: f64 = 0.02;
+/// z of the directions on the sky map's rim |u| = R (the inverse stereographic map): the deepest
+/// the full method's lookups read (22.6 degrees below the horizon).
+const RIM_Z: f64 = {
+    let r = crate::render::frame::SKY_MAP_EXTENT as f64;
+    (1.0 - r * r) / (1.0 + r * r)
+};
 
 /// Per-term radiance (kcd/m^2, linear sRGB) at one pixel.
 #[derive(Debug, Clone, Copy, Default)]
@@ -126,7 +132,12 @@ impl ReferenceScene<'_> {
                     weight *= (v.dot(n) - zx * v.dot(t_x) - zy * v.dot(t_y)).max(0.0);
                 }
                 let facet = (n - zx * t_x - zy * t_y).normalize();
-                let r = 2.0 * v.dot(facet) * facet - v;
+                let mut r = 2.0 * v.dot(facet) * facet - v;
+                if self.full && r.z < RIM_Z {
+                    // The sky map holds directions down to its rim; deeper ones read the rim.
+                    let xy = DVec2::new(r.x, r.y).try_normalize().unwrap_or(DVec2::X) * (1.0 - RIM_Z * RIM_Z).sqrt();
+                    r = DVec3::new(xy.x, xy.y, RIM_Z);
+                }
                 let mut l = self.sky.radiance([r.x, r.y, r.z.abs()]);
                 if self.full && r.z < 0.0 {
                     let d = DVec2::new(r.x, r.y);

@@ -17,7 +17,7 @@ controls:
   , .                 sun azimuth -/+ 5 degrees
   - =                 exposure -/+ a quarter stop
   space               pause / resume time
-  1 2 3               method: full (the paper), constant BRDF, no filtering
+  1 2 3 4             method: full (ours), constant BRDF, no filtering, the paper as published
   F12                 screenshot (PNG of what is shown); Shift+F12: EXR of the linear radiance
   R                   reload the scene file (also on save)
   H                   this help
