@@ -142,7 +142,8 @@ pub struct GroundTruthReport {
     pub unresolved_pixels: u64,
     /// Reflected rays traced again where they meet the sea (`--bounces`).
     pub bounces: u32,
-    /// The cone (angular radius, degrees) the reflected sun's energy is spread over (`--sun-kernel-deg`).
+    /// The cone (angular radius, degrees) the reflected sun's energy is spread over
+    /// (`--sun-kernel-deg`, narrowed to the sun's elevation where that is lower).
     pub sun_kernel_deg: f64,
     /// The reflected weight left untraced after the last bounce, as a fraction of the sea's
     /// samples' reflected weight, and its mean over the sea's pixels (what `--bounces` cuts off).
@@ -205,7 +206,13 @@ pub fn render(
     mut progress: impl FnMut(u64, u64),
 ) -> Result<GroundTruth> {
     sampling.check()?;
-    let Sampling { samples, bounces, sun_kernel_deg } = *sampling;
+    // A cone reaching below the horizon would lose the part of the sun's energy that no
+    // reflected ray can gather there: it is narrowed to the sun's elevation (the disc at least).
+    let sampling = Sampling {
+        sun_kernel_deg: sampling.sun_kernel_deg.min(scene.sun.elevation_deg.max(sun_disc_deg())),
+        ..*sampling
+    };
+    let Sampling { samples, bounces, sun_kernel_deg } = sampling;
     let (sun_cos_kernel, sun_kernel_scale) = sampling.sun_kernel();
     if scene.sky.model != crate::model::scene::SkyKind::Preetham {
         return Err(Error::Argument(
@@ -469,6 +476,16 @@ pub struct GroundTruthMeta {
     /// `GroundTruthReport::noise_floor_rmse` (absent in files from before it was measured).
     #[serde(default)]
     pub noise_floor_rmse: Option<f64>,
+    /// `GroundTruthReport::sun_kernel_deg` (absent in files from before the kernel: the disc).
+    #[serde(default = "sun_disc_deg")]
+    pub sun_kernel_deg: f64,
+    /// `GroundTruthReport::bounces` (absent in files from before bounces were traced: none).
+    #[serde(default)]
+    pub bounces: u32,
+}
+
+fn sun_disc_deg() -> f64 {
+    crate::model::sky::SUN_ANGULAR_RADIUS.to_degrees()
 }
 
 /// The four images of a ground truth on disk: `ref.exr` (total, alpha = resolved), and
@@ -508,6 +525,8 @@ impl GroundTruth {
             height: self.height,
             samples_per_axis: self.report.samples_per_axis,
             noise_floor_rmse: self.report.noise_floor_rmse,
+            sun_kernel_deg: self.report.sun_kernel_deg,
+            bounces: self.report.bounces,
         };
         write_text(&meta_path(path), &serde_json::to_string_pretty(&meta).expect("serializes"))
     }

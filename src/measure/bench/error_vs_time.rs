@@ -251,7 +251,16 @@ pub fn run(
         rows.push(row);
     }
     progress.set(rows.len() as u64, None);
-    let truth_info = Truth { path: reference, noise_floor: truth.meta.noise_floor_rmse };
+    let truth_info = Truth {
+        path: reference,
+        noise_floor: truth.meta.noise_floor_rmse,
+        sampling: format!(
+            "{n}x{n} samples per pixel, {} bounces, the reflected sun over a {:.2}-degree cone",
+            truth.meta.bounces,
+            truth.meta.sun_kernel_deg,
+            n = truth.meta.samples_per_axis
+        ),
+    };
     write_outputs(&rows, out_dir, scene_name, truth_info, (w, h), frames)?;
     Ok(rows)
 }
@@ -294,6 +303,8 @@ fn block_values(e: &BlockErrors) -> String {
 struct Truth<'a> {
     path: &'a Path,
     noise_floor: Option<f64>,
+    /// How it was sampled, in words.
+    sampling: String,
 }
 
 fn write_outputs(
@@ -304,7 +315,7 @@ fn write_outputs(
     (w, h): (u32, u32),
     frames: u32,
 ) -> Result<()> {
-    let Truth { path: reference, noise_floor } = truth;
+    let Truth { path: reference, noise_floor, sampling } = truth;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let mut csv = format!("method,setting,gpu_ms{},blocks{}\n", term_columns(), block_columns());
     for r in rows {
@@ -334,7 +345,7 @@ fn write_outputs(
     let floors = rows.first().map_or(([f64::NAN; 4], [f64::NAN; 4]), |r| (r.all.rmse_floor, r.blocks.rmse_floor));
     let block_count = rows.first().map_or(0, |r| r.blocks.count);
     let mut md = format!(
-        "Error against GPU time: scene `{scene_name}` at {w}x{h}, reference `{}`, median of {frames} frames.\n\
+        "Error against GPU time: scene `{scene_name}` at {w}x{h}, reference `{}` ({sampling}), median of {frames} frames.\n\
          RMSE of Rec. 709 luminance (kcd/m^2) over the sea, per pixel and on the means of the {block_count} blocks of \
          {BLOCK_PX}x{BLOCK_PX} pixels wholly on the sea (the ground truth's glints average out over a block); \
          energy error = (mean - reference mean) / reference mean, ± its standard error from the reference's own sampling noise.\n\
