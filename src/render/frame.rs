@@ -13,11 +13,21 @@ use glam::{DMat4, DVec3, Mat4};
 /// dropped to the next scale below 4. (The authors' demo ramps over 1 to 1.5 cells per wavelength.)
 pub const GEOMETRY_STEPS: [f32; 2] = [0.125, 0.25];
 pub const NORMAL_STEPS: [f32; 2] = [0.125, 0.25];
-/// Stereographic sky-map extent: u in [-R, R]^2 covers the horizon circle |u| = 1 and directions
-/// below it, to 22.6 degrees down along the axes (|u| = tan(45 + 22.6 / 2) = 1.5) and 39.6 in
-/// the corners: the full method's reflections that meet the sea read it there, the paper's
-/// footprints that cross the horizon its mirror image.
+/// Stereographic sky-map extent of the full method: u in [-R, R]^2 covers the horizon circle
+/// |u| = 1 and directions below it, to 22.6 degrees down along the axes (|u| = tan(45 + 22.6 / 2)
+/// = 1.5) and 39.6 in the corners, where its reflections that meet the sea read what they meet.
 pub const SKY_MAP_EXTENT: f32 = 1.5;
+/// The extent for the paper's folded lookups (and the baselines'): a little beyond the horizon
+/// circle, for the footprints that cross it, so that the map's texels go to the sky above it.
+pub const SKY_MAP_EXTENT_FOLDED: f32 = 1.125;
+
+/// The sky map's extent for `method`'s lookups.
+pub fn sky_map_extent(method: crate::render::passes::ocean::Method) -> f32 {
+    match method {
+        crate::render::passes::ocean::Method::Full => SKY_MAP_EXTENT,
+        _ => SKY_MAP_EXTENT_FOLDED,
+    }
+}
 /// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
 pub const SEA_ALBEDO: [f64; 3] = [10.0 / 255.0 * 0.1, 40.0 / 255.0 * 0.1, 120.0 / 255.0 * 0.1];
 /// Near plane of the reversed-Z infinite projection (m).
@@ -308,7 +318,8 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         ],
         perez,
         sky_zenith: v4(sky.zenith_over_f0, sky.sky_scale),
-        // An automatic exposure is measured on the GPU (passes/exposure.rs); x is then unused.
+        // An automatic exposure is measured on the GPU (passes/exposure.rs); x is then unused. y is
+        // the full method's map extent; a renderer of another method sets its own (sky_map_extent).
         tone: [
             match scene.render.exposure() {
                 crate::model::scene::Exposure::PerKcd(e) => e as f32,

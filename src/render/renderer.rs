@@ -159,6 +159,8 @@ pub struct Renderer<'g> {
     /// The sky model and the tone mapping the pipelines were specialized for.
     sky_model: SkyKind,
     tone: Tone,
+    /// The sky map's extent in stereographic u, as the method's lookups want it.
+    sky_map_extent: f32,
 }
 
 /// What the view-dependent passes depend on: the sky and the camera's rays and height, as the
@@ -287,6 +289,7 @@ impl<'g> Renderer<'g> {
             counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
             sky_model: scene.sky.model,
             tone,
+            sky_map_extent: frame::sky_map_extent(options.shader.method),
         })
     }
 
@@ -483,8 +486,9 @@ impl<'g> Renderer<'g> {
         }
         let wave_set = waves::generate(scene);
         let k = self.ssaa;
-        let data =
+        let mut data =
             frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
+        data.uniforms.tone[1] = self.sky_map_extent;
         self.resources.frame_uniforms.write(slot, &data.uniforms)?;
         self.resources.waves.write(slot, data.waves.as_ref())?;
         self.slots[slot].grid.set(data.grid.columns, data.grid.rows)?;
