@@ -80,10 +80,10 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
     // eye, 10-500 m): full +2.9, -0.1, -1.6, +12.6, +27% / -0.1, -0.8, -2.1, -7.9, -14%; the paper
     // +10, +18, +24, +45, +61% / -0.2, -1.5, -3.8, -10, -16%, drifting towards the horizon (it
     // reads the sky for every reflection, also those another wave stops, and centres its lookup on
-    // the mirror direction, not on the facets seen). The constant BRDF drifts about twice as fast again. Asserted: full
-    // within FULL_SKY (sky) out to 200 m, both within 5% (sea) where the view is at least 10
-    // degrees down and the paper within 20% (sky) there; each never further off than the next
-    // simpler method in any band (sky and sea).
+    // the mirror direction, not on the facets seen). The constant BRDF drifts about twice as fast
+    // again. Asserted: full within FULL_SKY (sky) out to 200 m, both within 5% (sea) where the view
+    // is at least 10 degrees down and the paper within 20% (sky) there; each never further off
+    // than the next simpler method in any band (sky and sea).
     let gpu = gpu();
     let mut scene = twilight();
     scene.sun.elevation_deg = 25.0;
