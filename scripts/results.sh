@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Regenerates docs/results/: for a calm and an agitated sea, the ground truth, the full method, the paper's and its
-# constant-BRDF baseline (total, reflected sun, reflected sky as PNGs), and the error-against-time
-# and energy-against-distance tables and plots (SVG), and the flicker table. About 36 minutes on two cores with lavapipe
-# (measured last), nearly all of it the two ground truths.
+# Regenerates docs/results/: for a calm sea, an agitated sea and grazing light, the ground truth,
+# the full method, the paper's and its constant-BRDF baseline (total, reflected sun, reflected sky
+# as PNGs), the error-against-time and energy-against-distance tables and plots (SVG), and the
+# flicker table. About 80 minutes on two cores with lavapipe (measured last: 78, with other work
+# sharing the cores for part of it), nearly all of it the three ground truths.
 # Each step says what it does and where the whole stands; the ocean commands draw their own
 # progress (a bar on a terminal, lines otherwise).
 set -euo pipefail
