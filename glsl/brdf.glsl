@@ -77,8 +77,7 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
 // reflections that meet the sea again and enter it there (0 for the paper, whose map holds none).
 vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
     const float eps = 1e-3;
-    VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2)
-                         : VisibleSlopes(vec2(0.0), vec2(sqrt(sigma2.x), 0.0), vec2(0.0, sqrt(sigma2.y)));
+    VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2) : gaussian_slopes(sigma2);
     vec2 u0 = reflected_u(f, v, slopes.mean);
     // u's derivative along each axis's direction, times twice its length (0 for a zero axis).
     float len_a = length(slopes.axis_along), len_b = length(slopes.axis_across);

@@ -42,7 +42,7 @@ void main() {
         r.x = s.any ? resolution_weight(s, a.zw, steps, 1.0 / (steps.y - steps.x), nonlinearity) : 0.0;
         break;
     }
-    case 7u: r.xy = visible_slope_shift(a.xyz, b.xy); break;              // v (local), sigma^2
+    case 7u: r.xy = visible_slopes(a.xyz, b.xy).mean; break;              // v (local), sigma^2
     case 8u: r.xy = stereographic_plane(a.xyz); break;                     // direction
     case 9u: {                                                             // v (local), sigma^2
         VisibleSlopes s = visible_slopes(a.xyz, b.xy);

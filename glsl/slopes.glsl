@@ -41,9 +41,14 @@ float normal_cdf_positive(float r) {
 // Phi(r) >= 0.5 for r >= 0; r + m >= m > 0 while r is finite; phi underflows only where r is large.
 struct VisibleSlopes { vec2 mean; vec2 axis_along; vec2 axis_across; };
 
-VisibleSlopes visible_slopes(vec3 v_local, vec2 sigma2) {
+// The plain Gaussian's: centred on 0, its axes the wind's (the paper's lookup).
+VisibleSlopes gaussian_slopes(vec2 sigma2) {
     vec2 sigma = sqrt(sigma2);
-    VisibleSlopes plain = VisibleSlopes(vec2(0.0), vec2(sigma.x, 0.0), vec2(0.0, sigma.y));
+    return VisibleSlopes(vec2(0.0), vec2(sigma.x, 0.0), vec2(0.0, sigma.y));
+}
+
+VisibleSlopes visible_slopes(vec3 v_local, vec2 sigma2) {
+    VisibleSlopes plain = gaussian_slopes(sigma2);
     float sin2 = dot(v_local.xy, v_local.xy);
     float var = directional_variance(v_local, sigma2);
     if (sin2 <= 0.0 || var <= 0.0) return plain;
@@ -53,14 +58,10 @@ VisibleSlopes visible_slopes(vec3 v_local, vec2 sigma2) {
     float r = max(v_local.z, 0.0) / sin_v / sigma_s;
     float m = 0.39894228 * exp(-0.5 * min(r * r, 2.0 * EXP_UNDERFLOW)) / normal_cdf_positive(r);
     float k = clamp((r + 2.0 * m) / (r + m) - 1.0 / ((r + m) * (r + m)), 0.0, 1.0);
+    vec2 sigma = sqrt(sigma2);
     vec2 w = sigma * azimuth / sigma_s;   // unit: |sigma * azimuth|^2 = var
     vec2 w_perp = vec2(-w.y, w.x);
     return VisibleSlopes(-sigma2 * azimuth / (sigma_s * (r + m)), sigma * w * sqrt(k), sigma * w_perp);
-}
-
-// The visible facets' mean slope alone (visible_slopes).
-vec2 visible_slope_shift(vec3 v_local, vec2 sigma2) {
-    return visible_slopes(v_local, sigma2).mean;
 }
 
 #endif

@@ -61,7 +61,7 @@ pub const MAX_BOUNCES: u32 = 16;
 /// Angular radius (degrees) of the cone over which the reflected sun's energy is spread for its
 /// estimate (`--sun-kernel-deg`): a reflected ray within it gathers the sun's irradiance over the
 /// cone's solid angle. At the sun's own radius (0.27 degrees) the estimate is the sun disc itself,
-/// unbiased but a scatter of rare glints; 2 degrees makes a hit (7.5 / 0.27)^2 ~ 55 times likelier,
+/// unbiased but a scatter of rare glints; 2 degrees makes a hit (2 / 0.27)^2 ~ 55 times likelier,
 /// its standard error 7 times smaller, and moves each band's energy only by the curvature of the
 /// reflected directions' density over the cone, whose spread is the slopes' (tens of degrees):
 /// below a percent (docs/results.md measures it).
@@ -90,7 +90,7 @@ impl Sampling {
         if !(1..=MAX_BOUNCES).contains(&bounces) {
             return Err(Error::Argument(format!("--bounces {bounces} is out of range [1, {MAX_BOUNCES}]")));
         }
-        let sun_deg = crate::model::sky::SUN_ANGULAR_RADIUS.to_degrees();
+        let sun_deg = sun_disc_deg();
         if !(sun_kernel_deg >= sun_deg && sun_kernel_deg <= MAX_SUN_KERNEL_DEG) {
             return Err(Error::Argument(format!(
                 "--sun-kernel-deg {sun_kernel_deg} is out of range [{sun_deg:.4}, {MAX_SUN_KERNEL_DEG}] (the sun's own radius to 10 degrees)"

@@ -88,13 +88,7 @@ impl ReferenceScene<'_> {
         } else {
             [0.0; 3]
         };
-        let spread2 = vl.x * vl.x + vl.y * vl.y;
-        let sigma_v2 = if spread2 > 0.0 {
-            (sigma2[0] * vl.x * vl.x + sigma2[1] * vl.y * vl.y) / spread2
-        } else {
-            0.5 * (sigma2[0] + sigma2[1])
-        };
-        let fresnel = mean_fresnel(cos_v, sigma_v2.sqrt());
+        let fresnel = mean_fresnel(cos_v, directional_variance(vl.x, vl.y, sigma2).sqrt());
         let (sky_l, enters) = self.mean_sky_radiance([t_x, t_y, n], v, sigma2);
         let e_sky = self.sky.sky_irradiance();
         PixelRadiance {
@@ -141,13 +135,7 @@ impl ReferenceScene<'_> {
                 let mut l = self.sky.radiance([r.x, r.y, r.z.abs()]);
                 if self.full && r.z < 0.0 {
                     let d = DVec2::new(r.x, r.y);
-                    let (along, across) = (d.dot(wind), d.perp_dot(wind));
-                    let spread2 = along * along + across * across;
-                    let var = if spread2 > 0.0 {
-                        (sea.sigma2[0] * along * along + sea.sigma2[1] * across * across) / spread2
-                    } else {
-                        0.5 * (sea.sigma2[0] + sea.sigma2[1])
-                    };
+                    let var = directional_variance(d.dot(wind), d.perp_dot(wind), sea.sigma2);
                     let f2 = mean_fresnel(-r.z, var.sqrt());
                     l = l.map(|x| f2 * x);
                     enters_sum += weight * (1.0 - f2);
@@ -162,6 +150,17 @@ impl ReferenceScene<'_> {
             return ([0.0; 3], 0.0);
         }
         (sum.map(|s| s / weight_sum), enters_sum / weight_sum)
+    }
+}
+
+/// Slope variance along the azimuth with wind-axis components (x, y); the mean of the axes where
+/// the azimuth is undefined (glsl/slopes.glsl).
+fn directional_variance(x: f64, y: f64, sigma2: [f64; 2]) -> f64 {
+    let spread2 = x * x + y * y;
+    if spread2 > 0.0 {
+        (sigma2[0] * x * x + sigma2[1] * y * y) / spread2
+    } else {
+        0.5 * (sigma2[0] + sigma2[1])
     }
 }
 

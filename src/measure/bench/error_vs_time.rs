@@ -69,6 +69,21 @@ pub struct BlockErrors {
     pub rmse_floor: [f64; 4],
 }
 
+/// The indices of the pixels of a `w` x `h` image of `camera` that see the sea, by distance band
+/// (BANDS_M), each band in row-major order.
+pub fn sea_pixels_by_band(camera: &CameraFrame, w: u32, h: u32) -> Vec<Vec<usize>> {
+    let mut bands: Vec<Vec<usize>> = vec![Vec::new(); BANDS_M.len() - 1];
+    for y in 0..h {
+        for x in 0..w {
+            if let Some(d) = camera.pixel_distance(x, y, w, h) {
+                let band = BANDS_M.windows(2).position(|b| d >= b[0] && d < b[1]).expect("bands cover [0, inf)");
+                bands[band].push((y * w + x) as usize);
+            }
+        }
+    }
+    bands
+}
+
 /// The blocks of `w` x `h` wholly on the sea (`on_sea`), each as its pixels' indices.
 fn sea_blocks(w: u32, h: u32, on_sea: &[bool]) -> Vec<Vec<usize>> {
     let (bw, bh) = (w / BLOCK_PX, h / BLOCK_PX);
@@ -186,22 +201,12 @@ pub fn run(
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, w, h);
     // Sea pixels by distance band; the whole sea for the overall numbers.
-    let mut bands: Vec<Vec<usize>> = vec![Vec::new(); BANDS_M.len() - 1];
-    let mut sea = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            if let Some(d) = camera.pixel_distance(x, y, w, h) {
-                let i = (y * w + x) as usize;
-                sea.push(i);
-                let band = BANDS_M.windows(2).position(|b| d >= b[0] && d < b[1]).expect("bands cover [0, inf)");
-                bands[band].push(i);
-            }
-        }
-    }
+    let bands = sea_pixels_by_band(&camera, w, h);
     let mut on_sea = vec![false; (w * h) as usize];
-    for &i in &sea {
+    for &i in bands.iter().flatten() {
         on_sea[i] = true;
     }
+    let sea: Vec<usize> = (0..on_sea.len()).filter(|&i| on_sea[i]).collect();
     let blocks = sea_blocks(w, h, &on_sea);
     let truth_images = [truth.total.as_slice(), truth.sun.as_slice(), truth.sky.as_slice(), truth.sea.as_slice()];
     let mut rows = Vec::new();
@@ -269,7 +274,8 @@ fn term_columns() -> String {
     TERMS.iter().map(|t| format!(",rmse_{t},rmse_floor_{t},energy_error_{t},energy_uncertainty_{t}")).collect()
 }
 
-fn value(v: f64) -> String {
+/// A CSV field: the value, or empty where it is not finite.
+pub fn csv_value(v: f64) -> String {
     if v.is_finite() {
         format!("{v:.6}")
     } else {
@@ -282,10 +288,10 @@ fn term_values(e: &TermErrors) -> String {
         .map(|t| {
             format!(
                 ",{},{},{},{}",
-                value(e.rmse[t]),
-                value(e.rmse_floor[t]),
-                value(e.energy_error[t]),
-                value(e.energy_uncertainty[t])
+                csv_value(e.rmse[t]),
+                csv_value(e.rmse_floor[t]),
+                csv_value(e.energy_error[t]),
+                csv_value(e.energy_uncertainty[t])
             )
         })
         .collect()
@@ -296,7 +302,7 @@ fn block_columns() -> String {
 }
 
 fn block_values(e: &BlockErrors) -> String {
-    (0..4).map(|t| format!(",{},{}", value(e.rmse[t]), value(e.rmse_floor[t]))).collect()
+    (0..4).map(|t| format!(",{},{}", csv_value(e.rmse[t]), csv_value(e.rmse_floor[t]))).collect()
 }
 
 /// What the outputs say of the ground truth they were measured against.

@@ -6,7 +6,7 @@
 //! ranks the methods, band by band.
 
 use crate::error::{Error, Result};
-use crate::measure::bench::error_vs_time::{band_label, BANDS_M};
+use crate::measure::bench::error_vs_time::{band_label, csv_value, sea_pixels_by_band, BANDS_M};
 use crate::model::scene::Scene;
 use crate::model::waves;
 use crate::output::progress::Progress;
@@ -64,15 +64,7 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, run: FlickerRun, out_dir:
     }
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, width, height);
-    let mut bands: Vec<Vec<usize>> = vec![Vec::new(); BANDS_M.len() - 1];
-    for y in 0..height {
-        for x in 0..width {
-            if let Some(d) = camera.pixel_distance(x, y, width, height) {
-                let band = BANDS_M.windows(2).position(|b| d >= b[0] && d < b[1]).expect("bands cover [0, inf)");
-                bands[band].push((y * width + x) as usize);
-            }
-        }
-    }
+    let bands = sea_pixels_by_band(&camera, width, height);
     let mut configs: Vec<(Method, u32)> = vec![(Method::Full, REFERENCE_SSAA)];
     configs.extend(Method::ALL.iter().map(|&m| (m, 1)));
     let mut progress = Progress::new("bench flicker", configs.len() as u64, "renders", true);
@@ -120,14 +112,21 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, run: FlickerRun, out_dir:
 
 fn write_outputs(rows: &[FlickerRow], dir: &Path, scene_name: &str, run: FlickerRun) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let value = |v: f64| if v.is_finite() { format!("{v:.6}") } else { String::new() };
     let mut csv =
         String::from("method,ssaa,band,distance_min_m,distance_max_m,pixels,mean_luminance,flicker,flicker_ratio\n");
     for r in rows {
         for (b, &(n, l, c, ratio)) in r.bands.iter().enumerate() {
             let (lo, hi) = (BANDS_M[b], BANDS_M[b + 1]);
-            writeln!(csv, "{},{},{b},{lo},{hi},{n},{},{},{}", r.method, r.ssaa, value(l), value(c), value(ratio))
-                .unwrap();
+            writeln!(
+                csv,
+                "{},{},{b},{lo},{hi},{n},{},{},{}",
+                r.method,
+                r.ssaa,
+                csv_value(l),
+                csv_value(c),
+                csv_value(ratio)
+            )
+            .unwrap();
         }
     }
     write_text(&dir.join("flicker.csv"), &csv)?;
