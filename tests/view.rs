@@ -12,13 +12,24 @@ use std::time::{Duration, Instant};
 struct Display {
     name: String,
     children: Vec<Child>,
+    /// Released after `drop` has killed the children.
+    _one_at_a_time: std::sync::MutexGuard<'static, ()>,
 }
+
+/// One display at a time: the two display tests would otherwise start their servers and their
+/// lavapipe sessions together and contend for two cores.
+static DISPLAYS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// How long a window manager may take to announce itself, per attempt, and how many attempts.
+const WM_WAIT: Duration = Duration::from_secs(20);
+const WM_ATTEMPTS: usize = 3;
 
 impl Display {
     fn open() -> Display {
+        let guard = DISPLAYS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         if let Ok(name) = std::env::var("DISPLAY") {
             if !name.is_empty() {
-                return Display { name, children: Vec::new() };
+                return Display { name, children: Vec::new(), _one_at_a_time: guard };
             }
         }
         let mut xvfb = Command::new("Xvfb")
@@ -32,33 +43,52 @@ impl Display {
         let mut line = String::new();
         BufReader::new(xvfb.stdout.take().expect("piped")).read_line(&mut line).expect("Xvfb prints its display");
         let name = format!(":{}", line.trim());
-        let wm = Command::new("openbox")
-            .env("DISPLAY", &name)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap_or_else(|e| {
-                panic!("the minimize test needs a window manager: openbox cannot start ({e}); run scripts/setup.sh")
-            });
-        let display = Display { name, children: vec![xvfb, wm] };
-        display.wait_for_window_manager();
+        let mut display = Display { name, children: vec![xvfb], _one_at_a_time: guard };
+        display.start_window_manager();
         display
     }
 
-    /// A window manager announces itself with _NET_SUPPORTING_WM_CHECK on the root window.
-    fn wait_for_window_manager(&self) {
-        let start = Instant::now();
-        while start.elapsed() < Duration::from_secs(10) {
-            let out = Command::new("xprop")
-                .args(["-display", &self.name, "-root", "_NET_SUPPORTING_WM_CHECK"])
-                .output()
-                .unwrap_or_else(|e| panic!("xprop (x11-utils) is needed to wait for the window manager: {e}"));
-            if String::from_utf8_lossy(&out.stdout).contains("window id") {
-                return;
+    /// Starts openbox and waits until it announces itself with _NET_SUPPORTING_WM_CHECK on the
+    /// root window; one that exits or stays silent is replaced, and the last one's words are
+    /// in the failure.
+    fn start_window_manager(&mut self) {
+        let log = std::env::temp_dir().join(format!("ocean-view-{}-openbox.log", std::process::id()));
+        let mut history = Vec::new();
+        for attempt in 1..=WM_ATTEMPTS {
+            let mut wm = Command::new("openbox")
+                .env("DISPLAY", &self.name)
+                .stdout(Stdio::null())
+                .stderr(std::fs::File::create(&log).expect("openbox's log in the temp dir"))
+                .spawn()
+                .unwrap_or_else(|e| {
+                    panic!("the minimize test needs a window manager: openbox cannot start ({e}); run scripts/setup.sh")
+                });
+            let start = Instant::now();
+            let mut exited = None;
+            while start.elapsed() < WM_WAIT && exited.is_none() {
+                if self.window_manager_announced() {
+                    self.children.push(wm);
+                    return;
+                }
+                exited = wm.try_wait().expect("openbox's status");
+                std::thread::sleep(Duration::from_millis(50));
             }
-            std::thread::sleep(Duration::from_millis(50));
+            let _ = wm.kill();
+            let _ = wm.wait();
+            let said = std::fs::read_to_string(&log).unwrap_or_default();
+            let how = exited.map_or(format!("silent for {} s", WM_WAIT.as_secs()), |s| format!("exited ({s})"));
+            history.push(format!("attempt {attempt}: {how}; said: {}", said.trim()));
         }
-        panic!("openbox did not start on {} within 10 s", self.name);
+        let xvfb = self.children[0].try_wait().ok().flatten().map_or("running".into(), |s| format!("exited ({s})"));
+        panic!("openbox did not start on {} (Xvfb {xvfb}):\n{}", self.name, history.join("\n"));
+    }
+
+    fn window_manager_announced(&self) -> bool {
+        let out = Command::new("xprop")
+            .args(["-display", &self.name, "-root", "_NET_SUPPORTING_WM_CHECK"])
+            .output()
+            .unwrap_or_else(|e| panic!("xprop (x11-utils) is needed to wait for the window manager: {e}"));
+        String::from_utf8_lossy(&out.stdout).contains("window id")
     }
 }
 
