@@ -90,8 +90,10 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
     return vec4(m.rgb, METHOD == METHOD_FULL ? m.a : 0.0);
 }
 
-// Everything the sea sends towards v at one pixel.
-vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2) {
+// Everything the sea sends towards v at one pixel. sun_visible: the share of the sun that the
+// displaced grid leaves the point (its shadow map); the unresolved slopes' own shadowing is
+// Smith's, inside reflected_sun, over the slopes the grid does not hold.
+vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible) {
     // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
     // where cos_v = 0 is the formulas' own finite limit.
     float vn = dot(v, n);
@@ -104,7 +106,9 @@ vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2) {
     vec3 vl = to_local(f, v);
     float cos_v = clamp(vl.z, 0.0, 1.0);
     vec3 color = vec3(0.0);
-    if (TERM_SUN && frame.sun_irradiance.w > 0.0) color += reflected_sun(f, v, frame.sun_dir.xyz, sigma2);
+    if (TERM_SUN && frame.sun_irradiance.w > 0.0 && sun_visible > 0.0) {
+        color += sun_visible * reflected_sun(f, v, frame.sun_dir.xyz, sigma2);
+    }
     float fresnel = mean_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.

@@ -33,6 +33,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     // [4] the sun's illuminance outside the atmosphere (klux), the sun disc's chord^2
     // (2 (1 - cos radius)), the eye's altitude (m), the aerial perspective's depth (m).
     vec4 atmosphere[5];
+    mat4 sun_view_proj;    // camera-relative world -> the sun's shadow map (src/render/sun_shadow.rs): z 0 nearest the sun
+    vec4 shadow;           // x: the camera's near plane (m); y: 1 if the sun's view exists this frame
 } frame;
 
 // The wave trains, sorted by increasing wavelength. Two words per train keep the per-pixel loop

@@ -9,6 +9,8 @@ WAVES_BLOCK;
 
 // Whether any train can be resolved by the grid in this view (specialization constant 4).
 layout(constant_id = 4) const bool GEOMETRY = true;
+// Whether this is the sun's view of the grid (the shadow pass, src/render/passes/shadow.rs).
+layout(constant_id = 10) const bool SUN_VIEW = false;
 
 layout(location = 0) out vec3 out_rest_h;   // (H r.xy, w): rest position = xy / w, interpolated projectively
 
@@ -29,6 +31,6 @@ void main() {
     SampleScale cell = sample_scale(ray, cell_px, frame.filter_steps.xy);
     if (GEOMETRY && cell.any) d = displacement(rest_times_w / w, cell, frame.filter_steps.xy);   // any implies w > 0
     vec4 p_h = vec4(rest_times_w + w * d.xy, w * (d.z - height), w);
-    gl_Position = frame.view_proj * p_h;
+    gl_Position = (SUN_VIEW ? frame.sun_view_proj : frame.view_proj) * p_h;
     out_rest_h = vec3(rest_times_w, w);
 }

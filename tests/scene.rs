@@ -74,6 +74,8 @@ fn out_of_range_values_name_key_and_range() {
         ("[render]\nev100 = nan", "render.ev100"),
         ("[render]\nev100 = 40.0", "render.ev100"),
         ("[render]\ngrid_cell_px = 0.5", "render.grid_cell_px"),
+        ("[render]\nshadow_map_size = 32", "render.shadow_map_size"),
+        ("[render]\nshadow_map_size = 16384", "render.shadow_map_size"),
         ("[sky]\nturbidity = 1.0", "sky.turbidity"),
         ("[sun]\nelevation_deg = -90.5", "sun.elevation_deg"),
         ("[camera]\nfov_y_deg = 0.0", "camera.fov_y_deg"),
@@ -91,6 +93,11 @@ fn out_of_range_values_name_key_and_range() {
         ("[render]\nev100 = 12.0\nexposure = 0.1", "render.exposure and render.ev100 both set"),
         ("[render]\nev100 = \"bright\"", "an exposure value (EV100) or \"auto\""),
         ("[render]\ntone_curve = \"reinhard\"", "unknown variant"),
+        ("[render]\nshadow_map = \"sometimes\"", "unknown variant"),
+        (
+            "[sun]\nelevation_deg = -2.0\n[render]\nshadow_map = \"on\"",
+            "render.shadow_map = \"on\" needs the sun above the horizon",
+        ),
     ];
     for (text, what) in others {
         let e = parse_error(text);

@@ -6,11 +6,12 @@ pub mod animate;
 pub mod profile;
 pub mod report;
 
-use crate::app::report::{GridReport, Report, WaveReport};
+use crate::app::report::{GridReport, Report, ShadowMapReport, WaveReport};
 use crate::error::Result;
 use crate::model::scene::Scene;
 use crate::output;
 use crate::render::passes::shade::train_reads_on;
+use crate::render::passes::shadow::ShadowPass;
 use crate::render::renderer::{Options, RenderedFrame, Renderer};
 use crate::vk::gpu::Gpu;
 use std::collections::BTreeMap;
@@ -74,7 +75,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     // The report names the loop the device actually runs.
     options.shader.train_reads = train_reads_on(&gpu.device, options.shader.train_reads);
     let mut omitted = omitted;
-    let (frame, memory, fastest, timings, statistics) = {
+    let (frame, memory, fastest, timings, statistics, shadows) = {
         let mut renderer = Renderer::new(gpu, scene, request.width, request.height, options)?;
         let mut frame = renderer.render(scene)?;
         let mut timings = Vec::new();
@@ -97,7 +98,8 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         let statistics = renderer.last_gpu_frame().filter(|_| options.statistics).map(|f| {
             f.passes.iter().filter_map(|p| p.statistics.map(|s| (p.name.to_owned(), s))).collect::<BTreeMap<_, _>>()
         });
-        (frame, renderer.memory(), fastest, timings, statistics)
+        let shadows = renderer.pass_names().contains(&ShadowPass::NAME);
+        (frame, renderer.memory(), fastest, timings, statistics, shadows)
     };
     let mut gpu_ms_frames: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     for frame_ms in &timings {
@@ -143,6 +145,11 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
             rows: frame.frame.grid.rows,
             cell_px: scene.render.grid_cell_px,
         },
+        shadow_map: frame
+            .frame
+            .sun_view
+            .filter(|_| shadows)
+            .map(|s| ShadowMapReport { size: scene.render.shadow_map_size, texel_m: s.texel_m }),
         waves: WaveReport {
             count: wave_set.trains.len(),
             sigma2_along_wind: wave_set.sigma2[0],

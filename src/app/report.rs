@@ -35,6 +35,8 @@ pub struct Report {
     /// The pipeline cache this run started from (file, bytes loaded, or why none was used).
     pub pipeline_cache: crate::vk::pipeline_cache::CacheReport,
     pub grid: GridReport,
+    /// The sun's shadow map, where the frame drew one.
+    pub shadow_map: Option<ShadowMapReport>,
     /// The eye's height above mean sea level as rendered: the scene's, raised by a crest under it.
     pub eye_height_m: f64,
     /// What this scene did not need and was left out, with why (empty with --no-specialize).
@@ -49,6 +51,14 @@ pub struct GridReport {
     pub columns: u32,
     pub rows: u32,
     pub cell_px: f64,
+}
+
+#[derive(Debug, Serialize)]
+pub struct ShadowMapReport {
+    pub size: u32,
+    /// A texel's sides (m): across the sunlight, and across it in its vertical plane (on the
+    /// sea, that over the sine of the sun's elevation), over the sea the grid displaces in view.
+    pub texel_m: [f64; 2],
 }
 
 #[derive(Debug, Serialize)]

@@ -143,7 +143,28 @@ pub struct Render {
     pub time_s: f64,
     /// Maximum anisotropy of the sky-map sampler (1 = trilinear only).
     pub sky_anisotropy: f64,
+    /// The sun's shadow map of the displaced grid (passes/shadow.rs): "auto" draws it wherever
+    /// the sun is up and the grid resolves some train, "on" insists (an error with the sun down,
+    /// a logged omission where nothing is displaced), "off" (the default, until its nearest band
+    /// is understood: docs/results.md, "Sun shadows") leaves the waves' shadows to the BRDF's
+    /// statistical term alone.
+    pub shadow_map: ShadowMapMode,
+    /// The shadow map's texels per side.
+    pub shadow_map_size: u32,
 }
+
+/// Whether the sun's shadow map is drawn (`render.shadow_map`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadowMapMode {
+    Auto,
+    On,
+    Off,
+}
+
+/// The shadow map's allowed sides (texels): below 64 it resolves no wave, above 8192 it alone
+/// would take 256 MiB.
+pub const SHADOW_MAP_SIZES: (u32, u32) = (64, 8192);
 
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize, Default)]
 #[serde(deny_unknown_fields, default)]
@@ -190,6 +211,8 @@ impl Default for Render {
             tone_curve: ToneCurve::Filmic,
             time_s: 0.0,
             sky_anisotropy: 1.0,
+            shadow_map: ShadowMapMode::Off,
+            shadow_map_size: 1024,
         }
     }
 }
@@ -362,6 +385,16 @@ impl Scene {
         }
         in_range("render.time_s", r.time_s, Bound::Closed(-1e9), Bound::Closed(1e9))?;
         in_range("render.sky_anisotropy", r.sky_anisotropy, Bound::Closed(1.0), Bound::Closed(16.0))?;
+        let (lo, hi) = SHADOW_MAP_SIZES;
+        if !(lo..=hi).contains(&r.shadow_map_size) {
+            return Err(format!("render.shadow_map_size = {} is out of range [{lo}, {hi}]", r.shadow_map_size));
+        }
+        if r.shadow_map == ShadowMapMode::On && self.sun.elevation_deg <= 0.0 {
+            return Err(format!(
+                "render.shadow_map = \"on\" needs the sun above the horizon: sun.elevation_deg = {} casts no shadow on the sea (use \"auto\" or \"off\")",
+                self.sun.elevation_deg
+            ));
+        }
         Ok(())
     }
 }

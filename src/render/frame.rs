@@ -31,7 +31,7 @@ pub fn sky_map_extent(method: crate::render::passes::ocean::Method) -> f32 {
 /// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
 pub const SEA_ALBEDO: [f64; 3] = [10.0 / 255.0 * 0.1, 40.0 / 255.0 * 0.1, 120.0 / 255.0 * 0.1];
 /// Near plane of the reversed-Z infinite projection (m).
-const Z_NEAR: f64 = 0.01;
+pub const Z_NEAR: f64 = 0.01;
 /// Largest grid margin past each screen edge, in NDC units (a full screen half-width).
 pub const MAX_MARGIN_NDC: f64 = 1.0;
 
@@ -58,6 +58,8 @@ pub struct FrameUniforms {
     pub wave_extent: [f32; 4],
     pub baseline_sigma2: [f32; 4],
     pub atmosphere: [[f32; 4]; 5],
+    pub sun_view_proj: [[f32; 4]; 4],
+    pub shadow: [f32; 4],
 }
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
@@ -246,6 +248,8 @@ pub struct FrameData {
     pub sea_rows: u32,
     pub camera: CameraFrame,
     pub sky: SkyModel,
+    /// The sun's view of the displaced sea (None: the sun is down or nothing is displaced).
+    pub sun_view: Option<crate::render::sun_shadow::SunView>,
 }
 
 fn v4(v: [f64; 3], w: f64) -> [f32; 4] {
@@ -295,6 +299,14 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
     };
     let sun_irradiance = sun_radiance.map(|l| l * SkyModel::sun_solid_angle());
     let sun_above = if sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
+    let sun_view = if sun_above > 0.0 {
+        let probes = crate::render::sun_shadow::displaced_probes(&camera, waves, cell_px, (width, height), 1.0);
+        let eye = DVec3::new(scene.camera.x_m, scene.camera.y_m, camera.plane_height);
+        let size = scene.render.shadow_map_size;
+        crate::render::sun_shadow::fit(&probes, waves, &camera, DVec3::from(sky.sun_dir), eye, size)
+    } else {
+        None
+    };
     let perez = std::array::from_fn(|i| v4(sky.perez[i], 0.0));
     let uniforms = FrameUniforms {
         view_proj: mat(view_proj),
@@ -358,9 +370,13 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             ],
         ]
         .map(|v| v.map(|x| x as f32)),
+        sun_view_proj: mat(sun_view.map_or(DMat4::ZERO, |s| s.view_proj).as_mat4()),
+        // x: the camera's near plane (depth to distance); y: whether the sun's view exists this
+        // frame.
+        shadow: [Z_NEAR as f32, sun_view.is_some() as u32 as f32, 0.0, 0.0],
     };
     // No grid row: no sea anywhere in view.
     let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, width, height) };
     let sea_rows = if grid.rows == 0 { height } else { sea_only_rows(&camera, width, height) };
-    FrameData { uniforms, waves: gpu_waves, grid, sky_rows, sea_rows, camera, sky }
+    FrameData { uniforms, waves: gpu_waves, grid, sky_rows, sea_rows, camera, sky, sun_view }
 }

@@ -1,6 +1,6 @@
 //! One frame on the GPU: what the CPU hands the shaders (`frame`), the images and buffers
 //! between passes (`resources`), the passes themselves (`passes`), what a scene needs
-//! (`specialize`), the per-frame-in-flight slots (`in_flight`) and the renderer that records
+//! (`specialize`), the sun's view of the sea for its shadows (`sun_shadow`), the per-frame-in-flight slots (`in_flight`) and the renderer that records
 //! and submits frames to a target (`renderer`), and a frame's CPU and GPU spans on one clock
 //! (`timeline`).
 
@@ -11,4 +11,5 @@ pub mod passes;
 pub mod renderer;
 pub mod resources;
 pub mod specialize;
+pub mod sun_shadow;
 pub mod timeline;

@@ -4,7 +4,7 @@
 //! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
-use crate::model::scene::{Scene, Sky, SkyKind, Sun};
+use crate::model::scene::{Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::FrameSlot;
@@ -16,6 +16,7 @@ use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
 use crate::render::passes::shade::ShadePass;
+use crate::render::passes::shadow::ShadowPass;
 use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::render::passes::tonemap::TonemapPass;
 use crate::render::passes::{Frame, Pass, Recorder};
@@ -161,6 +162,8 @@ pub struct Renderer<'g> {
     tone: Tone,
     /// The sky map's extent in stereographic u, as the method's lookups want it.
     sky_map_extent: f32,
+    /// The scene's shadow-map setting the passes and resources were made for.
+    shadow_setting: (ShadowMapMode, u32),
 }
 
 /// What the view-dependent passes depend on: the sky and the camera's rays and height, as the
@@ -215,6 +218,13 @@ impl<'g> Renderer<'g> {
             options.sky_map || !options.shader.terms.sea || options.shader.method != Method::Full,
             "the full method's refracted term samples the sky map"
         );
+        // The sun's shadow map: only for the sun term over a displaced grid, unless the scene
+        // turns it off.
+        let shader = &mut options.shader;
+        shader.shadow &= shader.terms.sun
+            && shader.geometry
+            && !shader.draws_nothing()
+            && scene.render.shadow_map != ShadowMapMode::Off;
         let frames_in_flight = options.frames_in_flight.max(1);
         let spec = ResourceSpec {
             width,
@@ -225,6 +235,7 @@ impl<'g> Renderer<'g> {
             slots: frames_in_flight,
             readback: options.output == Output::Readback,
             atmosphere: options.shader.sky_physical && !options.shader.draws_nothing(),
+            shadow_map: options.shader.shadow.then_some(scene.render.shadow_map_size),
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
@@ -241,6 +252,9 @@ impl<'g> Renderer<'g> {
         if options.shader.draws_nothing() {
             passes.push(Box::new(BlackPass));
         } else {
+            if options.shader.shadow {
+                passes.push(Box::new(ShadowPass::new(device, &resources, options.shader)?));
+            }
             passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
             passes.push(Box::new(ShadePass::new(device, &resources, options.shader)?));
         }
@@ -290,15 +304,17 @@ impl<'g> Renderer<'g> {
             sky_model: scene.sky.model,
             tone,
             sky_map_extent: frame::sky_map_extent(options.shader.method),
+            shadow_setting: (scene.render.shadow_map, scene.render.shadow_map_size),
         })
     }
 
     /// Whether this renderer's pipelines and resources suit `scene` (else make a new renderer):
-    /// the sky's model and sampler, and the tone mapping.
+    /// the sky's model and sampler, the tone mapping and the shadow map.
     pub fn fits(&self, scene: &Scene) -> bool {
         scene.sky.model == self.sky_model
             && scene.render.sky_anisotropy == self.anisotropy
             && Tone::of(scene) == self.tone
+            && (scene.render.shadow_map, scene.render.shadow_map_size) == self.shadow_setting
     }
 
     pub fn memory(&self) -> MemoryReport {
@@ -484,6 +500,13 @@ impl<'g> Renderer<'g> {
                 self.anisotropy, scene.render.sky_anisotropy
             )));
         }
+        let shadow_setting = (scene.render.shadow_map, scene.render.shadow_map_size);
+        if shadow_setting != self.shadow_setting {
+            return Err(Error::Argument(format!(
+                "this renderer was built for render.shadow_map = {:?} at {} texels, the scene asks {:?} at {}",
+                self.shadow_setting.0, self.shadow_setting.1, shadow_setting.0, shadow_setting.1
+            )));
+        }
         let wave_set = waves::generate(scene);
         let k = self.ssaa;
         let mut data =
@@ -518,6 +541,7 @@ impl<'g> Renderer<'g> {
             grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
             sky_rows: data.sky_rows,
             sea_rows: data.sea_rows,
+            sun_view: data.sun_view.is_some(),
             swap_image: image,
         };
 

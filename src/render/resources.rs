@@ -35,6 +35,9 @@ pub struct ResourceSpec {
     pub readback: bool,
     /// Whether the sky is the physical atmosphere (its tables are made).
     pub atmosphere: bool,
+    /// The sun's shadow map's texels per side, when it is drawn (else a 1x1 placeholder keeps
+    /// the shading pass's bindings valid).
+    pub shadow_map: Option<u32>,
 }
 
 /// The physical atmosphere's tables (glsl/atmosphere.glsl), sampled linearly, clamped.
@@ -85,7 +88,19 @@ pub struct Resources<'g> {
     /// `alias_view` sees the texels' bits as HDR_BITS_FORMAT: the visibility pass stores each
     /// pixel's rest position there, which the shading pass replaces with the radiance.
     pub hdr: Image<'g>,
+    /// The camera's depth (reversed Z); sampled by the shading pass for the sun's shadows.
     pub depth: Image<'g>,
+    /// The sun's view of the displaced grid (passes/shadow.rs), depth nearest the sun; a 1x1
+    /// placeholder (never written, never read: the shader's code for it is specialized away)
+    /// without shadows. `depth` is then bound in its place too.
+    pub shadow_map: Image<'g>,
+    /// Whether `shadow_map` is the real one.
+    pub shadows: bool,
+    /// Compares a depth against the shadow map's (1: lit), blended over 2 x 2 texels where the
+    /// device filters depth linearly.
+    pub shadow_sampler: Owned<'g, vk::Sampler>,
+    /// Nearest, no comparison: the camera's depth read texel by texel.
+    pub depth_sampler: Owned<'g, vk::Sampler>,
     /// With supersampling, the resolved HDR radiance at the output size.
     pub resolved: Option<Image<'g>>,
     /// Offscreen rendering only: the HDR radiance and the tone-mapped pixels for the host.
@@ -119,7 +134,7 @@ pub struct Readback<'g> {
 impl<'g> Resources<'g> {
     /// Resources for `width` x `height` output images rendered with `ssaa` x `ssaa` samples per pixel.
     pub fn new(gpu: &'g Gpu, spec: &ResourceSpec) -> Result<Self> {
-        let ResourceSpec { width, height, ssaa, sky_map, anisotropy, slots, readback, atmosphere } = *spec;
+        let ResourceSpec { width, height, ssaa, sky_map, anisotropy, slots, readback, atmosphere, shadow_map } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > side || height > side {
@@ -161,7 +176,18 @@ impl<'g> Resources<'g> {
         // Transfer destination: a frame with nothing to shade clears it (passes/black.rs).
         let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let hdr = Image::aliased(gpu, "hdr radiance", HDR_FORMAT, HDR_BITS_FORMAT, render_extent, hdr_usage)?;
-        let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, I::DEPTH_STENCIL_ATTACHMENT)?;
+        let depth_usage = I::DEPTH_STENCIL_ATTACHMENT | I::SAMPLED;
+        let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, depth_usage)?;
+        if let Some(size) = shadow_map.filter(|&size| size > side) {
+            return Err(Error::Argument(format!(
+                "render.shadow_map_size = {size} is above the largest image side of {}, {side}",
+                gpu.device.name
+            )));
+        }
+        let shadow_side = shadow_map.unwrap_or(1);
+        let shadow_extent = vk::Extent2D { width: shadow_side, height: shadow_side };
+        let name = if shadow_map.is_some() { "sun shadow map" } else { "sun shadow map (placeholder)" };
+        let shadow_map_image = Image::new(gpu, name, DEPTH_FORMAT, shadow_extent, 1, depth_usage)?;
         let resolved = if ssaa > 1 {
             Some(Image::new(gpu, "hdr resolved", HDR_FORMAT, extent, 1, I::STORAGE | I::SAMPLED | I::TRANSFER_SRC)?)
         } else {
@@ -200,6 +226,30 @@ impl<'g> Resources<'g> {
         let aerial_inscatter = Image::new(gpu, "aerial inscatter", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let aerial_transmittance = Image::new(gpu, "aerial transmittance", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let atmosphere = if atmosphere { Some(atmosphere_tables(gpu)?) } else { None };
+        let filter = if gpu.device.depth_filter_linear { vk::Filter::LINEAR } else { vk::Filter::NEAREST };
+        let shadow_info = vk::SamplerCreateInfo::default()
+            .mag_filter(filter)
+            .min_filter(filter)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL) // lit: the receiver no farther than the nearest
+            .max_lod(0.0);
+        // SAFETY: valid create info; linear only where the format filters linearly.
+        let shadow_sampler = unsafe { gpu.raw().create_sampler(&shadow_info, None) }.during("vkCreateSampler")?;
+        let shadow_sampler = Owned::new(&gpu.device, shadow_sampler, "sun shadow sampler");
+        let depth_info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(0.0);
+        // SAFETY: valid create info.
+        let depth_sampler = unsafe { gpu.raw().create_sampler(&depth_info, None) }.during("vkCreateSampler")?;
+        let depth_sampler = Owned::new(&gpu.device, depth_sampler, "depth sampler");
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
@@ -208,6 +258,10 @@ impl<'g> Resources<'g> {
             sky_sampler: Owned::new(&gpu.device, sky_sampler, "sky map sampler"),
             hdr,
             depth,
+            shadow_map: shadow_map_image,
+            shadows: shadow_map.is_some(),
+            shadow_sampler,
+            depth_sampler,
             resolved,
             readback,
             train_counts,

@@ -3,12 +3,13 @@
 //! general renderer would compute to zero (or to nothing visible), so the picture stays the same;
 //! the report lists each with its reason.
 
-use crate::model::scene::{Scene, SkyKind};
+use crate::model::scene::{Scene, ShadowMapMode, SkyKind};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
 use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
 use crate::render::passes::ocean::{Method, TrainReads};
 use crate::render::renderer::Options;
+use crate::render::sun_shadow::displaced_probes;
 use serde::Serialize;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -17,35 +18,14 @@ pub struct Omission {
     pub why: String,
 }
 
-/// Screen positions (NDC, margins included) where the grid's resolution is checked.
-const PROBES: usize = 41;
 /// A train must be this many times past the grid's Nyquist limit at every probe before the
 /// vertex stage's displacement is left out (the probes are a sample of the screen).
 const GEOMETRY_MARGIN: f64 = 2.0;
 
-/// Whether some train can be displaced by the grid somewhere in view: the test of
-/// glsl/waves.glsl `sample_scale` (the longest train against the footprint's smallest phase
-/// step) at probes over the screen and its margins, with a safety factor.
+/// Whether some train can be displaced by the grid somewhere in view (sun_shadow::displaced_probes
+/// with a safety factor).
 fn grid_resolves_some_train(camera: &CameraFrame, waves: &WaveSet, cell_px: f64, width: u32, height: u32) -> bool {
-    let Some(longest) = waves.trains.last().map(|t| t.wavelength) else { return false };
-    let reach = camera.plane_height * cell_px;
-    let unresolved = GEOMETRY_STEPS[1] as f64;
-    let dr_du = camera.right * camera.tan_half_x * (2.0 / width as f64);
-    let dr_dv = -camera.up * camera.tan_half_y * (2.0 / height as f64);
-    (0..PROBES * PROBES).any(|i| {
-        let ndc = [
-            -2.0 + 4.0 * (i % PROBES) as f64 / (PROBES - 1) as f64,
-            -2.0 + 4.0 * (i / PROBES) as f64 / (PROBES - 1) as f64,
-        ];
-        let r = camera.ray(ndc);
-        let w = (-r.z).max(0.0);
-        let q = |d: glam::DVec3| glam::DVec2::new(d.x * w + r.x * d.z, d.y * w + r.y * d.z);
-        let (qu, qv) = (q(dr_du), q(dr_dv));
-        let det = (qu.x * qv.y - qu.y * qv.x).abs();
-        let diagonal = (qu - qv).length().max((qu + qv).length());
-        let q_min = if diagonal > 0.0 { det / diagonal } else { 0.0 };
-        longest * w * w * unresolved > GEOMETRY_MARGIN * q_min * reach
-    })
+    !displaced_probes(camera, waves, cell_px, (width, height), GEOMETRY_MARGIN).is_empty()
 }
 
 /// The options a frame of `scene` needs, starting from `requested` (which it only narrows), and
@@ -120,6 +100,25 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             ),
         );
     }
+    if options.shader.shadow {
+        let size = scene.render.shadow_map_size;
+        let what = format!("sun shadow map ({size}x{size}) and its pass");
+        let why = if scene.render.shadow_map == ShadowMapMode::Off {
+            Some("render.shadow_map = \"off\": the waves' shadows are the BRDF's statistical term alone".to_owned())
+        } else if !options.shader.terms.sun {
+            Some("no sun term to shadow".to_owned())
+        } else if options.shader.draws_nothing() || !options.shader.geometry {
+            let forced =
+                if scene.render.shadow_map == ShadowMapMode::On { " (render.shadow_map = \"on\")" } else { "" };
+            Some(format!("no train is displaced by the grid, so none casts a shadow{forced}"))
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            options.shader.shadow = false;
+            omit(&what, why);
+        }
+    }
     if options.ssaa == 1 {
         omit("resolve pass and its image", "no supersampling".into());
     }
@@ -151,6 +150,9 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     }
     if options.shader.background {
         names.push("sky".to_owned());
+    }
+    if options.shader.shadow && !options.shader.draws_nothing() {
+        names.push("sun shadow".to_owned());
     }
     if options.ssaa > 1 {
         names.push("resolve".to_owned());

@@ -27,7 +27,8 @@ fn required_format_features() -> [(vk::Format, vk::FormatFeatureFlags, &'static 
                 | F::TRANSFER_SRC,
             "R16G16B16A16_SFLOAT as colour attachment, storage, linear-filtered blit source and destination",
         ),
-        (DEPTH_FORMAT, F::DEPTH_STENCIL_ATTACHMENT, "D32_SFLOAT as depth attachment"),
+        // Sampled: the shading pass reads the camera's depth and the sun's shadow map.
+        (DEPTH_FORMAT, F::DEPTH_STENCIL_ATTACHMENT | F::SAMPLED_IMAGE, "D32_SFLOAT as sampled depth attachment"),
         (HDR_BITS_FORMAT, F::COLOR_ATTACHMENT | F::STORAGE_IMAGE, "R16G16B16A16_UINT as colour attachment and storage"),
     ]
 }
@@ -42,6 +43,9 @@ pub struct Device {
     pub memory_properties: vk::PhysicalDeviceMemoryProperties,
     pub timestamp_valid_bits: u32,
     pub anisotropy: bool,
+    /// Whether DEPTH_FORMAT filters linearly (optional in Vulkan): the shadow map's comparisons
+    /// are then blended over 2 x 2 texels (else the nearest texel decides).
+    pub depth_filter_linear: bool,
     pub subgroups: Subgroups,
     /// Whether pipeline statistics queries exist (the pipelineStatisticsQuery feature, enabled).
     pub pipeline_statistics: bool,
@@ -72,6 +76,7 @@ struct Candidate {
     queue_family: u32,
     timestamp_valid_bits: u32,
     anisotropy: bool,
+    depth_filter_linear: bool,
     subgroups: Subgroups,
     pipeline_statistics: bool,
     calibrated_timestamps: bool,
@@ -135,6 +140,10 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
         }
     }
     // SAFETY: as above.
+    let depth_props = unsafe { raw.get_physical_device_format_properties(physical, DEPTH_FORMAT) };
+    let depth_filter_linear =
+        depth_props.optimal_tiling_features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR);
+    // SAFETY: as above.
     let families = unsafe { raw.get_physical_device_queue_family_properties(physical) };
     let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
     let (queue_family, family) = families
@@ -164,6 +173,7 @@ fn check(instance: &Instance, physical: vk::PhysicalDevice, surface: Option<&Sur
         queue_family: queue_family as u32,
         timestamp_valid_bits: family.timestamp_valid_bits,
         anisotropy,
+        depth_filter_linear,
         subgroups,
         pipeline_statistics,
         calibrated_timestamps,
@@ -266,6 +276,7 @@ impl Device {
             memory_properties,
             timestamp_valid_bits: c.timestamp_valid_bits,
             anisotropy: c.anisotropy,
+            depth_filter_linear: c.depth_filter_linear,
             subgroups: c.subgroups,
             pipeline_statistics: c.pipeline_statistics,
             calibrated_timestamps,

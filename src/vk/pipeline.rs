@@ -209,14 +209,19 @@ pub fn specialized_compute_pipeline<'g>(
 pub struct GraphicsDesc<'a> {
     pub name: &'a str,
     pub vertex: &'a [u8],
-    pub fragment: &'a [u8],
+    /// None: a depth-only pipeline.
+    pub fragment: Option<&'a [u8]>,
     /// Applied to both stages.
     pub specialization: Option<&'a Specialization>,
-    pub color_format: vk::Format,
+    /// None: no colour attachment.
+    pub color_format: Option<vk::Format>,
     /// UNDEFINED: no depth attachment, no depth test.
     pub depth_format: vk::Format,
     pub depth_write: bool,
     pub depth_compare: vk::CompareOp,
+    /// Rasterization's depth bias: (constant, slope) factors (Vulkan's depthBiasConstantFactor,
+    /// depthBiasSlopeFactor; no clamp).
+    pub depth_bias: Option<(f32, f32)>,
 }
 
 pub fn graphics_pipeline<'g>(
@@ -225,7 +230,7 @@ pub fn graphics_pipeline<'g>(
     desc: &GraphicsDesc,
 ) -> Result<Owned<'g, vk::Pipeline>> {
     let vs = shader_module(device, desc.vertex, &format!("{} vs", desc.name))?;
-    let fs = shader_module(device, desc.fragment, &format!("{} fs", desc.name))?;
+    let fs = desc.fragment.map(|code| shader_module(device, code, &format!("{} fs", desc.name))).transpose()?;
     let spec_info = desc.specialization.map(|s| s.info());
     let stage = |stage, module| {
         let info = vk::PipelineShaderStageCreateInfo::default().stage(stage).module(module).name(c"main");
@@ -234,7 +239,8 @@ pub fn graphics_pipeline<'g>(
             None => info,
         }
     };
-    let stages = [stage(vk::ShaderStageFlags::VERTEX, vs.raw), stage(vk::ShaderStageFlags::FRAGMENT, fs.raw)];
+    let mut stages = vec![stage(vk::ShaderStageFlags::VERTEX, vs.raw)];
+    stages.extend(fs.as_ref().map(|fs| stage(vk::ShaderStageFlags::FRAGMENT, fs.raw)));
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let input_assembly =
         vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
@@ -244,6 +250,12 @@ pub fn graphics_pipeline<'g>(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
+    let raster = match desc.depth_bias {
+        Some((constant, slope)) => {
+            raster.depth_bias_enable(true).depth_bias_constant_factor(constant).depth_bias_slope_factor(slope)
+        }
+        None => raster,
+    };
     let multisample =
         vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let has_depth = desc.depth_format != vk::Format::UNDEFINED;
@@ -253,10 +265,11 @@ pub fn graphics_pipeline<'g>(
         .depth_compare_op(desc.depth_compare);
     let blend_attachment =
         [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+    let colors = if desc.color_format.is_some() { &blend_attachment[..] } else { &[] };
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(colors);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats = [desc.color_format];
+    let color_formats: Vec<vk::Format> = desc.color_format.into_iter().collect();
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(&color_formats)
         .depth_attachment_format(desc.depth_format);

@@ -50,12 +50,13 @@ impl<'g> DisplayPass<'g> {
             &GraphicsDesc {
                 name: "display",
                 vertex: shaders::FULLSCREEN_VERT,
-                fragment: shaders::DISPLAY_FRAG,
+                fragment: Some(shaders::DISPLAY_FRAG),
                 specialization: Some(&spec),
-                color_format: format,
+                color_format: Some(format),
                 depth_format: vk::Format::UNDEFINED,
                 depth_write: false,
                 depth_compare: vk::CompareOp::ALWAYS,
+                depth_bias: None,
             },
         )?;
         Ok(DisplayPass { bindings, pipeline, auto: tone.auto })

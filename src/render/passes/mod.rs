@@ -10,6 +10,7 @@ pub mod ocean;
 pub mod readback;
 pub mod resolve;
 pub mod shade;
+pub mod shadow;
 pub mod sky_map;
 pub mod tonemap;
 
@@ -31,6 +32,8 @@ pub struct Frame {
     pub sky_rows: u32,
     /// The first row of the rendered image from which only sea is seen.
     pub sea_rows: u32,
+    /// Whether the sun has a view of the displaced sea this frame (sun_shadow::fit).
+    pub sun_view: bool,
     pub swap_image: Option<SwapImage>,
 }
 
@@ -82,4 +85,16 @@ pub fn dispatch_over(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings
     bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
     // SAFETY: as above.
     unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
+}
+
+/// A viewport over a whole attachment of `extent`, depth over [0, 1].
+pub fn whole_viewport(extent: vk::Extent2D) -> vk::Viewport {
+    vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    }
 }

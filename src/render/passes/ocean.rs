@@ -4,7 +4,7 @@
 //! configuration, shared by both passes.
 
 use super::shade::SHADE_GROUP;
-use super::{write_frame_uniforms, Frame, Pass, Recorder};
+use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
@@ -86,6 +86,10 @@ pub struct ShaderConfig {
     /// by the renderer): its map is raymarched through the atmosphere's tables, and the sky seen
     /// directly is read from the map.
     pub sky_physical: bool,
+    /// Whether the displaced grid shadows the reflected sun through the sun's shadow map
+    /// (specialization constant 9; passes/shadow.rs draws it). The renderer keeps it only with the
+    /// sun term, the displacement and `render.shadow_map` not "off".
+    pub shadow: bool,
 }
 
 impl Default for ShaderConfig {
@@ -98,6 +102,7 @@ impl Default for ShaderConfig {
             background: true,
             count_trains: false,
             sky_physical: false,
+            shadow: true,
         }
     }
 }
@@ -111,12 +116,22 @@ impl ShaderConfig {
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
     /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5); for the
     /// shading pass also whether its rows see only sea (6) and whether it counts trains (7); the
-    /// sky's model (8) for all.
+    /// sky's model (8) and the sun's shadows (9) for all; whether the grid is drawn from the sun
+    /// (10, the shadow pass's vertex stage only).
     pub fn specialization(&self) -> Specialization {
         self.shade_specialization(false)
     }
 
+    /// The shadow pass's: the visibility pass's vertex stage, seen from the sun.
+    pub fn sun_view_specialization(&self) -> Specialization {
+        self.words(false, true)
+    }
+
     pub fn shade_specialization(&self, sea_only: bool) -> Specialization {
+        self.words(sea_only, false)
+    }
+
+    fn words(&self, sea_only: bool, sun_view: bool) -> Specialization {
         Specialization::words(&[
             self.terms.sun as u32,
             self.terms.sky as u32,
@@ -127,6 +142,8 @@ impl ShaderConfig {
             sea_only as u32,
             self.count_trains as u32,
             self.sky_physical as u32,
+            self.shadow as u32,
+            sun_view as u32,
         ])
     }
 
@@ -186,12 +203,13 @@ impl<'g> OceanPass<'g> {
             &GraphicsDesc {
                 name: "ocean",
                 vertex: shaders::OCEAN_VERT,
-                fragment: shaders::OCEAN_FRAG,
+                fragment: Some(shaders::OCEAN_FRAG),
                 specialization: Some(&spec),
-                color_format: HDR_BITS_FORMAT,
+                color_format: Some(HDR_BITS_FORMAT),
                 depth_format: DEPTH_FORMAT,
                 depth_write: true,
                 depth_compare: vk::CompareOp::GREATER, // reversed Z
+                depth_bias: None,
             },
         )?;
         let sky = if config.background {
@@ -201,12 +219,13 @@ impl<'g> OceanPass<'g> {
                 &GraphicsDesc {
                     name: "sky",
                     vertex: shaders::FULLSCREEN_VERT,
-                    fragment: shaders::SKY_FRAG,
+                    fragment: Some(shaders::SKY_FRAG),
                     specialization: Some(&spec),
-                    color_format: HDR_BITS_FORMAT,
+                    color_format: Some(HDR_BITS_FORMAT),
                     depth_format: DEPTH_FORMAT,
                     depth_write: false,
                     depth_compare: vk::CompareOp::ALWAYS, // the rows hold no sea
+                    depth_bias: None,
                 },
             )?)
         } else {
@@ -242,7 +261,8 @@ impl Pass for OceanPass<'_> {
             .image_view(r.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            // The shading pass places each pixel's surface point from it for the sun's shadows.
+            .store_op(if r.shadows { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         let info = vk::RenderingInfo::default()
@@ -250,14 +270,7 @@ impl Pass for OceanPass<'_> {
             .layer_count(1)
             .color_attachments(&color)
             .depth_attachment(&depth);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
+        let viewport = whole_viewport(extent);
         let sky_rows = sky_shaded_rows(rec.frame.sky_rows).min(extent.height);
         // SAFETY: attachments are in the layouts declared above; the pipelines were built for
         // these formats; the slot's index buffer holds `count` valid indices.

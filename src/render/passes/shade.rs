@@ -18,6 +18,9 @@ const TRAIN_COUNTS_BINDING: u32 = 4;
 /// The aerial perspective's atlases (glsl/shade.glsl; placeholders without the physical sky).
 const AERIAL_INSCATTER_BINDING: u32 = 5;
 const AERIAL_TRANSMITTANCE_BINDING: u32 = 6;
+/// The sun's shadow map and the camera's depth (glsl/shade.glsl; placeholders without shadows).
+const SUN_SHADOW_BINDING: u32 = 8;
+const SCENE_DEPTH_BINDING: u32 = 9;
 
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
@@ -67,6 +70,8 @@ impl<'g> ShadePass<'g> {
                 (TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, compute),
                 (AERIAL_INSCATTER_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (AERIAL_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (SUN_SHADOW_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
             ],
         )?;
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
@@ -75,6 +80,15 @@ impl<'g> ShadePass<'g> {
         {
             bindings.write_image(binding, D::COMBINED_IMAGE_SAMPLER, image.view, read, r.sky_sampler.raw);
         }
+        bindings.write_image(
+            SUN_SHADOW_BINDING,
+            D::COMBINED_IMAGE_SAMPLER,
+            r.shadow_map.view,
+            read,
+            r.shadow_sampler.raw,
+        );
+        let depth = if r.shadows { &r.depth } else { &r.shadow_map };
+        bindings.write_image(SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, depth.view, read, r.depth_sampler.raw);
         bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
         write_frame_uniforms(&bindings, r, true);
         bindings.write_image(
@@ -114,6 +128,10 @@ impl Pass for ShadePass<'_> {
         t.image(&r.hdr, 0, 1, Access::ComputeStorageReadWrite, false);
         t.image(&r.aerial_inscatter, 0, 1, Access::ComputeSampled, false);
         t.image(&r.aerial_transmittance, 0, 1, Access::ComputeSampled, false);
+        t.image(&r.shadow_map, 0, 1, Access::ComputeSampled, false);
+        if r.shadows {
+            t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
+        }
         if self.counts {
             t.buffer(&r.train_counts, Access::ComputeStorageReadWrite);
         }

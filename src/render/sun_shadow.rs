@@ -1,0 +1,127 @@
+//! The sun's view of the displaced grid (passes/shadow.rs): an orthographic projection along the
+//! sunlight fitted to the sea the grid displaces in view, and the probes that find it.
+//! Only the grid's trains cast shadows here; the BRDF's unresolved slopes keep their statistical
+//! (Smith) shadowing, so no train is counted by both (docs/architecture.md, "Sun shadows").
+
+use crate::model::waves::WaveSet;
+use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use glam::{DMat4, DVec2, DVec3, DVec4};
+
+/// Screen positions per axis (NDC over [-2, 2], the grid's margins included) where the grid's
+/// resolution is probed.
+pub const PROBES: usize = 41;
+
+/// The rest positions (camera-relative, m) of the probes at which the grid displaces some train:
+/// glsl/waves.glsl `sample_scale`'s test (the longest train against the footprint's smallest
+/// phase step), with the longest train's step `margin` times finer than the shader needs.
+pub fn displaced_probes(
+    camera: &CameraFrame,
+    waves: &WaveSet,
+    cell_px: f64,
+    size: (u32, u32),
+    margin: f64,
+) -> Vec<DVec2> {
+    let Some(longest) = waves.trains.last().map(|t| t.wavelength) else { return Vec::new() };
+    let reach = camera.plane_height * cell_px;
+    let unresolved = GEOMETRY_STEPS[1] as f64;
+    let dr_du = camera.right * camera.tan_half_x * (2.0 / size.0 as f64);
+    let dr_dv = -camera.up * camera.tan_half_y * (2.0 / size.1 as f64);
+    (0..PROBES * PROBES)
+        .filter_map(|i| {
+            let ndc = [
+                -2.0 + 4.0 * (i % PROBES) as f64 / (PROBES - 1) as f64,
+                -2.0 + 4.0 * (i / PROBES) as f64 / (PROBES - 1) as f64,
+            ];
+            let r = camera.ray(ndc);
+            let w = (-r.z).max(0.0);
+            let q = |d: DVec3| DVec2::new(d.x * w + r.x * d.z, d.y * w + r.y * d.z);
+            let (qu, qv) = (q(dr_du), q(dr_dv));
+            let det = (qu.x * qv.y - qu.y * qv.x).abs();
+            let diagonal = (qu - qv).length().max((qu + qv).length());
+            let q_min = if diagonal > 0.0 { det / diagonal } else { 0.0 };
+            // Resolved implies w > 0: the rest position is finite.
+            (longest * w * w * unresolved > margin * q_min * reach).then(|| camera.plane_height * r.truncate() / w)
+        })
+        .collect()
+}
+
+/// The sun's orthographic view of the displaced sea.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunView {
+    /// Camera-relative world (z up, m) to the shadow map's clip space: x, y over the map, z = 0
+    /// nearest the sun, 1 farthest.
+    pub view_proj: DMat4,
+    /// A texel's sides (m): across the sunlight (level), and across it in its vertical plane
+    /// (a low sun's map spans a thin slab there, seen at a slant: a texel covers that side over
+    /// the sine of the elevation on the sea).
+    pub texel_m: [f64; 2],
+}
+
+/// Texel sides are snapped to quarter octaves, and the map's centre to whole texels of the
+/// world (not of the eye), so that a moving eye or a turning view does not crawl the shadows'
+/// edges across texels frame by frame.
+const TEXEL_STEPS_PER_OCTAVE: f64 = 4.0;
+
+/// Fits the sun's view to the sea the grid displaces (`probes`, rest positions) and to the
+/// waves that can shadow it from towards the sun; None with the sun at or below the horizon or
+/// nothing displaced. `eye` is the eye's world position (m), `size` the map's texels per side.
+pub fn fit(
+    probes: &[DVec2],
+    waves: &WaveSet,
+    camera: &CameraFrame,
+    sun_dir: DVec3,
+    eye: DVec3,
+    size: u32,
+) -> Option<SunView> {
+    if sun_dir.z <= 0.0 || probes.is_empty() {
+        return None;
+    }
+    // Light axes: `across` horizontal, `up` across the sunlight in its vertical plane.
+    let toward_sun = sun_dir.normalize();
+    let level = DVec3::new(toward_sun.x, toward_sun.y, 0.0);
+    let across = if level.length_squared() > 1e-12 { DVec3::Z.cross(level).normalize() } else { DVec3::X };
+    let up = toward_sun.cross(across);
+    // Every point of the surface lies within the trains' summed amplitude of its rest position
+    // (horizontally and vertically); a crest that shadows a rest position lies at most
+    // 2 A / tan(elevation) towards the sun (a crest A above the rest plane over a trough A below).
+    let amplitude: f64 = waves.trains.iter().map(|t| t.amplitude).sum();
+    let tan_elevation = toward_sun.z / level.length().max(f64::MIN_POSITIVE);
+    let farthest = probes.iter().map(|p| p.length()).fold(0.0, f64::max);
+    let shadow_reach = (2.0 * amplitude / tan_elevation).min(farthest);
+    let towards = if level.length_squared() > 0.0 { level.normalize().truncate() } else { DVec2::ZERO };
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in probes {
+        for shift in [0.0, shadow_reach] {
+            for corner in 0..8 {
+                let sign = |bit: u32| if corner & (1 << bit) != 0 { 1.0 } else { -1.0 };
+                let x = *p + towards * shift + DVec2::new(sign(0), sign(1)) * amplitude;
+                let world = DVec3::new(x.x, x.y, -camera.plane_height + sign(2) * amplitude);
+                let light = DVec3::new(world.dot(across), world.dot(up), world.dot(toward_sun));
+                lo = lo.min(light);
+                hi = hi.max(light);
+            }
+        }
+    }
+    // The probes are a sample: a probe's spacing more on every side.
+    let pad = (hi - lo) * (1.0 / (PROBES - 1) as f64) + DVec3::splat(amplitude.max(0.01));
+    let (lo, hi) = (lo - pad, hi + pad);
+    let texel =
+        |side: f64| 2f64.powf((TEXEL_STEPS_PER_OCTAVE * (side / size as f64).log2()).ceil() / TEXEL_STEPS_PER_OCTAVE);
+    let texel = [texel(hi.x - lo.x), texel(hi.y - lo.y)];
+    let eye_light = [eye.dot(across), eye.dot(up)];
+    let snap = |mid: f64, axis: usize| ((mid + eye_light[axis]) / texel[axis]).round() * texel[axis] - eye_light[axis];
+    let centre = DVec2::new(snap(0.5 * (lo.x + hi.x), 0), snap(0.5 * (lo.y + hi.y), 1));
+    let scale = texel.map(|t| 2.0 / (t * size as f64));
+    let depth = hi.z - lo.z;
+    // clip = (scale (p.across - c.x), scale (p.up - c.y), (hi.z - p.toward_sun) / depth, 1)
+    let row_x = DVec4::new(across.x * scale[0], across.y * scale[0], across.z * scale[0], -centre.x * scale[0]);
+    let row_y = DVec4::new(up.x * scale[1], up.y * scale[1], up.z * scale[1], -centre.y * scale[1]);
+    let row_z = DVec4::new(-toward_sun.x / depth, -toward_sun.y / depth, -toward_sun.z / depth, hi.z / depth);
+    let view_proj = DMat4::from_cols_array_2d(&[
+        [row_x.x, row_y.x, row_z.x, 0.0],
+        [row_x.y, row_y.y, row_z.y, 0.0],
+        [row_x.z, row_y.z, row_z.z, 0.0],
+        [row_x.w, row_y.w, row_z.w, 1.0],
+    ]);
+    Some(SunView { view_proj, texel_m: texel })
+}
