@@ -100,11 +100,13 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             ),
         );
     }
-    if options.shader.shadow {
+    {
         let size = scene.render.shadow_map_size;
         let what = format!("sun shadow map ({size}x{size}) and its pass");
-        let why = if scene.render.shadow_map == ShadowMapMode::Off {
-            Some("render.shadow_map = \"off\": the waves' shadows are the BRDF's statistical term alone".to_owned())
+        // Off is the scene's choice, not an omission: nothing requested is dropped.
+        options.shader.shadow &= scene.render.shadow_map != ShadowMapMode::Off;
+        let why = if !options.shader.shadow {
+            None
         } else if !options.shader.terms.sun {
             Some("no sun term to shadow".to_owned())
         } else if options.shader.draws_nothing() || !options.shader.geometry {
