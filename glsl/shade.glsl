@@ -33,12 +33,12 @@ layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixe
 #include "sky.glsl"
 #include "brdf.glsl"
 layout(set = 0, binding = 5) uniform sampler2D aerial_inscatter;
+layout(set = 0, binding = 6) uniform sampler2D aerial_transmittance;
 // The sun's shadows from the displaced grid (src/render/passes/shadow.rs): its view's depth, and
 // the camera's, which places each pixel's surface point on the same triangles.
 layout(constant_id = 9) const bool SHADOW = false;
 layout(set = 0, binding = 8) uniform sampler2DShadow sun_shadow_map;
 layout(set = 0, binding = 9) uniform sampler2D scene_depth;
-layout(set = 0, binding = 6) uniform sampler2D aerial_transmittance;
 
 const int AERIAL_SIZE = 32;   // resources::AERIAL_SIZE
 
@@ -69,9 +69,10 @@ vec3 aerial_perspective(vec3 radiance, vec2 uv, float d) {
 // The share of the sun a pixel's surface point sees past the displaced grid (1 where nothing
 // displaced stands between it and the sun, or the map does not reach). Reversed Z: depth is
 // near / (view depth), and camera_ray has unit length along the view, so the point is
-// ray near / depth; depth 0 is the cleared far plane (no grid in the pixel), left lit.
-float sun_visibility(ivec2 p, vec3 ray) {
-    if (!SHADOW || frame.shadow.y == 0.0) return 1.0;
+// ray near / depth. Only pixels the grid covered are read (inside the image, depth > 0); the
+// rest are lit.
+float sun_visibility(ivec2 p, vec3 ray, bool covered) {
+    if (!SHADOW || frame.shadow.y == 0.0 || !covered) return 1.0;
     float depth = texelFetch(scene_depth, p, 0).r;
     if (depth <= 0.0) return 1.0;
     vec4 c = frame.sun_view_proj * vec4(ray * (frame.shadow.x / depth), 1.0);
@@ -131,7 +132,7 @@ void main() {
     }
     // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
-    vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray)) : vec3(0.0)) : (SEA_ONLY ? vec3(0.0) : sky(-v));
+    vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray, covered)) : vec3(0.0)) : (SEA_ONLY ? vec3(0.0) : sky(-v));
     if (SKY_PHYSICAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, length(vec3(x, frame.cam_forward.w)));
