@@ -248,7 +248,8 @@ pub struct FrameData {
     pub sea_rows: u32,
     pub camera: CameraFrame,
     pub sky: SkyModel,
-    /// The sun's view of the displaced sea (None: the sun is down or nothing is displaced).
+    /// The sun's view of the displaced sea (None: the sun is down, nothing is displaced, or the
+    /// scene's shadow map is off).
     pub sun_view: Option<crate::render::sun_shadow::SunView>,
 }
 
@@ -299,7 +300,9 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
     };
     let sun_irradiance = sun_radiance.map(|l| l * SkyModel::sun_solid_angle());
     let sun_above = if sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
-    let sun_view = if sun_above > 0.0 {
+    // Only a scene that may draw the shadow map pays for its view.
+    let shadows = scene.render.shadow_map != crate::model::scene::ShadowMapMode::Off;
+    let sun_view = if shadows && sun_above > 0.0 {
         let probes = crate::render::sun_shadow::displaced_probes(&camera, waves, cell_px, (width, height), 1.0);
         let eye = DVec3::new(scene.camera.x_m, scene.camera.y_m, camera.plane_height);
         let size = scene.render.shadow_map_size;

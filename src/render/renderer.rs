@@ -220,11 +220,7 @@ impl<'g> Renderer<'g> {
         );
         // The sun's shadow map: only for the sun term over a displaced grid, unless the scene
         // turns it off.
-        let shader = &mut options.shader;
-        shader.shadow &= shader.terms.sun
-            && shader.geometry
-            && !shader.draws_nothing()
-            && scene.render.shadow_map != ShadowMapMode::Off;
+        options.shader.shadow &= options.shader.shadow_map_unneeded(scene.render.shadow_map).is_none();
         let frames_in_flight = options.frames_in_flight.max(1);
         let spec = ResourceSpec {
             width,

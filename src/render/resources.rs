@@ -227,29 +227,10 @@ impl<'g> Resources<'g> {
         let aerial_transmittance = Image::new(gpu, "aerial transmittance", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let atmosphere = if atmosphere { Some(atmosphere_tables(gpu)?) } else { None };
         let filter = if gpu.device.depth_filter_linear { vk::Filter::LINEAR } else { vk::Filter::NEAREST };
-        let shadow_info = vk::SamplerCreateInfo::default()
-            .mag_filter(filter)
-            .min_filter(filter)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .compare_enable(true)
-            .compare_op(vk::CompareOp::LESS_OR_EQUAL) // lit: the receiver no farther than the nearest
-            .max_lod(0.0);
-        // SAFETY: valid create info; linear only where the format filters linearly.
-        let shadow_sampler = unsafe { gpu.raw().create_sampler(&shadow_info, None) }.during("vkCreateSampler")?;
-        let shadow_sampler = Owned::new(&gpu.device, shadow_sampler, "sun shadow sampler");
-        let depth_info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .max_lod(0.0);
-        // SAFETY: valid create info.
-        let depth_sampler = unsafe { gpu.raw().create_sampler(&depth_info, None) }.during("vkCreateSampler")?;
-        let depth_sampler = Owned::new(&gpu.device, depth_sampler, "depth sampler");
+        // Lit where the receiver is no farther from the sun than the nearest surface stored.
+        let shadow_sampler =
+            single_level_sampler(gpu, filter, Some(vk::CompareOp::LESS_OR_EQUAL), "sun shadow sampler")?;
+        let depth_sampler = single_level_sampler(gpu, vk::Filter::NEAREST, None, "depth sampler")?;
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
@@ -289,20 +270,30 @@ fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
         Image::new(gpu, "atmosphere multiple scattering", HDR_FORMAT, vk::Extent2D { width: n, height: n }, 1, usage)?;
     let view_extent = vk::Extent2D { width: SKY_VIEW_SIZE.0 as u32, height: SKY_VIEW_SIZE.1 as u32 };
     let sky_view = Image::new(gpu, "atmosphere sky view", HDR_FORMAT, view_extent, 1, usage)?;
+    let sampler = single_level_sampler(gpu, vk::Filter::LINEAR, None, "atmosphere tables sampler")?;
+    Ok(AtmosphereTables { transmittance, multiple_scattering, sky_view, sampler })
+}
+
+/// A sampler of single-level images, clamped to the edge, filtered by `filter`, comparing with
+/// `compare` (a depth comparison sampler) when given.
+fn single_level_sampler<'g>(
+    gpu: &'g Gpu,
+    filter: vk::Filter,
+    compare: Option<vk::CompareOp>,
+    name: &str,
+) -> Result<Owned<'g, vk::Sampler>> {
     let info = vk::SamplerCreateInfo::default()
-        .mag_filter(vk::Filter::LINEAR)
-        .min_filter(vk::Filter::LINEAR)
+        .mag_filter(filter)
+        .min_filter(filter)
         .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
         .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
         .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
         .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .compare_enable(compare.is_some())
+        .compare_op(compare.unwrap_or(vk::CompareOp::NEVER))
         .max_lod(0.0);
-    // SAFETY: valid create info on a live device.
+    // SAFETY: valid create info on a live device; a linear filter is asked for depth only where
+    // the device filters its depth format linearly.
     let sampler = unsafe { gpu.raw().create_sampler(&info, None) }.during("vkCreateSampler")?;
-    Ok(AtmosphereTables {
-        transmittance,
-        multiple_scattering,
-        sky_view,
-        sampler: Owned::new(&gpu.device, sampler, "atmosphere tables sampler"),
-    })
+    Ok(Owned::new(&gpu.device, sampler, name))
 }

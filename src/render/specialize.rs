@@ -100,25 +100,12 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             ),
         );
     }
-    {
-        let size = scene.render.shadow_map_size;
-        let what = format!("sun shadow map ({size}x{size}) and its pass");
+    if let (true, Some(why)) = (options.shader.shadow, options.shader.shadow_map_unneeded(scene.render.shadow_map)) {
+        options.shader.shadow = false;
         // Off is the scene's choice, not an omission: nothing requested is dropped.
-        options.shader.shadow &= scene.render.shadow_map != ShadowMapMode::Off;
-        let why = if !options.shader.shadow {
-            None
-        } else if !options.shader.terms.sun {
-            Some("no sun term to shadow".to_owned())
-        } else if options.shader.draws_nothing() || !options.shader.geometry {
-            let forced =
-                if scene.render.shadow_map == ShadowMapMode::On { " (render.shadow_map = \"on\")" } else { "" };
-            Some(format!("no train is displaced by the grid, so none casts a shadow{forced}"))
-        } else {
-            None
-        };
-        if let Some(why) = why {
-            options.shader.shadow = false;
-            omit(&what, why);
+        if scene.render.shadow_map != ShadowMapMode::Off {
+            let size = scene.render.shadow_map_size;
+            omit(&format!("sun shadow map ({size}x{size}) and its pass"), why);
         }
     }
     if options.ssaa == 1 {

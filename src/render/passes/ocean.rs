@@ -6,6 +6,7 @@
 use super::shade::SHADE_GROUP;
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
+use crate::model::scene::ShadowMapMode;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
@@ -111,6 +112,21 @@ impl ShaderConfig {
     /// Whether a frame draws nothing but black: no term to shade and no sky behind the sea.
     pub fn draws_nothing(&self) -> bool {
         !(self.terms.sun || self.terms.sky || self.terms.sea || self.background)
+    }
+
+    /// Why a frame with this configuration has no use for the sun's shadow map (None: it has);
+    /// the renderer and specialize::plan both go by it.
+    pub fn shadow_map_unneeded(&self, mode: ShadowMapMode) -> Option<String> {
+        if mode == ShadowMapMode::Off {
+            Some("render.shadow_map = \"off\"".to_owned())
+        } else if !self.terms.sun {
+            Some("no sun term to shadow".to_owned())
+        } else if self.draws_nothing() || !self.geometry {
+            let forced = if mode == ShadowMapMode::On { " (render.shadow_map = \"on\")" } else { "" };
+            Some(format!("no train is displaced by the grid, so none casts a shadow{forced}"))
+        } else {
+            None
+        }
     }
 
     /// The specialization constants of both ocean passes (glsl/common.glsl, ocean.vert,
