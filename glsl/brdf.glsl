@@ -1,9 +1,12 @@
 // The paper's BRDF terms: reflected sun (Gaussian slopes, Smith shadowing, Schlick Fresnel),
 // reflected sky (filtered environment lookup and mean Fresnel), refracted sea light.
+// Requires the MeanFresnel block of slopes.glsl bound (resources::MEAN_FRESNEL_BINDING).
 // Requires frame.glsl, common.glsl, sky.glsl, a `sky_map` sampler and the TERM_* specialization
-// constants in scope. METHOD_FULL departs from the paper in two places, both in the sky lookup
-// (docs/results.md measures each): it is centred on the slopes of the facets actually seen, and
-// reflections below the horizon meet the sea (the sky map's outer region) instead of a mirrored sky.
+// constants in scope. METHOD_FULL departs from the paper in three places (docs/results.md
+// measures each): the sky lookup is centred on the slopes of the facets actually seen,
+// reflections below the horizon meet the sea (the sky map's outer region) instead of a mirrored
+// sky, and the Fresnel is the exact one (averaged over the visible slopes) instead of Schlick's
+// and the paper's fit of it.
 #ifndef BRDF_GLSL
 #define BRDF_GLSL
 
@@ -53,7 +56,10 @@ vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2) {
     float q = h.x * h.x / s2.x + h.y * h.y / s2.y;
     if (q >= 2.0 * EXP_UNDERFLOW * hz2) return vec3(0.0);   // p(zeta_h) / h_z^4 below FLT_MIN
     float p_over_hz4 = exp(-0.5 * q / hz2) / (2.0 * PI * sqrt(s2.x * s2.y) * hz2 * hz2);
-    float fresnel = FRESNEL_R0 + (1.0 - FRESNEL_R0) * pow(clamp(1.0 - dot(vl, h), 0.0, 1.0), 5.0);
+    // The facets' Fresnel at the half vector: Schlick's as the paper, exact for METHOD_FULL
+    // (Schlick is 8-14% high for cos 0.17-0.3, the sun ahead and the view grazing).
+    float fresnel = METHOD == METHOD_FULL ? fresnel_exact(dot(vl, h))
+                  : FRESNEL_R0 + (1.0 - FRESNEL_R0) * pow(clamp(1.0 - dot(vl, h), 0.0, 1.0), 5.0);
     // 1 / (cos_v (1 + Lambda_v + Lambda_l)), multiplied through by cos_l so cos_v = 0 stays finite.
     float denom = cv * cl + cl * cos_times_lambda(cv, slope_spread(vl, sigma2))
                 + cv * cos_times_lambda(cl, slope_spread(ll, sigma2));
@@ -109,7 +115,7 @@ vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible) {
     if (TERM_SUN && frame.sun_irradiance.w > 0.0 && sun_visible > 0.0) {
         color += sun_visible * reflected_sun(f, v, frame.sun_dir.xyz, sigma2);
     }
-    float fresnel = mean_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
+    float fresnel = sea_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);

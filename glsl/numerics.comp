@@ -50,6 +50,8 @@ void main() {
         r.xyz = vec3(cov[0][0], cov[1][0], cov[1][1]);
         break;
     }
+    case 10u: r.x = visible_fresnel(a.x, a.y); break;                      // (cos_v, sigma_v)
+    case 11u: r.x = fresnel_exact(a.x); break;                             // cos of incidence
     default: break;
     }
     results[i] = r;

@@ -38,7 +38,7 @@ void main() {
     if (METHOD == METHOD_FULL && below) {
         vec2 wind = frame.wind.xy;
         vec3 local = vec3(dot(dir.xy, wind), dot(dir.xy, vec2(-wind.y, wind.x)), dir.z);
-        float f2 = mean_fresnel(dir.z, sqrt(directional_variance(local, frame.wind.zw)));
+        float f2 = visible_fresnel(dir.z, sqrt(directional_variance(local, frame.wind.zw)));
         L *= f2;
         enters = 1.0 - f2;
     }

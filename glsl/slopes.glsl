@@ -1,6 +1,6 @@
-// Statistics of the sea's Gaussian slopes that need no texture (shared by the BRDF and the sky
-// map): the mean Fresnel over the visible slopes, the variance along an azimuth, and where the
-// visible slopes are centred.
+// Statistics of the sea's Gaussian slopes (shared by the BRDF and the sky map): the mean Fresnel
+// over the visible slopes (the paper's fit, or the exact average from its table), the variance
+// along an azimuth, and where the visible slopes are centred.
 #ifndef SLOPES_GLSL
 #define SLOPES_GLSL
 
@@ -10,6 +10,53 @@ const float FRESNEL_R0 = 0.02;   // water at normal incidence (paper, section 5)
 float mean_fresnel(float cos_v, float sigma_v) {
     return FRESNEL_R0 + (1.0 - FRESNEL_R0) * pow(1.0 - cos_v, 5.0 * exp(-2.69 * sigma_v))
          / (1.0 + 22.7 * pow(sigma_v, 1.5));
+}
+
+// The exact Fresnel of sea water averaged over the visible slopes (src/model/fresnel.rs,
+// MeanFresnelTable; binding resources::MEAN_FRESNEL_BINDING): x of the header the refractive
+// index, then COS_SIZE x SIGMA_SIZE values at cos_v = u^2, sigma_v = SIGMA_MAX t^2 for u, t on
+// uniform grids over [0, 1], row-major by sigma, four to a vec4.
+const int FRESNEL_COS_SIZE = 64;
+const int FRESNEL_SIGMA_SIZE = 32;
+const float FRESNEL_SIGMA_MAX = 1.0;
+layout(set = 0, binding = 11, std140) uniform MeanFresnel {
+    vec4 fresnel_header;
+    vec4 fresnel_values[FRESNEL_COS_SIZE * FRESNEL_SIGMA_SIZE / 4];
+};
+
+// Unpolarized Fresnel reflectance from air into sea water at cos(incidence) c (the mean of the
+// s and p reflectances). Both denominators are at least eta cos_t > 0 for c > 0 (eta > 1 keeps
+// cos_t > 0); at c = 0 they are 0 only together with their numerators, where the limit is 1.
+float fresnel_exact(float c) {
+    float eta = fresnel_header.x;
+    c = clamp(c, 0.0, 1.0);
+    float cos_t = sqrt(max(1.0 - (1.0 - c * c) / (eta * eta), 0.0));
+    float s_den = c + eta * cos_t, p_den = eta * c + cos_t;
+    if (s_den <= 0.0 || p_den <= 0.0) return 1.0;
+    float rs = (c - eta * cos_t) / s_den, rp = (eta * c - cos_t) / p_den;
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+float fresnel_value(int i, int j) {
+    int k = j * FRESNEL_COS_SIZE + i;
+    return fresnel_values[k >> 2][k & 3];
+}
+
+// The table bilinearly, as MeanFresnelTable::lookup: clamped to its domain on both axes.
+float visible_fresnel(float cos_v, float sigma_v) {
+    float u = sqrt(clamp(cos_v, 0.0, 1.0)) * float(FRESNEL_COS_SIZE - 1);
+    float t = sqrt(clamp(sigma_v / FRESNEL_SIGMA_MAX, 0.0, 1.0)) * float(FRESNEL_SIGMA_SIZE - 1);
+    int i = min(int(u), FRESNEL_COS_SIZE - 2), j = min(int(t), FRESNEL_SIGMA_SIZE - 2);
+    float fu = u - float(i), ft = t - float(j);
+    float low = mix(fresnel_value(i, j), fresnel_value(i + 1, j), fu);
+    float high = mix(fresnel_value(i, j + 1), fresnel_value(i + 1, j + 1), fu);
+    return mix(low, high, ft);
+}
+
+// The mean Fresnel of the sky and refracted terms: the exact average for METHOD_FULL, the paper's
+// fit otherwise.
+float sea_fresnel(float cos_v, float sigma_v) {
+    return METHOD == METHOD_FULL ? visible_fresnel(cos_v, sigma_v) : mean_fresnel(cos_v, sigma_v);
 }
 
 // Slope variance along the local azimuth of d (wind axes x, y); for d along the normal the azimuth

@@ -16,8 +16,6 @@ use crate::vk::pipeline::{compute_pipeline, Bindings};
 use ash::vk;
 use std::time::Instant;
 
-/// Refractive index of sea water for visible light (about 1.34; 1.333 for pure water at 20 C).
-pub const SEA_WATER_IOR: f32 = 1.34;
 /// Floats per pixel in the accumulation buffer: five vec4 (total and mask, subset, sun, sky, the
 /// sums of squares; glsl/groundtruth.comp, Pixels).
 const WORDS_PER_PIXEL: usize = 20;
@@ -288,7 +286,7 @@ pub fn render(
         // Height slope of the displaced surface: sum k h over 1 - sum k h where the trains cannot
         // fold; where they can, a bound of 10 (84 degrees) keeps steps finite.
         lipschitz: if kh_sum < 0.9 { (kh_sum / (1.0 - kh_sum)) as f32 } else { 10.0 },
-        ior: SEA_WATER_IOR,
+        ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
         sun_kernel_scale,

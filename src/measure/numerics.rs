@@ -5,6 +5,7 @@ use crate::error::{Result, VkContext};
 use crate::model::scene::Scene;
 use crate::model::waves;
 use crate::render::frame::{self, FrameUniforms, GpuWaves};
+use crate::render::resources::{mean_fresnel_buffer, MEAN_FRESNEL_BINDING};
 use crate::shaders;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
@@ -39,6 +40,10 @@ pub enum Function {
     /// (v in the local frame), (sigma_x^2, sigma_y^2) -> the visible facets' slope covariance
     /// (xx, xy, yy) from the footprint's two axes
     VisibleSlopeCovariance = 9,
+    /// (cos_v, sigma_v) -> the exact Fresnel averaged over the visible slopes (its table)
+    VisibleFresnel = 10,
+    /// (cos of incidence) -> the exact Fresnel of sea water
+    ExactFresnel = 11,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's
@@ -102,9 +107,12 @@ pub fn evaluate(
             (2, D::COMBINED_IMAGE_SAMPLER, s),
             (9, D::STORAGE_BUFFER, s),
             (10, D::STORAGE_BUFFER, s),
+            (MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, s),
         ],
         8,
     )?;
+    let mean_fresnel = mean_fresnel_buffer(gpu)?;
+    bindings.write_buffer(MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, mean_fresnel.raw);
     bindings.write_buffer(0, D::UNIFORM_BUFFER, frame_buffer.raw);
     bindings.write_buffer(1, D::UNIFORM_BUFFER, waves_buffer.raw);
     bindings.write_image(

@@ -6,6 +6,7 @@
 //! Only valid where the grid is not displaced (no train resolved at the grid's scale): the
 //! visible point is then the ray's intersection with the rest plane.
 
+use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::sky::SkyModel;
 use crate::render::footprint::{normal_weight, Footprint};
 use crate::render::frame::SEA_ALBEDO;
@@ -83,12 +84,13 @@ impl ReferenceScene<'_> {
 
         let sun_dir = DVec3::from(self.sky.sun_dir);
         let sun = if self.sky.sun_radiance.iter().any(|&l| l > 0.0) {
-            let value = reflected_sun(vl, local(sun_dir), sigma2, SkyModel::sun_slope_variance());
+            let sun_sigma2 = SkyModel::sun_slope_variance();
+            let value = reflected_sun_with(vl, local(sun_dir), sigma2, sun_sigma2, self.facet_fresnel());
             self.sky.sun_irradiance().map(|e| e * value)
         } else {
             [0.0; 3]
         };
-        let fresnel = mean_fresnel(cos_v, directional_variance(vl.x, vl.y, sigma2).sqrt());
+        let fresnel = self.mean_fresnel(cos_v, directional_variance(vl.x, vl.y, sigma2).sqrt());
         let (sky_l, enters) = self.mean_sky_radiance([t_x, t_y, n], v, sigma2);
         let e_sky = self.sky.sky_irradiance();
         PixelRadiance {
@@ -102,6 +104,25 @@ impl ReferenceScene<'_> {
 }
 
 impl ReferenceScene<'_> {
+    /// The sky and refracted terms' Fresnel: the paper's fit, or (full) the exact average over
+    /// the visible slopes, through the table the shaders read (its own accuracy is tested apart).
+    fn mean_fresnel(&self, cos_v: f64, sigma_v: f64) -> f64 {
+        if self.full {
+            MeanFresnelTable::sea_water().lookup(cos_v, sigma_v)
+        } else {
+            mean_fresnel(cos_v, sigma_v)
+        }
+    }
+
+    /// The sun term's Fresnel at the half vector: Schlick's, or (full) the exact one.
+    fn facet_fresnel(&self) -> fn(f64) -> f64 {
+        if self.full {
+            |c| fresnel_exact(c, SEA_WATER_IOR)
+        } else {
+            schlick
+        }
+    }
+
     /// Sky radiance averaged over the Gaussian slope distribution (paper's L-bar), by a product
     /// midpoint rule over +-4 sigma per axis. The paper: directions reflected below the horizon see
     /// the sky mirrored, as its sky map folds them. Full: each facet weighted by its projected
@@ -136,7 +157,7 @@ impl ReferenceScene<'_> {
                 if self.full && r.z < 0.0 {
                     let d = DVec2::new(r.x, r.y);
                     let var = directional_variance(d.dot(wind), d.perp_dot(wind), sea.sigma2);
-                    let f2 = mean_fresnel(-r.z, var.sqrt());
+                    let f2 = MeanFresnelTable::sea_water().lookup(-r.z, var.sqrt());
                     l = l.map(|x| f2 * x);
                     enters_sum += weight * (1.0 - f2);
                 }
@@ -174,9 +195,19 @@ pub fn smith_lambda(a: f64) -> f64 {
     ((-a * a).exp() - a * PI.sqrt() * erfc_approx(a)) / (2.0 * a * PI.sqrt())
 }
 
+/// Schlick's Fresnel for water (the paper's), at cos(incidence) c.
+pub fn schlick(c: f64) -> f64 {
+    R0 + (1.0 - R0) * (1.0 - c).clamp(0.0, 1.0).powi(5)
+}
+
 /// Paper's reflected sun per unit sun irradiance, directions in the local (t_x, t_y, n) frame:
-/// F(v.h) p(zeta_h) / (4 h_z^4 cos_v (1 + Lambda(a_v) + Lambda(a_l))).
+/// F(v.h) p(zeta_h) / (4 h_z^4 cos_v (1 + Lambda(a_v) + Lambda(a_l))), F Schlick's.
 pub fn reflected_sun(v: DVec3, l: DVec3, sigma2: [f64; 2], sun_sigma2: f64) -> f64 {
+    reflected_sun_with(v, l, sigma2, sun_sigma2, schlick)
+}
+
+/// `reflected_sun` with the facets' Fresnel `fresnel` (of cos(incidence) v.h).
+pub fn reflected_sun_with(v: DVec3, l: DVec3, sigma2: [f64; 2], sun_sigma2: f64, fresnel: fn(f64) -> f64) -> f64 {
     if l.z <= 0.0 {
         return 0.0;
     }
@@ -185,7 +216,7 @@ pub fn reflected_sun(v: DVec3, l: DVec3, sigma2: [f64; 2], sun_sigma2: f64) -> f
     let (sx, sy) = (sigma2[0] + sun_sigma2, sigma2[1] + sun_sigma2);
     let zeta = DVec2::new(h.x / h.z, h.y / h.z);
     let p = (-0.5 * (zeta.x * zeta.x / sx + zeta.y * zeta.y / sy)).exp() / (2.0 * PI * (sx * sy).sqrt());
-    let fresnel = R0 + (1.0 - R0) * (1.0 - v.dot(h)).clamp(0.0, 1.0).powi(5);
+    let fresnel = fresnel(v.dot(h));
     let lambda = |d: DVec3| {
         let s2 = d.x * d.x + d.y * d.y;
         if s2 == 0.0 {

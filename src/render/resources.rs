@@ -2,6 +2,7 @@
 //! in_flight.rs); each releases itself when dropped (also when a later one fails to be created).
 
 use crate::error::{Error, Result, VkContext};
+use crate::model::fresnel::MeanFresnelTable;
 use crate::render::frame::{FrameUniforms, GpuWaves};
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
@@ -18,6 +19,9 @@ pub const FRAME_BINDING: u32 = 0;
 pub const WAVES_BINDING: u32 = 1;
 /// Binding of the measured exposure in the exposure and tone-mapping passes (glsl/tone.glsl).
 pub const EXPOSURE_BINDING: u32 = 7;
+/// Binding of the mean Fresnel table in the shading, sky-map and numerics shaders
+/// (glsl/slopes.glsl, MeanFresnel).
+pub const MEAN_FRESNEL_BINDING: u32 = 11;
 
 /// What the resources are made for.
 #[derive(Clone, Copy, Debug)]
@@ -115,6 +119,9 @@ pub struct Resources<'g> {
     /// that keep the shading pass's bindings valid (its code for them is specialized away).
     pub aerial_inscatter: Image<'g>,
     pub aerial_transmittance: Image<'g>,
+    /// The exact Fresnel averaged over the visible slopes (model::fresnel), written once here:
+    /// host writes before a submission are visible to it, so no pass declares it.
+    pub mean_fresnel: Buffer<'g>,
     /// The measured exposure (glsl/exposure.comp writes it, the tone mapping reads it as a
     /// uniform block: MeasuredExposure); bound always, written only with render.ev100 = "auto".
     pub exposure: Buffer<'g>,
@@ -231,6 +238,7 @@ impl<'g> Resources<'g> {
         let shadow_sampler =
             single_level_sampler(gpu, filter, Some(vk::CompareOp::LESS_OR_EQUAL), "sun shadow sampler")?;
         let depth_sampler = single_level_sampler(gpu, vk::Filter::NEAREST, None, "depth sampler")?;
+        let mean_fresnel = mean_fresnel_buffer(gpu)?;
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
@@ -249,6 +257,7 @@ impl<'g> Resources<'g> {
             atmosphere,
             aerial_inscatter,
             aerial_transmittance,
+            mean_fresnel,
             exposure,
         })
     }
@@ -257,6 +266,18 @@ impl<'g> Resources<'g> {
     pub fn output(&self) -> &Image<'g> {
         self.resolved.as_ref().unwrap_or(&self.hdr)
     }
+}
+
+/// The uniform block MeanFresnel of glsl/slopes.glsl: a vec4 (eta, unused) then the table's
+/// values four to a vec4 (std140 arrays stride by 16 bytes).
+pub fn mean_fresnel_buffer(gpu: &Gpu) -> Result<Buffer<'_>> {
+    let table = MeanFresnelTable::sea_water();
+    let mut words = vec![table.eta as f32, 0.0, 0.0, 0.0];
+    words.extend_from_slice(&table.values);
+    let bytes = 4 * words.len() as u64;
+    let buffer = Buffer::new(gpu, "mean fresnel table", bytes, vk::BufferUsageFlags::UNIFORM_BUFFER, Location::Upload)?;
+    buffer.write(&words)?;
+    Ok(buffer)
 }
 
 fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {

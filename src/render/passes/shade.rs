@@ -5,7 +5,7 @@
 use super::ocean::{sky_shaded_rows, ShaderConfig, TrainReads};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
+use crate::render::resources::{Resources, FRAME_BINDING, MEAN_FRESNEL_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -72,8 +72,10 @@ impl<'g> ShadePass<'g> {
                 (AERIAL_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (SUN_SHADOW_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, compute),
             ],
         )?;
+        bindings.write_buffer(MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, r.mean_fresnel.raw);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         for (binding, image) in
             [(AERIAL_INSCATTER_BINDING, &r.aerial_inscatter), (AERIAL_TRANSMITTANCE_BINDING, &r.aerial_transmittance)]

@@ -6,7 +6,7 @@
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::passes::ocean::Method;
-use crate::render::resources::{Resources, FRAME_BINDING};
+use crate::render::resources::{Resources, FRAME_BINDING, MEAN_FRESNEL_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -31,12 +31,17 @@ impl<'g> SkyMapPass<'g> {
         use vk::DescriptorType as D;
         let stages = vk::ShaderStageFlags::COMPUTE;
         let (general, read) = (vk::ImageLayout::GENERAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
-        let mut layout = vec![(FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages), (3, D::STORAGE_IMAGE, stages)];
+        let mut layout = vec![
+            (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages),
+            (3, D::STORAGE_IMAGE, stages),
+            (MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, stages),
+        ];
         if resources.atmosphere.is_some() {
             layout.push((4, D::COMBINED_IMAGE_SAMPLER, stages));
         }
         let bindings = Bindings::new(device, "sky map", &layout)?;
         write_frame_uniforms(&bindings, resources, false);
+        bindings.write_buffer(MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, resources.mean_fresnel.raw);
         let sky = &resources.sky_map;
         bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, general, vk::Sampler::null());
         let (code, sky_view) = match &resources.atmosphere {
