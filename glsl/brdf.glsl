@@ -25,22 +25,6 @@ Frame3 wind_frame(vec3 n) {
     return Frame3(t_x, cross(n, t_x), n);
 }
 
-// c * Lambda(a) with a = c / s, for c = cos(theta) >= 0 and s = sin(theta) sqrt(2 sigma_phi^2) >= 0
-// (Smith's Lambda for Gaussian slopes; erfc from the paper's demo rational approximation).
-// Never divides by c: c Lambda = exp(-a^2) (s / (2 sqrt(pi)) - c / (2.319 a + sqrt(4 + 1.52 a^2))).
-// For a > 9 the value is below FLT_MIN relative to c, so it is returned as its limit 0.
-float cos_times_lambda(float c, float s) {
-    if (c >= 9.0 * s) return 0.0;
-    float a = c / s;   // s > c / 9 >= 0 here
-    return exp(-a * a) * (s / (2.0 * SQRT_PI) - c / (2.319 * a + sqrt(4.0 + 1.52 * a * a)));
-}
-
-// sin(theta) sqrt(2 sigma_phi^2) for unit direction d: sigma_phi^2 sin^2(theta) = sigma_x^2 d_x^2 + sigma_y^2 d_y^2
-// in the local frame, so the azimuth never needs an atan or a division.
-float slope_spread(vec3 d_local, vec2 sigma2) {
-    return sqrt(2.0 * (sigma2.x * d_local.x * d_local.x + sigma2.y * d_local.y * d_local.y));
-}
-
 vec3 to_local(Frame3 f, vec3 d) { return vec3(dot(d, f.t_x), dot(d, f.t_y), dot(d, f.n)); }
 
 // Radiance of the sun reflected towards v. sigma2: slope variance for shadowing; sigma2_sun adds the

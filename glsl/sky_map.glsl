@@ -1,7 +1,8 @@
 // Level 0 of the stereographic sky map: texel centre u in [-R, R]^2 -> direction. Texels beyond the
 // unit disc hold directions below the horizon: for the paper's lookups (folded) the mirrored sky,
 // so filtering across the horizon stays smooth; for METHOD_FULL's (the whole plane) the sea such
-// a reflected ray meets (rgb: the sky it reflects there, alpha: the share entering the sea).
+// a reflected ray meets (rgb: the sky it reflects there, alpha: the share entering the sea), and
+// above the horizon the sky blended with the sea by the share of rays the next wave stops.
 // Entry points: sky_map.comp (Preetham's sky) and sky_map_physical.comp (PHYSICAL_SKY: the
 // physical sky resampled from its sky-view table, glsl/sky_view.comp).
 #include "frame.glsl"
@@ -30,17 +31,20 @@ void main() {
 #else
     vec3 L = preetham_sky(dir);
 #endif
-    // A ray going down at depression e meets a wave facing it and is seen from there at elevation
-    // e over all the sea's slopes (multiple reflections, the paper's suggested extension): it
-    // reflects the sky mirrored once more with the mean Fresnel F2 and the rest, 1 - F2, enters the
-    // sea (the refracted term's light). Its sun glint is left out: the sun term is separate.
+    // A reflected ray going down at depression e meets a wave facing it and is seen from there at
+    // elevation e over all the sea's slopes (multiple reflections, the paper's suggested
+    // extension): it reflects the sky mirrored once more with the mean Fresnel F2, and the rest,
+    // 1 - F2, enters the sea (the refracted term's light). Going up, Smith's share of such rays
+    // still meets the next wave (blocked_share), rising to all of them at the horizon, so the map
+    // is continuous across it. Their sun glint is left out: the sun term is separate.
     float enters = 0.0;
-    if (METHOD == METHOD_FULL && below) {
+    if (METHOD == METHOD_FULL) {
         vec2 wind = frame.wind.xy;
         vec3 local = vec3(dot(dir.xy, wind), dot(dir.xy, vec2(-wind.y, wind.x)), dir.z);
         float f2 = visible_fresnel(dir.z, sqrt(directional_variance(local, frame.wind.zw)));
-        L *= f2;
-        enters = 1.0 - f2;
+        float blocked = below ? 1.0 : blocked_share(local, frame.wind.zw);
+        L *= 1.0 - blocked * (1.0 - f2);
+        enters = blocked * (1.0 - f2);
     }
     imageStore(sky_level0, texel, vec4(store_radiance(L), enters));
 }

@@ -67,6 +67,34 @@ float directional_variance(vec3 d_local, vec2 sigma2) {
                     : 0.5 * (sigma2.x + sigma2.y);
 }
 
+// c * Lambda(a) with a = c / s, for c = cos(theta) >= 0 and s = sin(theta) sqrt(2 sigma_phi^2) >= 0
+// (Smith's Lambda for Gaussian slopes; erfc from the paper's demo rational approximation).
+// Never divides by c: c Lambda = exp(-a^2) (s / (2 sqrt(pi)) - c / (2.319 a + sqrt(4 + 1.52 a^2))).
+// For a > 9 the value is below FLT_MIN relative to c, so it is returned as its limit 0.
+float cos_times_lambda(float c, float s) {
+    if (c >= 9.0 * s) return 0.0;
+    float a = c / s;   // s > c / 9 >= 0 here
+    return exp(-a * a) * (s / (2.0 * SQRT_PI) - c / (2.319 * a + sqrt(4.0 + 1.52 * a * a)));
+}
+
+// sin(theta) sqrt(2 sigma_phi^2) for unit direction d: sigma_phi^2 sin^2(theta) = sigma_x^2 d_x^2 + sigma_y^2 d_y^2
+// in the local frame, so the azimuth never needs an atan or a division.
+float slope_spread(vec3 d_local, vec2 sigma2) {
+    return sqrt(2.0 * (sigma2.x * d_local.x * d_local.x + sigma2.y * d_local.y * d_local.y));
+}
+
+// The share of the rays leaving the sea towards unit direction d (local frame: z up) that the
+// next wave stops: all below the horizon; above it Smith's 1 - G1 = Lambda / (1 + Lambda) for
+// slopes of variance sigma2 (uncorrelated with height, so the same from every facet: from a
+// crest seen at grazing view it overstates the blocking). Lambda / (1 + Lambda) = c Lambda /
+// (c + c Lambda); towards the horizon c Lambda -> s / (2 sqrt(pi)) > 0 while c -> 0, so the share
+// rises continuously to 1; on a glassy sea (s = 0) nothing above the horizon is stopped.
+float blocked_share(vec3 d_local, vec2 sigma2) {
+    if (d_local.z <= 0.0) return 1.0;
+    float cl = cos_times_lambda(d_local.z, slope_spread(d_local, sigma2));
+    return cl / (d_local.z + cl);   // d_local.z > 0
+}
+
 // Standard normal CDF for r >= 0 (Abramowitz & Stegun 7.1.26 for erf, |error| <= 1.5e-7):
 // in [0.5, 1], so dividing by it is always safe.
 float normal_cdf_positive(float r) {

@@ -154,12 +154,14 @@ impl ReferenceScene<'_> {
                     r = DVec3::new(xy.x, xy.y, RIM_Z);
                 }
                 let mut l = self.sky.radiance([r.x, r.y, r.z.abs()]);
-                if self.full && r.z < 0.0 {
+                if self.full {
                     let d = DVec2::new(r.x, r.y);
-                    let var = directional_variance(d.dot(wind), d.perp_dot(wind), sea.sigma2);
-                    let f2 = MeanFresnelTable::sea_water().lookup(-r.z, var.sqrt());
-                    l = l.map(|x| f2 * x);
-                    enters_sum += weight * (1.0 - f2);
+                    let (along, across) = (d.dot(wind), d.perp_dot(wind));
+                    let var = directional_variance(along, across, sea.sigma2);
+                    let f2 = MeanFresnelTable::sea_water().lookup(r.z.abs(), var.sqrt());
+                    let blocked = if r.z < 0.0 { 1.0 } else { blocked_share(along, across, r.z, sea.sigma2) };
+                    l = l.map(|x| (1.0 - blocked * (1.0 - f2)) * x);
+                    enters_sum += weight * blocked * (1.0 - f2);
                 }
                 for c in 0..3 {
                     sum[c] += weight * l[c];
@@ -183,6 +185,22 @@ fn directional_variance(x: f64, y: f64, sigma2: [f64; 2]) -> f64 {
     } else {
         0.5 * (sigma2[0] + sigma2[1])
     }
+}
+
+/// Smith's share 1 - G1 = Lambda / (1 + Lambda) of the rays leaving the sea upwards along the
+/// unit direction with wind-axis components (x, y, z > 0) that meet another wave, for slopes of
+/// variance sigma2 (glsl/slopes.glsl, blocked_share); 0 on a glassy sea.
+fn blocked_share(x: f64, y: f64, z: f64, sigma2: [f64; 2]) -> f64 {
+    let spread2 = 2.0 * (sigma2[0] * x * x + sigma2[1] * y * y);
+    if spread2 == 0.0 {
+        return 0.0;
+    }
+    let a = z / spread2.sqrt();
+    if a > 26.0 {
+        return 0.0;
+    }
+    let lambda = smith_lambda(a);
+    lambda / (1.0 + lambda)
 }
 
 /// erfc by the paper demo's rational approximation, as the shader uses it.

@@ -370,7 +370,11 @@ fn write_outputs(
     );
     for (i, r) in rows.iter().enumerate() {
         let star = if front.contains(&i) { " *" } else { "" };
-        let energy = |t: usize| format!("{:+.3} ± {:.3}", r.all.energy_error[t], r.all.energy_uncertainty[t]);
+        // A term the ground truth does not have (the sun behind the eye) has no relative error.
+        let energy = |t: usize| match (r.all.energy_error[t], r.all.energy_uncertainty[t]) {
+            (e, u) if e.is_finite() && u.is_finite() => format!("{e:+.3} ± {u:.3}"),
+            _ => "—".to_owned(),
+        };
         writeln!(
             md,
             "| {}{star} | {} | {:.1} | {:.4} | {:.4} | {:.4} | {:.4} | {} | {} | {} | {} |",
