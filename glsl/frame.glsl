@@ -25,7 +25,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 perez_e;
     vec4 sky_zenith;       // (Y, x, y) zenith values, Y already divided by F(0, theta_s); w: sky scale
     vec4 tone;             // x: exposure; y: sky map extent R (map spans [-R, R]^2 in stereographic u)
-    vec4 wave_extent;      // x: longest wavelength (m)
+    vec4 wave_extent;      // x: longest wavelength (m); y: summed amplitude, the highest crest (m)
     vec4 baseline_sigma2;  // xy: the constant-BRDF baseline's slope variance (wind frame)
     // The physical sky (glsl/atmosphere.glsl): [0] bottom and top radius, Rayleigh and Mie scale
     // heights (m); [1] Rayleigh scattering (rgb, per m), Mie g; [2] ozone absorption at its peak

@@ -92,6 +92,19 @@ vec2 mean_plane_point(vec3 ray) {
     return all(lessThan(abs(x), vec2(FAR_LIMIT))) ? x : vec2(FAR_LIMIT);
 }
 
+// The share of the pixel through whose centre `ray` passes that lies below the mean sea plane's
+// horizon. ray.z is linear across the screen (camera_ray), so the horizon is a straight line
+// and the share is the pixel's area where that linear function is negative: with no roll (the
+// camera has none) it changes along the rows only and the ramp over one pixel's change of ray.z
+// is exact for a box pixel; with a slope it would be the usual ramp over |a| + |b|. A view
+// straight up or down has ray.z constant on the screen: all or nothing.
+float below_horizon_share(vec3 ray) {
+    float a = abs(frame.cam_right.z) * 2.0 * frame.viewport.z;
+    float b = abs(frame.cam_down.z) * 2.0 * frame.viewport.w;
+    float width = a + b;
+    return width > 0.0 ? clamp(0.5 - ray.z / width, 0.0, 1.0) : (ray.z < 0.0 ? 1.0 : 0.0);
+}
+
 vec3 sky(vec3 dir) {
     if (!BACKGROUND) return vec3(0.0);
     return sky_radiance(dir) + sun_disc(dir);
@@ -104,10 +117,16 @@ void main() {
     bool inside = all(lessThan(p, imageSize(hdr_bits)));
     uvec4 bits = inside ? imageLoad(hdr_bits, p) : NO_SEA_BITS;
     bool covered = bits != NO_SEA_BITS;
-    bool is_sea = SEA_ONLY || covered;
     vec3 ray = camera_ray(pixel_to_ndc(vec2(p) + 0.5));   // the pixel's centre, as gl_FragCoord
+    // The share of the pixel the sea covers: the part below the mean horizon, also where the grid
+    // left the centre uncovered. Where crests can rise over the horizon (the eye no higher than
+    // the highest), a pixel the grid drew may be a crest standing above it: left whole.
+    bool crests_reach_horizon = frame.wave_extent.y >= frame.cam_forward.w;
+    float sea_share = SEA_ONLY || (covered && (ray.z > 0.0 || crests_reach_horizon)) ? 1.0 : below_horizon_share(ray);
+    bool is_sea = SEA_ONLY || covered || sea_share > 0.0;
     vec2 x = covered ? bits_to_rest_position(bits) : mean_plane_point(ray);
-    vec3 v = -normalize(ray);
+    // An uncovered pixel's sea lies at most on the horizon (x then FAR_LIMIT: the grazing limit).
+    vec3 v = -normalize(covered ? ray : vec3(ray.xy, min(ray.z, 0.0)));
     SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
     // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
     // FAR_LIMIT (stored for pixels too far for any train) nothing is resolvable either.
@@ -132,11 +151,13 @@ void main() {
     }
     // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
-    vec3 radiance = is_sea ? (ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray, covered)) : vec3(0.0)) : (SEA_ONLY ? vec3(0.0) : sky(-v));
+    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray, covered)) : vec3(0.0);
     if (SKY_PHYSICAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, length(vec3(x, frame.cam_forward.w)));
     }
+    // The rest of the pixel sees the sky at (or just above) the horizon.
+    if (!SEA_ONLY && sea_share < 1.0) radiance = mix(sky(normalize(vec3(ray.xy, max(ray.z, 0.0)))), radiance, sea_share);
     if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
     if (COUNT_TRAINS && inside && is_sea) {
         atomicAdd(counts.sea_pixels, 1u);

@@ -344,7 +344,12 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             0.0,
             0.0,
         ],
-        wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, 0.0, 0.0, 0.0],
+        wave_extent: [
+            waves.trains.last().map_or(0.0, |t| t.wavelength) as f32,
+            waves.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
+            0.0,
+            0.0,
+        ],
         baseline_sigma2: {
             let b = baseline_slope_variance(&camera, waves, scene.render.time_s, width, height);
             [b[0] as f32, b[1] as f32, 0.0, 0.0]
