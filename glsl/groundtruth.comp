@@ -84,6 +84,12 @@ vec2 invert(vec2 y, vec2 x, out Surface s) {
 
 const int BISECTION_STEPS = 16;
 
+// The vertical gap within which a marching step counts as on the surface, for a point t along
+// its ray and `range` from the eye: 0.1 mm plus f32's relative precision at both scales.
+float hit_tolerance(float t, float range) {
+    return 1e-4 + 1e-6 * max(t, range);
+}
+
 // Vertical gap between the ray point o + t r and the surface below or above it (positive above).
 float gap(vec3 o, vec3 r, float t, inout vec2 x, out Surface s) {
     vec3 p = o + t * r;
@@ -122,7 +128,7 @@ float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
             searching = 0.0;
         } else {
             float g = gap(o, r, t, x, s);
-            if (abs(g) <= 1e-4 + 1e-6 * t) {
+            if (abs(g) <= hit_tolerance(t, length(o + t * r))) {
                 result = t;
                 searching = 0.0;
             } else if (g < 0.0) {
@@ -197,6 +203,7 @@ Sample shade_hit(vec3 r, float t, Surface s) {
     vec3 p = t * r;
     vec3 dir = r;
     float w = 1.0;
+    float t_hit = t;   // the ray parameter of the latest hit, which sets its tolerance
     bool tracing = true;
     for (uint b = 0u; b <= tile.bounces && tracing; ++b) {
         vec3 n = surface_normal(s);
@@ -204,8 +211,12 @@ Sample shade_hit(vec3 r, float t, Surface s) {
         o.transmitted += w * (1.0 - fresnel);
         vec3 refl = reflect(dir, n);
         Surface next;
-        // Start a little off the surface; the ray leaves when it meets no wave.
-        float t_next = intersect(p, refl, 1e-3 + 1e-5 * length(p), tile.bounce_march, next);
+        // A hit is accepted within HIT_TOLERANCE of the surface, below it as well: a ray leaving
+        // at grazing incidence from there (it rises from the facet at rate refl . n) could start
+        // inside the wave it leaves and meet it at once. So it starts lifted above any such
+        // point, twice the tolerance, and a little along itself; it leaves when it meets no wave.
+        vec3 origin = p + vec3(0.0, 0.0, 2.0 * hit_tolerance(t_hit, length(p)));
+        float t_next = intersect(origin, refl, 1e-3 + 1e-5 * length(p), tile.bounce_march, next);
         if (t_next < 0.0) {
             o.sky += w * fresnel * preetham_sky(refl);
             // The sun's irradiance spread evenly over a cone around it (src/measure/groundtruth.rs,
@@ -219,7 +230,8 @@ Sample shade_hit(vec3 r, float t, Surface s) {
             tracing = false;
         } else {
             w *= fresnel;
-            p += t_next * refl;
+            p = origin + t_next * refl;
+            t_hit = t_next;
             dir = refl;
             s = next;
         }

@@ -77,13 +77,16 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
     // 10 m above a 10 m/s sea, looking 12 degrees down, the sun behind: the sky's reflection and
     // the refracted light per distance band, against exact geometry (64x48, 4x4 samples; reflected
     // rays that meet the sea again traced up to 3 times). Measured (sky / sea, by band from the
-    // eye, 10-500 m): full +2.9, -0.1, -1.6, +12.6, +27% / -0.1, -0.8, -2.1, -7.9, -14%; the paper
-    // +10, +18, +24, +45, +61% / -0.2, -1.5, -3.8, -10, -16%, drifting towards the horizon (it
-    // reads the sky for every reflection, also those another wave stops, and centres its lookup on
-    // the mirror direction, not on the facets seen). The constant BRDF drifts about twice as fast
-    // again. Asserted: full within FULL_SKY (sky) out to 200 m, both within 5% (sea) where the view
-    // is at least 10 degrees down and the paper within 20% (sky) there; each never further off
-    // than the next simpler method in any band (sky and sea).
+    // eye, 10-500 m): full +8.9, -4.5, -9.9, -2.6, +7.3% / -0.5, -0.9, -0.7, -3.0, -6.0% (-6.7%
+    // beyond 1 km); the paper +7.9, +13, +19, +38, +55% / -0.1, -1.4, -3.6, -9.8, -16%, drifting
+    // towards the horizon (it reads the sky for every reflection, also those another wave stops,
+    // centres its lookup on the mirror direction, not on the facets seen, and its fit of the mean
+    // Fresnel is 10-16% high there); the constant BRDF +7.7, +17, +38, +66, +90%. Full's nearest
+    // band is what its exact Fresnel no longer hides (Schlick's is 25% low at 45 degrees).
+    // Asserted: full within FULL_SKY (sky) out to 200 m and FULL_SKY_FAR to 500 m, its refracted
+    // light within FULL_SEA everywhere, both methods within 5% (sea) where the view is at least
+    // 10 degrees down and the paper within 20% (sky) there; each never further off than the next
+    // simpler method in any band (sky and sea).
     let gpu = gpu();
     let mut scene = twilight();
     scene.sun.elevation_deg = 25.0;
@@ -129,9 +132,13 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
             sea(f),
             sea(p)
         );
-        if errorbench::BANDS_M[b + 1] <= 200.0 {
+        let far_edge = errorbench::BANDS_M[b + 1];
+        if far_edge <= 200.0 {
             assert!(sky(f) < FULL_SKY, "band {b}: full's sky energy off by {:.3}", sky(f));
+        } else if far_edge <= 500.0 {
+            assert!(sky(f) < FULL_SKY_FAR, "band {b}: full's sky energy off by {:.3}", sky(f));
         }
+        assert!(sea(f) < FULL_SEA, "band {b}: full's refracted energy off by {:.3}", sea(f));
         if errorbench::BANDS_M[b + 1] <= steep {
             assert!(sea(f) < 0.05, "band {b}: full's refracted energy off by {:.3}", sea(f));
             assert!(sky(p) < 0.20, "band {b}: the paper's sky energy off by {:.3}", sky(p));
@@ -142,8 +149,12 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Full's sky energy bound out to 200 m in the test view above (its measured worst plus margin).
-const FULL_SKY: f64 = 0.16;
+/// Full's energy bounds in the test view above: its measured worst plus about twice the band's
+/// standard error (1-2 points): the sky out to 200 m (9.9%) and to 500 m (7.3%), the refracted
+/// light in every band (6.7%, beyond 1 km).
+const FULL_SKY: f64 = 0.13;
+const FULL_SKY_FAR: f64 = 0.11;
+const FULL_SEA: f64 = 0.09;
 
 #[test]
 fn the_bench_writes_a_finite_row_per_method() {
