@@ -125,8 +125,10 @@ void main() {
     float sea_share = SEA_ONLY || (covered && (ray.z > 0.0 || crests_reach_horizon)) ? 1.0 : below_horizon_share(ray);
     bool is_sea = SEA_ONLY || covered || sea_share > 0.0;
     vec2 x = covered ? bits_to_rest_position(bits) : mean_plane_point(ray);
-    // An uncovered pixel's sea lies at most on the horizon (x then FAR_LIMIT: the grazing limit).
-    vec3 v = -normalize(covered ? ray : vec3(ray.xy, min(ray.z, 0.0)));
+    // An uncovered pixel's sea lies at most on the horizon (x then FAR_LIMIT: the grazing limit);
+    // a ray straight up has no horizon in its pixel (its share is 0) and takes any finite v.
+    vec3 toward_sea = covered || ray.z <= 0.0 ? ray : vec3(ray.xy, 0.0);
+    vec3 v = dot(toward_sea, toward_sea) > 0.0 ? -normalize(toward_sea) : vec3(0.0, 0.0, 1.0);
     SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
     // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
     // FAR_LIMIT (stored for pixels too far for any train) nothing is resolvable either.
@@ -156,7 +158,8 @@ void main() {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, length(vec3(x, frame.cam_forward.w)));
     }
-    // The rest of the pixel sees the sky at (or just above) the horizon.
+    // The rest of the pixel sees the sky at (or just above) the horizon; a share below 1 means
+    // ray.z > -width / 2 with |ray| >= 1 (camera_ray), so this direction is never zero.
     if (!SEA_ONLY && sea_share < 1.0) radiance = mix(sky(normalize(vec3(ray.xy, max(ray.z, 0.0)))), radiance, sea_share);
     if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
     if (COUNT_TRAINS && inside && is_sea) {
