@@ -14,14 +14,15 @@ float mean_fresnel(float cos_v, float sigma_v) {
 
 // The exact Fresnel of sea water averaged over the visible slopes (src/model/fresnel.rs,
 // MeanFresnelTable; binding resources::MEAN_FRESNEL_BINDING): x of the header the refractive
-// index, then COS_SIZE x SIGMA_SIZE values at cos_v = u^2, sigma_v = SIGMA_MAX t^2 for u, t on
-// uniform grids over [0, 1], row-major by sigma, four to a vec4.
+// index, then per cell of the COS_SIZE x SIGMA_SIZE nodes at cos_v = u^2, sigma_v = SIGMA_MAX t^2
+// (u, t on uniform grids over [0, 1]; cells row-major by sigma) its four corners' values, so a
+// bilinear lookup reads one vec4 (resources::mean_fresnel_buffer).
 const int FRESNEL_COS_SIZE = 64;
 const int FRESNEL_SIGMA_SIZE = 32;
 const float FRESNEL_SIGMA_MAX = 1.0;
-layout(set = 0, binding = 11, std140) uniform MeanFresnel {
+layout(set = 0, binding = 11, std430) restrict readonly buffer MeanFresnel {
     vec4 fresnel_header;
-    vec4 fresnel_values[FRESNEL_COS_SIZE * FRESNEL_SIGMA_SIZE / 4];
+    vec4 fresnel_cells[];   // (FRESNEL_COS_SIZE - 1) x (FRESNEL_SIGMA_SIZE - 1)
 };
 
 // Unpolarized Fresnel reflectance from air into sea water at cos(incidence) c (the mean of the
@@ -37,20 +38,15 @@ float fresnel_exact(float c) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
-float fresnel_value(int i, int j) {
-    int k = j * FRESNEL_COS_SIZE + i;
-    return fresnel_values[k >> 2][k & 3];
-}
-
 // The table bilinearly, as MeanFresnelTable::lookup: clamped to its domain on both axes.
 float visible_fresnel(float cos_v, float sigma_v) {
     float u = sqrt(clamp(cos_v, 0.0, 1.0)) * float(FRESNEL_COS_SIZE - 1);
     float t = sqrt(clamp(sigma_v / FRESNEL_SIGMA_MAX, 0.0, 1.0)) * float(FRESNEL_SIGMA_SIZE - 1);
     int i = min(int(u), FRESNEL_COS_SIZE - 2), j = min(int(t), FRESNEL_SIGMA_SIZE - 2);
-    float fu = u - float(i), ft = t - float(j);
-    float low = mix(fresnel_value(i, j), fresnel_value(i + 1, j), fu);
-    float high = mix(fresnel_value(i, j + 1), fresnel_value(i + 1, j + 1), fu);
-    return mix(low, high, ft);
+    vec4 corners = fresnel_cells[j * (FRESNEL_COS_SIZE - 1) + i];
+    vec2 f = vec2(u - float(i), t - float(j));
+    vec2 along = mix(corners.xz, corners.yw, f.x);   // (low sigma, high sigma)
+    return mix(along.x, along.y, f.y);
 }
 
 // The mean Fresnel of the sky and refracted terms: the exact average for METHOD_FULL, the paper's

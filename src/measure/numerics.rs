@@ -107,12 +107,12 @@ pub fn evaluate(
             (2, D::COMBINED_IMAGE_SAMPLER, s),
             (9, D::STORAGE_BUFFER, s),
             (10, D::STORAGE_BUFFER, s),
-            (MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, s),
+            (MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, s),
         ],
         8,
     )?;
     let mean_fresnel = mean_fresnel_buffer(gpu)?;
-    bindings.write_buffer(MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, mean_fresnel.raw);
+    bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, mean_fresnel.raw);
     bindings.write_buffer(0, D::UNIFORM_BUFFER, frame_buffer.raw);
     bindings.write_buffer(1, D::UNIFORM_BUFFER, waves_buffer.raw);
     bindings.write_image(

@@ -119,7 +119,7 @@ pub struct Resources<'g> {
     /// that keep the shading pass's bindings valid (its code for them is specialized away).
     pub aerial_inscatter: Image<'g>,
     pub aerial_transmittance: Image<'g>,
-    /// The exact Fresnel averaged over the visible slopes (model::fresnel), written once here:
+    /// The exact Fresnel averaged over the visible slopes (model::fresnel) by table cell, written once here:
     /// host writes before a submission are visible to it, so no pass declares it.
     pub mean_fresnel: Buffer<'g>,
     /// The measured exposure (glsl/exposure.comp writes it, the tone mapping reads it as a
@@ -268,14 +268,21 @@ impl<'g> Resources<'g> {
     }
 }
 
-/// The uniform block MeanFresnel of glsl/slopes.glsl: a vec4 (eta, unused) then the table's
-/// values four to a vec4 (std140 arrays stride by 16 bytes).
+/// The storage block MeanFresnel of glsl/slopes.glsl: a vec4 (eta, unused), then per cell of the
+/// table (row-major by sigma) the four corners' values, (i, j), (i + 1, j), (i, j + 1),
+/// (i + 1, j + 1): a bilinear lookup is one vec4 read.
 pub fn mean_fresnel_buffer(gpu: &Gpu) -> Result<Buffer<'_>> {
     let table = MeanFresnelTable::sea_water();
-    let mut words = vec![table.eta as f32, 0.0, 0.0, 0.0];
-    words.extend_from_slice(&table.values);
-    let bytes = 4 * words.len() as u64;
-    let buffer = Buffer::new(gpu, "mean fresnel table", bytes, vk::BufferUsageFlags::UNIFORM_BUFFER, Location::Upload)?;
+    let (n, m) = (MeanFresnelTable::COS_SIZE, MeanFresnelTable::SIGMA_SIZE);
+    let at = |i: usize, j: usize| table.values[j * n + i];
+    let mut words = vec![[table.eta as f32, 0.0, 0.0, 0.0]];
+    for j in 0..m - 1 {
+        for i in 0..n - 1 {
+            words.push([at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]);
+        }
+    }
+    let bytes = 16 * words.len() as u64;
+    let buffer = Buffer::new(gpu, "mean fresnel table", bytes, vk::BufferUsageFlags::STORAGE_BUFFER, Location::Upload)?;
     buffer.write(&words)?;
     Ok(buffer)
 }

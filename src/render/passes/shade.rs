@@ -72,10 +72,10 @@ impl<'g> ShadePass<'g> {
                 (AERIAL_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (SUN_SHADOW_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
-                (MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, compute),
+                (MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, compute),
             ],
         )?;
-        bindings.write_buffer(MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, r.mean_fresnel.raw);
+        bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, r.mean_fresnel.raw);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         for (binding, image) in
             [(AERIAL_INSCATTER_BINDING, &r.aerial_inscatter), (AERIAL_TRANSMITTANCE_BINDING, &r.aerial_transmittance)]

@@ -34,14 +34,14 @@ impl<'g> SkyMapPass<'g> {
         let mut layout = vec![
             (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages),
             (3, D::STORAGE_IMAGE, stages),
-            (MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, stages),
+            (MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, stages),
         ];
         if resources.atmosphere.is_some() {
             layout.push((4, D::COMBINED_IMAGE_SAMPLER, stages));
         }
         let bindings = Bindings::new(device, "sky map", &layout)?;
         write_frame_uniforms(&bindings, resources, false);
-        bindings.write_buffer(MEAN_FRESNEL_BINDING, D::UNIFORM_BUFFER, resources.mean_fresnel.raw);
+        bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, resources.mean_fresnel.raw);
         let sky = &resources.sky_map;
         bindings.write_image(3, D::STORAGE_IMAGE, sky.level0_view, general, vk::Sampler::null());
         let (code, sky_view) = match &resources.atmosphere {
