@@ -482,6 +482,25 @@ pub struct GroundTruthMeta {
     pub bounces: u32,
 }
 
+impl GroundTruthMeta {
+    /// Whether this ground truth is one of `scene`: equal but for the render settings the ground
+    /// truth never reads (the grid, the sky map's sampler, the shadow map, the display's exposure
+    /// and curve: it traces the waves exactly and writes linear radiance), so the methods can be
+    /// measured with those settings changed. The waves' time, the camera, sun, sky and sea count.
+    pub fn is_of(&self, scene: &Scene) -> bool {
+        let mut as_traced = scene.clone();
+        let (ours, theirs) = (&self.scene.render, &mut as_traced.render);
+        theirs.grid_cell_px = ours.grid_cell_px;
+        theirs.sky_anisotropy = ours.sky_anisotropy;
+        theirs.shadow_map = ours.shadow_map;
+        theirs.shadow_map_size = ours.shadow_map_size;
+        theirs.exposure = ours.exposure;
+        theirs.ev100 = ours.ev100;
+        theirs.tone_curve = ours.tone_curve;
+        as_traced == self.scene
+    }
+}
+
 fn sun_disc_deg() -> f64 {
     crate::model::sky::SUN_ANGULAR_RADIUS.to_degrees()
 }
@@ -555,5 +574,45 @@ impl GroundTruthFiles {
             variance: read(&sibling(path, "var.exr"))?,
             meta,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::scene::ShadowMapMode;
+
+    fn meta(scene: Scene) -> GroundTruthMeta {
+        GroundTruthMeta {
+            scene,
+            width: 8,
+            height: 8,
+            samples_per_axis: 2,
+            noise_floor_rmse: None,
+            sun_kernel_deg: 2.0,
+            bounces: 3,
+        }
+    }
+
+    #[test]
+    fn a_ground_truth_serves_every_setting_it_never_reads() {
+        let truth = meta(Scene::default());
+        let mut scene = Scene::default();
+        scene.render.shadow_map = ShadowMapMode::On;
+        scene.render.grid_cell_px = 4.0;
+        scene.render.sky_anisotropy = 1.0;
+        scene.render.exposure = Some(0.5);
+        assert!(truth.is_of(&scene), "render-only settings must not refuse the ground truth");
+        // What the ground truth traces must match.
+        for change in [
+            |s: &mut Scene| s.render.time_s += 1.0,
+            |s: &mut Scene| s.camera.pitch_deg -= 1.0,
+            |s: &mut Scene| s.sun.elevation_deg += 1.0,
+            |s: &mut Scene| s.wind.speed_mps += 1.0,
+        ] {
+            let mut other = Scene::default();
+            change(&mut other);
+            assert!(!truth.is_of(&other), "{other:?}");
+        }
     }
 }

@@ -145,9 +145,9 @@ pub struct Render {
     pub sky_anisotropy: f64,
     /// The sun's shadow map of the displaced grid (passes/shadow.rs): "auto" draws it wherever
     /// the sun is up and the grid resolves some train, "on" insists (an error with the sun down,
-    /// a logged omission where nothing is displaced), "off" (the default, until its nearest band
-    /// is understood: docs/results.md, "Sun shadows") leaves the waves' shadows to the BRDF's
-    /// statistical term alone.
+    /// a logged omission where nothing is displaced), "off" (the default, for its cost under the
+    /// default scene's low sun: docs/results.md, "Sun shadows") leaves the waves' shadows to the
+    /// BRDF's statistical term alone.
     pub shadow_map: ShadowMapMode,
     /// The shadow map's texels per side.
     pub shadow_map_size: u32,

@@ -192,7 +192,7 @@ pub fn run(
 ) -> Result<Vec<Row>> {
     let truth = GroundTruthFiles::load(reference)?;
     let (w, h) = (truth.meta.width, truth.meta.height);
-    if truth.meta.scene != *scene {
+    if !truth.meta.is_of(scene) {
         return Err(Error::Argument(format!(
             "reference {} was made for another scene than {scene_name}: make it with `ocean reference --scene {scene_name}`",
             reference.display()
