@@ -60,6 +60,12 @@ pub fn visible_mean_fresnel(cos_v: f64, sigma_v: f64, eta: f64) -> f64 {
         }
     };
     let (dx, dy) = ((cut + SLOPE_RANGE) / ALONG_INTERVALS as f64, SLOPE_RANGE / ACROSS_INTERVALS as f64);
+    // The Gaussian factors apart, the one across with its trapezoid weight: one exp per node.
+    let across: [(f64, f64); ACROSS_INTERVALS + 1] = std::array::from_fn(|j| {
+        let y = j as f64 * dy;
+        let end = if j == 0 || j == ACROSS_INTERVALS { 0.5 } else { 1.0 };
+        (y * y, end * (-0.5 * y * y).exp())
+    });
     let (mut weighted, mut total) = (0.0, 0.0);
     for i in 0..=ALONG_INTERVALS {
         let x = -SLOPE_RANGE + i as f64 * dx;
@@ -67,11 +73,10 @@ pub fn visible_mean_fresnel(cos_v: f64, sigma_v: f64, eta: f64) -> f64 {
         if ramp == 0.0 {
             continue;
         }
-        for j in 0..=ACROSS_INTERVALS {
-            let y = j as f64 * dy;
-            let across = if j == 0 || j == ACROSS_INTERVALS { 0.5 } else { 1.0 };
-            let w = simpson(i, ALONG_INTERVALS) * across * ramp * (-0.5 * (x * x + y * y)).exp();
-            let cos_i = ramp / (1.0 + sigma_v * sigma_v * (x * x + y * y)).sqrt();
+        let along = simpson(i, ALONG_INTERVALS) * ramp * (-0.5 * x * x).exp();
+        for &(y2, across_weight) in &across {
+            let w = along * across_weight;
+            let cos_i = ramp / (1.0 + sigma_v * sigma_v * (x * x + y2)).sqrt();
             weighted += w * fresnel_exact(cos_i, eta);
             total += w;
         }
@@ -109,15 +114,24 @@ impl MeanFresnelTable {
         TABLE.get_or_init(|| MeanFresnelTable::new(SEA_WATER_IOR))
     }
 
+    /// Every process builds the table once, at start-up: its rows are shared out among the
+    /// cores (each node is its own quadrature, so the values do not depend on the split).
     pub fn new(eta: f64) -> MeanFresnelTable {
-        let mut values = Vec::with_capacity(Self::COS_SIZE * Self::SIGMA_SIZE);
-        for j in 0..Self::SIGMA_SIZE {
-            let t = j as f64 / (Self::SIGMA_SIZE - 1) as f64;
-            for i in 0..Self::COS_SIZE {
-                let u = i as f64 / (Self::COS_SIZE - 1) as f64;
-                values.push(visible_mean_fresnel(u * u, Self::SIGMA_MAX * t * t, eta) as f32);
+        let mut values = vec![0.0f32; Self::COS_SIZE * Self::SIGMA_SIZE];
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(Self::SIGMA_SIZE);
+        let rows_per_thread = Self::SIGMA_SIZE.div_ceil(threads);
+        std::thread::scope(|scope| {
+            for (chunk, rows) in values.chunks_mut(rows_per_thread * Self::COS_SIZE).enumerate() {
+                scope.spawn(move || {
+                    for (k, value) in rows.iter_mut().enumerate() {
+                        let (j, i) = (chunk * rows_per_thread + k / Self::COS_SIZE, k % Self::COS_SIZE);
+                        let t = j as f64 / (Self::SIGMA_SIZE - 1) as f64;
+                        let u = i as f64 / (Self::COS_SIZE - 1) as f64;
+                        *value = visible_mean_fresnel(u * u, Self::SIGMA_MAX * t * t, eta) as f32;
+                    }
+                });
             }
-        }
+        });
         MeanFresnelTable { values, eta }
     }
 
