@@ -187,19 +187,27 @@ fn directional_variance(x: f64, y: f64, sigma2: [f64; 2]) -> f64 {
     }
 }
 
-/// Smith's share 1 - G1 = Lambda / (1 + Lambda) of the rays leaving the sea upwards along the
-/// unit direction with wind-axis components (x, y, z > 0) that meet another wave, for slopes of
-/// variance sigma2 (glsl/slopes.glsl, blocked_share); 0 on a glassy sea.
-fn blocked_share(x: f64, y: f64, z: f64, sigma2: [f64; 2]) -> f64 {
+/// Smith's Lambda towards the unit direction with local components (x, y, z > 0), for slopes of
+/// variance sigma2 along the axes: a = cot(theta) / sqrt(2 sigma_phi^2) = z / sqrt(2 (sigma_x^2 x^2
+/// + sigma_y^2 y^2)); 0 on a glassy sea and where a > 26 (below f64's resolution).
+fn lambda_towards(x: f64, y: f64, z: f64, sigma2: [f64; 2]) -> f64 {
     let spread2 = 2.0 * (sigma2[0] * x * x + sigma2[1] * y * y);
     if spread2 == 0.0 {
         return 0.0;
     }
     let a = z / spread2.sqrt();
     if a > 26.0 {
-        return 0.0;
+        0.0
+    } else {
+        smith_lambda(a)
     }
-    let lambda = smith_lambda(a);
+}
+
+/// Smith's share 1 - G1 = Lambda / (1 + Lambda) of the rays leaving the sea upwards along the
+/// unit direction with wind-axis components (x, y, z > 0) that meet another wave, for slopes of
+/// variance sigma2 (glsl/slopes.glsl, blocked_share); 0 on a glassy sea.
+fn blocked_share(x: f64, y: f64, z: f64, sigma2: [f64; 2]) -> f64 {
+    let lambda = lambda_towards(x, y, z, sigma2);
     lambda / (1.0 + lambda)
 }
 
@@ -235,23 +243,7 @@ pub fn reflected_sun_with(v: DVec3, l: DVec3, sigma2: [f64; 2], sun_sigma2: f64,
     let zeta = DVec2::new(h.x / h.z, h.y / h.z);
     let p = (-0.5 * (zeta.x * zeta.x / sx + zeta.y * zeta.y / sy)).exp() / (2.0 * PI * (sx * sy).sqrt());
     let fresnel = fresnel(v.dot(h));
-    let lambda = |d: DVec3| {
-        let s2 = d.x * d.x + d.y * d.y;
-        if s2 == 0.0 {
-            return 0.0;
-        }
-        let sigma_phi2 = (sigma2[0] * d.x * d.x + sigma2[1] * d.y * d.y) / s2;
-        if sigma_phi2 == 0.0 {
-            return 0.0;
-        }
-        let tan = s2.sqrt() / d.z;
-        let a = 1.0 / (2.0 * sigma_phi2 * tan * tan).sqrt();
-        if a > 26.0 {
-            0.0
-        } else {
-            smith_lambda(a)
-        }
-    };
+    let lambda = |d: DVec3| lambda_towards(d.x, d.y, d.z, sigma2);
     if cos_v == 0.0 {
         // cos_v Lambda_v -> sin_v sqrt(2 sigma_v^2) / (2 sqrt(pi)) as cos_v -> 0.
         let spread = (2.0 * (sigma2[0] * v.x * v.x + sigma2[1] * v.y * v.y)).sqrt();
