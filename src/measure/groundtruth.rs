@@ -282,7 +282,7 @@ pub fn render(
         bounces,
         bounce_march: march_budget(exact.len() as u32, bounces).1,
         wave_count: exact.len() as u32,
-        slab: wave_set.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
+        slab: wave_set.highest_crest() as f32,
         // Height slope of the displaced surface: sum k h over 1 - sum k h where the trains cannot
         // fold; where they can, a bound of 10 (84 degrees) keeps steps finite.
         lipschitz: if kh_sum < 0.9 { (kh_sum / (1.0 - kh_sum)) as f32 } else { 10.0 },

@@ -195,6 +195,12 @@ pub fn cox_munk_total_variance(wind_speed: f64) -> f64 {
 }
 
 impl WaveSet {
+    /// The summed amplitude: no point of the surface rises higher above its rest plane (or sinks
+    /// lower below it), whatever the phases.
+    pub fn highest_crest(&self) -> f64 {
+        self.trains.iter().map(|t| t.amplitude).sum()
+    }
+
     /// Height above mean sea level of the water directly below the origin (the eye) at time t:
     /// the rest position x whose displaced point lies at the origin, x + D_xy(x) = 0, by Newton's
     /// method in f64 over every train, then the rest plane's offset plus D_z(x).

@@ -158,7 +158,7 @@ impl GridLayout {
     /// The grid runs from the horizon (or the top margin) down past the bottom edge, and past the
     /// side edges, by the screen-space reach of the largest displacement at the nearest visible sea.
     pub fn new(cam: &CameraFrame, waves: &WaveSet, cell_px: f64, width: u32, height: u32) -> GridLayout {
-        let reach = std::f64::consts::SQRT_2 * waves.trains.iter().map(|t| t.amplitude).sum::<f64>();
+        let reach = std::f64::consts::SQRT_2 * waves.highest_crest();
         let bottom = cam.ray([0.0, 1.0]);
         let (margin_x, margin_y) = if bottom.z < 0.0 {
             let depth = cam.plane_height / -bottom.z; // view depth: ray . forward = 1
@@ -209,7 +209,7 @@ pub fn baseline_slope_variance(
 /// line); the last such row is left to the sea's shader in case f32 rounding on the GPU puts a
 /// grid pixel there.
 pub fn sky_only_rows(camera: &CameraFrame, waves: &WaveSet, width: u32, height: u32) -> u32 {
-    let highest_crest: f64 = waves.trains.iter().map(|t| t.amplitude).sum();
+    let highest_crest = waves.highest_crest();
     if highest_crest >= camera.plane_height {
         return 0;
     }
@@ -344,12 +344,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             0.0,
             0.0,
         ],
-        wave_extent: [
-            waves.trains.last().map_or(0.0, |t| t.wavelength) as f32,
-            waves.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
-            0.0,
-            0.0,
-        ],
+        wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, waves.highest_crest() as f32, 0.0, 0.0],
         baseline_sigma2: {
             let b = baseline_slope_variance(&camera, waves, scene.render.time_s, width, height);
             [b[0] as f32, b[1] as f32, 0.0, 0.0]

@@ -84,7 +84,7 @@ pub fn fit(
     // Every point of the surface lies within the trains' summed amplitude of its rest position
     // (horizontally and vertically); a crest that shadows a rest position lies at most
     // 2 A / tan(elevation) towards the sun (a crest A above the rest plane over a trough A below).
-    let amplitude: f64 = waves.trains.iter().map(|t| t.amplitude).sum();
+    let amplitude = waves.highest_crest();
     let tan_elevation = toward_sun.z / level.length().max(f64::MIN_POSITIVE);
     let farthest = probes.iter().map(|p| p.length()).fold(0.0, f64::max);
     let shadow_reach = (2.0 * amplitude / tan_elevation).min(farthest);
