@@ -60,11 +60,28 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
     return METHOD == METHOD_FULL ? stereographic_plane(r) : stereographic(r);
 }
 
-// Average sky radiance over the slope distribution: one textureGrad lookup whose footprint is the
+// Average sky radiance over the slope distribution: textureGrad lookups whose footprint is the
 // image of the 2-sigma slope ellipse (paper, algorithm 5.1; derivatives by finite differences
 // along its axes), centred on the mirror direction (the paper) or, for METHOD_FULL, the ellipse
 // of the visible facets' slopes (slopes.glsl). rgb: the reflected sky; a: the share of the
 // reflections that meet the sea again and enter it there (0 for the paper, whose map holds none).
+//
+// A mipmap lookup filters isotropically over the footprint's longer axis. At grazing view the
+// ellipse's image is long in elevation and narrow in azimuth (along-view slopes turn the
+// reflection by twice their angle, across-view ones by 2 cos(theta_v) of it), so one lookup
+// also averages the sky over azimuths no slope reaches: with the sun ahead, 5-9% of the sky's
+// energy below the integral it stands for (docs/results.md). METHOD_FULL takes two lookups at
+// -+ sqrt(1 - s^2) of the longer axis, each reflected exactly and filtered over the share
+// s = max(shorter / longer, 1/2) of it: the pair keeps the footprint's mean and variance, and
+// each lookup's isotropic blur is at most twice the shorter axis. Towards a round footprint
+// s -> 1 and the pair meets at the centre: the one lookup, with no seam between the two.
+const float SKY_TAP_SHARE_MIN = 0.5;
+
+vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
+    float to_uv = 0.5 / frame.tone.y;
+    return textureGrad(sky_map, sky_map_uv(u), du_x * to_uv, du_y * to_uv);
+}
+
 vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
     const float eps = 1e-3;
     VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2) : gaussian_slopes(sigma2);
@@ -75,9 +92,19 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
     vec2 dir_b = len_b > 0.0 ? slopes.axis_across / len_b : vec2(0.0);
     vec2 dx = (reflected_u(f, v, slopes.mean + eps * dir_a) - u0) * (2.0 * len_a / eps);
     vec2 dy = (reflected_u(f, v, slopes.mean + eps * dir_b) - u0) * (2.0 * len_b / eps);
-    float to_uv = 0.5 / frame.tone.y;
-    vec4 m = textureGrad(sky_map, sky_map_uv(u0), dx * to_uv, dy * to_uv);
-    return vec4(m.rgb, METHOD == METHOD_FULL ? m.a : 0.0);
+    if (METHOD != METHOD_FULL) return vec4(sky_map_grad(u0, dx, dy).rgb, 0.0);
+    // The longer image axis: its slope axis and gradient; the shorter one's gradient.
+    bool a_longer = dot(dx, dx) >= dot(dy, dy);
+    vec2 axis = a_longer ? slopes.axis_along : slopes.axis_across;
+    vec2 major = a_longer ? dx : dy, minor = a_longer ? dy : dx;
+    float len_major = length(major), len_minor = length(minor);
+    // len_minor <= len_major, so the share is in [1/2, 1]; a zero footprint (a glassy sea) is round.
+    float share = len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
+    if (share >= 1.0) return sky_map_grad(u0, major, minor);
+    vec2 step = axis * sqrt(1.0 - share * share);
+    vec2 g_major = major * share;
+    return 0.5 * (sky_map_grad(reflected_u(f, v, slopes.mean + step), g_major, minor)
+                + sky_map_grad(reflected_u(f, v, slopes.mean - step), g_major, minor));
 }
 
 // Everything the sea sends towards v at one pixel. sun_visible: the share of the sun that the
