@@ -14,7 +14,7 @@ W=${W:-160}; H=${H:-120}; N=${N:-12}
 # method costs minutes, not an hour.
 REFERENCES=${REFERENCES:-target/reference}
 seas=(calm agitated grazing)
-steps=$((1 + ${#seas[@]} * 4))
+steps=$((1 + ${#seas[@]} * 5))
 step=0
 started=$SECONDS
 say() {
@@ -51,6 +51,8 @@ for sea in "${seas[@]}"; do
     done
     say "$sea: error against time, every method and setting"
     "$bin" bench error-vs-time --scene "$scene" --reference "$ref/reference.exr" --out "$out" --frames 20
+    say "$sea: where the sky's error comes from: the model's quadrature, the lookup, the sea's own masking"
+    "$bin" bench sky-model --scene "$scene" --reference "$ref/reference.exr" --out "$out"
     say "$sea: flicker over a second at 30 frames per second, every method"
     "$bin" bench flicker --scene "$scene" --width "$W" --height "$H" --frames 30 --out "$out"
 done

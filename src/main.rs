@@ -215,22 +215,36 @@ enum Command {
     },
 }
 
+/// A bench against a ground truth of its scene.
+#[derive(clap::Args)]
+struct AgainstTruth {
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Ground truth made by `ocean reference` for this scene (its size is the bench's size).
+    #[arg(long)]
+    reference: PathBuf,
+    #[arg(long, default_value = "docs/bench")]
+    out: PathBuf,
+    #[arg(long)]
+    device: Option<String>,
+}
+
 #[derive(Subcommand)]
 enum Bench {
     /// Error against GPU time of every method and setting, against a ground truth of the scene.
     ErrorVsTime {
-        #[arg(long)]
-        scene: Option<PathBuf>,
-        /// Ground truth made by `ocean reference` for this scene (its size is the bench's size).
-        #[arg(long)]
-        reference: PathBuf,
-        #[arg(long, default_value = "docs/bench")]
-        out: PathBuf,
+        #[command(flatten)]
+        against: AgainstTruth,
         /// Timed frames per setting, after one warm-up frame.
         #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
-        #[arg(long)]
-        device: Option<String>,
+    },
+    /// Where the reflected sky's error comes from, per distance band: the ground truth against
+    /// the f64 quadrature of each method's model and against its GPU lookup; and the sea's own
+    /// masking at grazing view against the model's.
+    SkyModel {
+        #[command(flatten)]
+        against: AgainstTruth,
     },
     /// Temporal flicker per distance band of every method over a short animation, against a
     /// heavily supersampled render of the full method.
@@ -589,7 +603,9 @@ fn run(cli: Cli) -> ocean::Result<()> {
             );
             Ok(())
         }
-        Command::Bench { bench: Bench::ErrorVsTime { scene, reference, out, frames, device } } => {
+        Command::Bench {
+            bench: Bench::ErrorVsTime { against: AgainstTruth { scene, reference, out, device }, frames },
+        } => {
             let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
             ocean::measure::bench::error_vs_time::run(&gpu, &scene, &name, &reference, frames, &out)?;
@@ -597,6 +613,13 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg",
                 out.display()
             );
+            Ok(())
+        }
+        Command::Bench { bench: Bench::SkyModel { against: AgainstTruth { scene, reference, out, device } } } => {
+            let (scene, name) = load_scene(scene)?;
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            ocean::measure::bench::sky_model::run(&gpu, &scene, &name, &reference, &out)?;
+            ocean::say!("wrote {}/sky_model.md", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::Flicker { scene, width, height, frames, fps, out, device } } => {
