@@ -8,7 +8,6 @@ use crate::error::{Error, Result};
 use crate::measure::bench::error_vs_time::{band_label, sea_pixels_by_band};
 use crate::measure::groundtruth::GroundTruthFiles;
 use crate::measure::reference::ReferenceScene;
-use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::scene::Scene;
 use crate::model::sky::SkyModel;
 use crate::model::waves::{self, WaveSet};
@@ -18,7 +17,7 @@ use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
 use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
 use crate::render::renderer::{Options, Renderer};
 use crate::vk::gpu::Gpu;
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -50,6 +49,9 @@ pub struct MaskingRow {
     pub model: f64,
     /// Share of the facing projected area that stays visible.
     pub visible_share: f64,
+    /// How much further the visible facets lean towards the eye than the facing ones (their mean
+    /// slope towards it, visible minus facing).
+    pub lean: f64,
 }
 
 pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir: &Path) -> Result<()> {
@@ -102,7 +104,7 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
             paper: (rel(sums[3]), rel(sums[4])),
         });
     }
-    let masking = masking(&wave_set, scene.render.time_s);
+    let masking = profiles(&wave_set, scene.render.time_s);
     std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
     write_text(&out_dir.join("sky_model.md"), &markdown(scene_name, reference, &bands, &masking))?;
     Ok(())
@@ -121,103 +123,28 @@ fn grid_displaces(m: &ReferenceScene, scene: &Scene, px: f64, py: f64) -> bool {
 
 /// Depressions of the view measured (degrees): the far field's 1-3 degrees to the mid field's 20.
 const DEPRESSIONS_DEG: [f64; 6] = [1.0, 2.0, 3.0, 5.0, 10.0, 20.0];
-/// Profiles per azimuth, their length and the stretch at their start left out (m): a point
-/// there could be hidden by waves before the profile begins.
-const PROFILES: usize = 4;
-const PROFILE_M: f64 = 400.0;
-const LEAD_M: f64 = 60.0;
 
-/// The sea's surface along vertical profiles down the wind and across it, by Newton's method from
-/// each Eulerian position back to its rest position, sampled at a quarter of the shortest
-/// wavelength; a facet is visible when nothing nearer the eye rises above the ray from it.
-pub fn masking(waves: &WaveSet, t: f64) -> Vec<MaskingRow> {
-    let wind = waves.wind_direction;
-    let shortest = waves.trains.iter().map(|tr| tr.wavelength).fold(f64::INFINITY, f64::min);
-    let ds = shortest / 4.0;
-    let table = MeanFresnelTable::sea_water();
+/// The sea's own masking (src/model/masking.rs) down the wind and across it, sampled every
+/// centimetre (what `full` reads is sampled every 5 cm).
+pub fn profiles(waves: &WaveSet, t: f64) -> Vec<MaskingRow> {
     let mut rows = Vec::new();
-    for (name, azimuth) in [("down the wind", wind), ("across the wind", [-wind[1], wind[0]])] {
-        let profiles: Vec<Vec<(f64, DVec3)>> = (0..PROFILES)
-            .map(|line| {
-                let offset = DVec2::new(-azimuth[1], azimuth[0]) * (37.0 * line as f64);
-                profile(waves, t, offset, DVec2::from(azimuth), ds)
-            })
-            .collect();
-        let along = DVec2::from(azimuth);
-        let variance = waves.sigma2[0] * along.dot(DVec2::from(wind)).powi(2)
-            + waves.sigma2[1] * along.perp_dot(DVec2::from(wind)).powi(2);
-        for depression_deg in DEPRESSIONS_DEG {
-            let e = depression_deg.to_radians();
-            // Towards the eye, which lies back along the profile.
-            let v = DVec3::new(-along.x * e.cos(), -along.y * e.cos(), e.sin());
-            let (mut visible, mut visible_w, mut facing, mut facing_w) = (0.0, 0.0, 0.0, 0.0);
-            for samples in &profiles {
-                // A point is visible when z + s tan(e) is at least its running maximum nearer the eye.
-                let mut horizon = f64::NEG_INFINITY;
-                for (i, (z, area)) in samples.iter().enumerate() {
-                    let s = i as f64 * ds;
-                    let reach = z + s * e.tan();
-                    let projected = v.dot(*area) / area.z; // per unit of horizontal length
-                    if s > LEAD_M && projected > 0.0 {
-                        let f = fresnel_exact(v.dot(*area) / area.length(), SEA_WATER_IOR);
-                        facing += projected * f;
-                        facing_w += projected;
-                        if reach >= horizon {
-                            visible += projected * f;
-                            visible_w += projected;
-                        }
-                    }
-                    horizon = horizon.max(reach);
-                }
-            }
+    for (azimuth, azimuth_deg) in [("down the wind", 0.0), ("across the wind", 90.0)] {
+        for (m, depression_deg) in crate::model::masking::measure(waves, t, azimuth_deg, &DEPRESSIONS_DEG, 0.01)
+            .into_iter()
+            .zip(DEPRESSIONS_DEG)
+        {
             rows.push(MaskingRow {
-                azimuth: name,
+                azimuth,
                 depression_deg,
-                visible: visible / visible_w,
-                facing: facing / facing_w,
-                model: table.lookup(e.sin(), variance.sqrt()),
-                visible_share: visible_w / facing_w,
+                visible: m.visible,
+                facing: m.facing,
+                model: m.model,
+                visible_share: m.visible_share,
+                lean: m.visible_tilt - m.facing_tilt,
             });
         }
     }
     rows
-}
-
-/// (height, area vector dp/dx x dp/dy) at Eulerian positions offset + s along, s = 0, ds, ...
-fn profile(waves: &WaveSet, t: f64, offset: DVec2, along: DVec2, ds: f64) -> Vec<(f64, DVec3)> {
-    let steps = (PROFILE_M / ds) as usize;
-    let mut rest = offset;
-    let mut samples = Vec::with_capacity(steps);
-    for i in 0..steps {
-        let target = offset + along * (ds * i as f64);
-        // The previous sample's rest position starts Newton's method: it is a step away.
-        for _ in 0..20 {
-            let (p, tx, ty) = surface(waves, t, rest);
-            let miss = DVec2::new(p.x, p.y) - target;
-            if miss.abs().max_element() < 1e-9 {
-                break;
-            }
-            let det = tx.x * ty.y - ty.x * tx.y; // > 0: no train loops (k h <= 1)
-            rest -= DVec2::new(miss.x * ty.y - miss.y * ty.x, tx.x * miss.y - tx.y * miss.x) / det;
-        }
-        let (p, tx, ty) = surface(waves, t, rest);
-        samples.push((p.z, tx.cross(ty)));
-    }
-    samples
-}
-
-/// The displaced point of rest position x and its tangents along x and y (glsl/waves.glsl).
-fn surface(waves: &WaveSet, t: f64, x: DVec2) -> (DVec3, DVec3, DVec3) {
-    let (mut p, mut tx, mut ty) = (DVec3::new(x.x, x.y, 0.0), DVec3::X, DVec3::Y);
-    for tr in &waves.trains {
-        let d = DVec2::from(tr.direction);
-        let (s, c) = (tr.phase_at(t) - tr.k * d.dot(x)).sin_cos();
-        p += DVec3::new(d.x * tr.amplitude * s, d.y * tr.amplitude * s, tr.amplitude * c);
-        let (kc, ks) = (tr.k * tr.amplitude * c, tr.k * tr.amplitude * s);
-        tx += DVec3::new(-d.x * d.x * kc, -d.y * d.x * kc, d.x * ks);
-        ty += DVec3::new(-d.x * d.y * kc, -d.y * d.y * kc, d.y * ks);
-    }
-    (p, tx, ty)
 }
 
 fn percent(e: f64) -> String {
@@ -253,51 +180,26 @@ fn markdown(scene_name: &str, reference: &Path, bands: &[SkyBand], masking: &[Ma
     s.push_str(
         "\nThe visible facets' mean Fresnel: over the facets a ray from the eye reaches first on the sea's own \
          profiles (exact masking), over every facet facing the eye by its projected area (no masking), and the \
-         model's (Gaussian slopes, Smith's masking, which does not depend on the facet's slope and cancels).\n\n",
+         model's (Gaussian slopes, Smith's masking, which does not depend on the facet's slope and cancels); and \
+         how much further the visible facets lean towards the eye than the facing ones (mean slope).\n\n",
     );
-    s.push_str("| azimuth | depression | visible | facing | model | visible / model | visible share |\n");
-    s.push_str("|---|---|---|---|---|---|---|\n");
+    s.push_str(
+        "| azimuth | depression | visible | facing | model | visible / model | visible share | further lean |\n",
+    );
+    s.push_str("|---|---|---|---|---|---|---|---|\n");
     for r in masking {
         let _ = writeln!(
             s,
-            "| {} | {}° | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} |",
+            "| {} | {}° | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.4} |",
             r.azimuth,
             r.depression_deg,
             r.visible,
             r.facing,
             r.model,
             r.visible / r.model,
-            r.visible_share
+            r.visible_share,
+            r.lean
         );
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Seen from high up nothing hides a facet; at grazing view the profiles hide most of them,
-    /// and the ones left face the eye more steeply: a lower Fresnel than Smith's model keeps.
-    #[test]
-    fn the_seas_own_masking_hides_grazing_facets_and_leaves_the_steeper_ones() {
-        let mut scene = Scene::default();
-        scene.waves.count = 20;
-        scene.waves.lambda_min_m = 0.5;
-        let waves = waves::generate(&scene);
-        let rows = masking(&waves, 3.0);
-        for r in &rows {
-            assert!(
-                r.visible.is_finite() && r.facing > 0.0 && r.visible_share > 0.0 && r.visible_share <= 1.0,
-                "{r:?}"
-            );
-            if r.depression_deg >= 20.0 {
-                assert!(r.visible_share > 0.99 && (r.visible / r.facing - 1.0).abs() < 0.01, "{r:?}");
-                assert!((r.facing / r.model - 1.0).abs() < 0.03, "projected area alone is the model's: {r:?}");
-            }
-            if r.depression_deg <= 2.0 {
-                assert!(r.visible_share < 0.8 && r.visible < 0.97 * r.facing, "{r:?}");
-            }
-        }
-    }
 }
