@@ -80,7 +80,7 @@ fn the_gpu_sky_matches_the_f64_model() {
     let (w, h) = (256, 192);
     let (report, frame) = render_with(&gpu, &scene, w, h, Options::default());
     assert_clean(&report, "physical sky");
-    let a = atmosphere::shared(&scene.sky.atmosphere);
+    let a = atmosphere::shared(&scene.atmosphere());
     let camera = &frame.frame.camera;
     let sun_dir = frame.frame.sky.sun_dir;
     let mut worst: f64 = 0.0;
@@ -108,10 +108,15 @@ fn the_gpu_sky_matches_the_f64_model() {
 fn out_of_range_atmospheres_are_refused_by_key() {
     let cases = [
         ("[sky.atmosphere]\nmie_g = 1.0", "sky.atmosphere.mie_g"),
-        ("[sky.atmosphere]\nbottom_radius_m = 0.0", "sky.atmosphere.bottom_radius_m"),
+        ("[planet]\nradius_m = 0.0", "planet.radius_m"),
+        ("[planet]\nradius_m = -6360e3", "planet.radius_m"),
+        ("[planet]\nradius_m = inf", "planet.radius_m"),
+        ("[planet]\nradius_m = nan", "planet.radius_m"),
+        ("[sky.atmosphere]\nbottom_radius_m = 6360e3", "unknown field"),
         ("[sky.atmosphere]\nrayleigh_scale_height_m = -8000.0", "sky.atmosphere.rayleigh_scale_height_m"),
         ("[sky.atmosphere]\nozone_absorption_per_m = [nan, 0.0, 0.0]", "sky.atmosphere.ozone_absorption_per_m[0]"),
-        ("[sky.atmosphere]\ntop_radius_m = 6000e3", "sky.atmosphere.top_radius_m"),
+        ("[sky.atmosphere]\nthickness_m = 0.0", "sky.atmosphere.thickness_m"),
+        ("[planet]\nradius_m = 50e3", "sky.atmosphere.thickness_m"),
         ("[sky]\nmodel = \"hosek\"", "unknown variant"),
     ];
     for (text, key) in cases {
@@ -146,4 +151,19 @@ fn every_extreme_scene_renders_clean_and_finite_under_the_physical_sky() {
             );
         }
     }
+}
+
+/// One ground for the sea and the air: `[planet] radius_m` places the atmosphere's bottom, its
+/// top `thickness_m` above, in what the shaders read.
+#[test]
+fn the_planets_radius_is_the_atmospheres_ground() {
+    let scene =
+        Scene::parse("[planet]\nradius_m = 3389.5e3\n[sky.atmosphere]\nthickness_m = 80e3", "mars.toml").unwrap();
+    let a = scene.atmosphere();
+    assert_eq!((a.bottom_radius_m, a.top_radius_m), (3389.5e3, 3469.5e3));
+    let waves = ocean::model::waves::generate(&scene);
+    let u = ocean::render::frame::build(&scene, &waves, 64, 48, 8.0).uniforms;
+    assert_eq!((u.atmosphere[0][0], u.atmosphere[0][1]), (3389.5e3, 3469.5e3));
+    let earth = Scene::default().atmosphere();
+    assert_eq!((earth.bottom_radius_m, earth.top_radius_m), (6360e3, 6420e3));
 }

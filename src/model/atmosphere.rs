@@ -15,11 +15,21 @@ use std::f64::consts::PI;
 /// The atmosphere's parameters (scene `[atmosphere]`); Earth's by default: Bruneton (2017)'s demo
 /// values, also Hillaire (2020), table 1. Coefficients per metre for the linear sRGB primaries
 /// (680, 550, 440 nm).
+/// Earth's mean radius as Bruneton's precomputed atmosphere takes it (m): the default planet.
+pub const EARTH_RADIUS_M: f64 = 6_360e3;
+
 #[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct AtmosphereParams {
+    /// The planet's radius (`[planet] radius_m`, the sea's mean level): set by Scene::atmosphere,
+    /// not a key of its own, so that the sea and the air share one ground.
+    #[serde(skip)]
     pub bottom_radius_m: f64,
+    /// bottom_radius_m + thickness_m, likewise derived.
+    #[serde(skip)]
     pub top_radius_m: f64,
+    /// Height of the atmosphere's top above the sea.
+    pub thickness_m: f64,
     pub rayleigh_scattering_per_m: [f64; 3],
     pub rayleigh_scale_height_m: f64,
     pub mie_scattering_per_m: f64,
@@ -39,8 +49,9 @@ pub struct AtmosphereParams {
 impl Default for AtmosphereParams {
     fn default() -> Self {
         AtmosphereParams {
-            bottom_radius_m: 6_360e3,
-            top_radius_m: 6_420e3,
+            bottom_radius_m: EARTH_RADIUS_M,
+            top_radius_m: EARTH_RADIUS_M + 60e3,
+            thickness_m: 60e3,
             rayleigh_scattering_per_m: [5.802e-6, 13.558e-6, 33.1e-6],
             rayleigh_scale_height_m: 8_000.0,
             mie_scattering_per_m: 3.996e-6,
@@ -75,14 +86,11 @@ impl AtmosphereParams {
                 ))
             }
         };
-        positive("bottom_radius_m", self.bottom_radius_m)?;
-        positive("top_radius_m", self.top_radius_m)?;
-        if self.top_radius_m <= self.bottom_radius_m || self.top_radius_m > 2.0 * self.bottom_radius_m {
+        positive("thickness_m", self.thickness_m)?;
+        if self.thickness_m > self.bottom_radius_m {
             return Err(format!(
-                "atmosphere.top_radius_m = {} is out of range ({}, {}]: above the planet, at most twice its radius",
-                self.top_radius_m,
-                self.bottom_radius_m,
-                2.0 * self.bottom_radius_m
+                "atmosphere.thickness_m = {} is out of range (0, {}]: at most the planet's radius (planet.radius_m)",
+                self.thickness_m, self.bottom_radius_m
             ));
         }
         for (i, &v) in self.rayleigh_scattering_per_m.iter().enumerate() {

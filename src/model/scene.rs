@@ -169,12 +169,27 @@ pub const SHADOW_MAP_SIZES: (u32, u32) = (64, 8192);
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize, Default)]
 #[serde(deny_unknown_fields, default)]
 pub struct Scene {
+    pub planet: Planet,
     pub camera: Camera,
     pub sun: Sun,
     pub sky: Sky,
     pub wind: Wind,
     pub waves: Waves,
     pub render: Render,
+}
+
+/// The planet the sea covers (`[planet]`): its radius is the sea's mean level and the
+/// atmosphere's ground.
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Planet {
+    pub radius_m: f64,
+}
+
+impl Default for Planet {
+    fn default() -> Self {
+        Self { radius_m: crate::model::atmosphere::EARTH_RADIUS_M }
+    }
 }
 
 impl Default for Camera {
@@ -332,6 +347,17 @@ impl Scene {
         }
     }
 
+    /// The atmosphere on this scene's planet: `[sky.atmosphere]` with its ground at the planet's
+    /// radius.
+    pub fn atmosphere(&self) -> crate::model::atmosphere::AtmosphereParams {
+        let r = self.planet.radius_m;
+        crate::model::atmosphere::AtmosphereParams {
+            bottom_radius_m: r,
+            top_radius_m: r + self.sky.atmosphere.thickness_m,
+            ..self.sky.atmosphere.clone()
+        }
+    }
+
     pub fn validate(&self) -> Result<(), String> {
         let c = &self.camera;
         in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(100_000.0))?;
@@ -346,7 +372,9 @@ impl Scene {
         finite_angle("sun.azimuth_deg", self.sun.azimuth_deg)?;
         // Preetham's fit covers turbidities 2 to 10; below 1.7 its zenith chromaticity leaves the gamut.
         in_range("sky.turbidity", self.sky.turbidity, Bound::Closed(1.7), Bound::Closed(10.0))?;
-        self.sky.atmosphere.validate().map_err(|e| format!("sky.{e}"))?;
+        // From an asteroid's 1 km to ten times Jupiter's radius.
+        in_range("planet.radius_m", self.planet.radius_m, Bound::Closed(1e3), Bound::Closed(1e9))?;
+        self.atmosphere().validate().map_err(|e| format!("sky.{e}"))?;
         in_range("wind.speed_mps", self.wind.speed_mps, Bound::Closed(0.0), Bound::Closed(60.0))?;
         finite_angle("wind.direction_deg", self.wind.direction_deg)?;
         let w = &self.waves;

@@ -290,7 +290,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
     }
 
     let physical = scene.sky.model == crate::model::scene::SkyKind::Physical;
-    let atm = &scene.sky.atmosphere;
+    let atm = &scene.atmosphere();
     // The physical sky's sun and sky light at the sea, seen from the eye (the sea's altitude is
     // within metres of it); Preetham's otherwise.
     let (sun_radiance, sky_irradiance) = if physical {

@@ -4,7 +4,7 @@
 //! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
-use crate::model::scene::{Scene, ShadowMapMode, Sky, SkyKind, Sun};
+use crate::model::scene::{Planet, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::FrameSlot;
@@ -107,7 +107,8 @@ pub struct Prepared {
 #[derive(Clone, Debug, PartialEq)]
 struct MapKey {
     sun: Sun,
-    sky: Sky,
+    /// The sky with the planet under it (Scene::atmosphere's ground).
+    sky: (Sky, Planet),
     slopes: [u32; 4],
 }
 
@@ -519,7 +520,11 @@ impl<'g> Renderer<'g> {
             self.prepare_capture(capture)?;
         }
         let slopes = data.uniforms.wind.map(f32::to_bits);
-        Ok(Prepared { data, capture, sky: MapKey { sun: scene.sun.clone(), sky: scene.sky.clone(), slopes } })
+        Ok(Prepared {
+            data,
+            capture,
+            sky: MapKey { sun: scene.sun.clone(), sky: (scene.sky.clone(), scene.planet.clone()), slopes },
+        })
     }
 
     /// Records the frame `prepared` for `slot` into the slot's command buffer.

@@ -43,7 +43,7 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     // Hidden: the disc's centre below the eye's geometric horizon (the frame's eye is never
     // lower than the scene's, so it sees at least as far down).
     let sun_dark = if physical {
-        let (h, r) = (scene.camera.height_m, scene.sky.atmosphere.bottom_radius_m);
+        let (h, r) = (scene.camera.height_m, scene.planet.radius_m);
         let horizon_mu = -(h * (2.0 * r + h)).sqrt() / (r + h);
         scene.sun.elevation_deg.to_radians().sin() < horizon_mu
     } else {
