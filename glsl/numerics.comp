@@ -12,6 +12,7 @@ layout(constant_id = 2) const bool TERM_SEA = true;
 #include "waves.glsl"
 #include "sky.glsl"
 #include "brdf.glsl"
+#include "planet.glsl"
 
 layout(local_size_x = 64) in;
 // Two vec4 of arguments per evaluation, one vec4 of results.
@@ -52,6 +53,7 @@ void main() {
     }
     case 10u: r.x = visible_fresnel(a.x, a.y); break;                      // (cos_v, sigma_v)
     case 11u: r.x = fresnel_exact(a.x); break;                             // cos of incidence
+    case 12u: r.x = sphere_distance(a.xyz, b.x, b.y); break;               // ray, (H, R)
     default: break;
     }
     results[i] = r;

@@ -361,3 +361,50 @@ fn the_whole_stereographic_plane_is_held_at_the_maps_extent() {
         assert!(r[0].is_finite() && r[1].is_finite() && e < 1e-5, "u of {d:?}: GPU {r:?}, f64 {u:?}");
     }
 }
+
+/// The sea's sphere from 5 cm to beyond geostationary orbit, looking straight down to within
+/// 1e-4 of the limb's depression: the shader's distance against the other root form in f64
+/// (B - sqrt(B^2 - c), exact enough there), and the rays at or above the limb missing on both.
+#[test]
+fn the_spheres_distance_keeps_its_precision_at_planetary_scale() {
+    let planet = ocean::model::scene::Planet::default();
+    let r = planet.radius_m;
+    let mut args = Vec::new();
+    let mut expected = Vec::new();
+    for h in [0.05f32, 2.0, 10.0, 1e3, 1.1e4, 4e5, 3.6e7, 4e7] {
+        let h = h as f64; // the shader's own value
+        let s = planet.dip(h).sin();
+        for d in [1.0, 0.5, 0.1, 0.01, s * 1.01, s * 1.0001, s * 0.999, 0.0, -0.5] {
+            let d32 = d as f32;
+            let z = -(d32 as f64);
+            let ray = [((1.0 - z * z).max(0.0)).sqrt() as f32, 0.0, -d32, 0.0];
+            args.push([ray, [h as f32, r as f32, 0.0, 0.0]]);
+            // The quadratic's near root by the other form, in f64 (its cancellation costs under
+            // 1e-9 here).
+            let (b, c) = ((r + h) * d32 as f64, h * (2.0 * r + h));
+            let disc = b * b - c;
+            expected.push(if b > 0.0 && disc > 0.0 { Some(b - disc.sqrt()) } else { None });
+        }
+    }
+    let out = run(Function::SphereDistance, &args, 0.0);
+    let mut worst = 0.0f64;
+    for ((a, got), want) in args.iter().zip(&out).zip(&expected) {
+        let (h, d) = (a[1][0], -a[0][2]);
+        match want {
+            Some(t) => {
+                let e = (got[0] as f64 / t - 1.0).abs();
+                worst = worst.max(e);
+                assert!(e < 1e-4, "H {h} m, depression sine {d}: GPU {} against {t}", got[0]);
+                let cpu = ocean::model::scene::Planet::default().ray_distance(h as f64, d as f64).unwrap();
+                assert!((cpu / t - 1.0).abs() < 1e-7, "H {h}, d {d}: f64 product form {cpu} against {t}");
+            }
+            None => assert_eq!(got[0], -1.0, "H {h} m, depression sine {d}: the ray misses"),
+        }
+    }
+    eprintln!("sphere distance: largest relative error {worst:.2e}");
+    // The dip against arccos(R / (R + H)) where f64's cosine still resolves it.
+    for h in [1e3, 4e5, 3.6e7] {
+        let e = (planet.dip(h) - (r / (r + h)).acos()).abs();
+        assert!(e < 1e-6, "dip at {h} m off by {e}");
+    }
+}

@@ -44,6 +44,8 @@ pub enum Function {
     VisibleFresnel = 10,
     /// (cos of incidence) -> the exact Fresnel of sea water
     ExactFresnel = 11,
+    /// (unit ray), (eye height H, planet radius R) -> distance to the sphere, -1 where it misses
+    SphereDistance = 12,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's

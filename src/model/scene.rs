@@ -186,6 +186,24 @@ pub struct Planet {
     pub radius_m: f64,
 }
 
+impl Planet {
+    /// Distance along a ray of depression sine `d` (-z of the unit ray) from an eye `height` m
+    /// above the sea to the planet's sphere, None where it misses (glsl/planet.glsl, the same
+    /// product forms: in f64 they keep full precision from 5 cm to beyond geostationary orbit).
+    pub fn ray_distance(&self, height: f64, d: f64) -> Option<f64> {
+        let (r, rh) = (self.radius_m, self.radius_m + height);
+        let c = height * (2.0 * r + height);
+        let s = c.sqrt() / rh;
+        (d > s).then(|| c / (rh * d + rh * ((d - s) * (d + s)).sqrt()))
+    }
+
+    /// The horizon's dip below level from `height` m up: arccos(R / (R + H)), formed as
+    /// atan(sqrt(H (2R + H)) / R), which keeps its precision where the cosine is 1 to f64.
+    pub fn dip(&self, height: f64) -> f64 {
+        (height * (2.0 * self.radius_m + height)).sqrt().atan2(self.radius_m)
+    }
+}
+
 impl Default for Planet {
     fn default() -> Self {
         Self { radius_m: crate::model::atmosphere::EARTH_RADIUS_M }
