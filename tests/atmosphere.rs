@@ -13,9 +13,7 @@ fn sun(elevation_deg: f64) -> [f64; 3] {
     [e.cos(), 0.0, e.sin()]
 }
 
-fn lum(c: [f64; 3]) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
+use ocean::output::luminance_rgb as lum;
 
 #[test]
 fn the_tables_match_direct_integration_and_the_raymarch_converges() {

@@ -9,8 +9,9 @@ use ocean::measure::reference::ReferenceScene;
 use ocean::model::scene::{LongestWave, Scene};
 use ocean::model::sky::SkyModel;
 use ocean::model::waves::{generate, WaveSet};
+use ocean::output::{luminance, luminance_rgb};
 use ocean::render::footprint::Footprint;
-use ocean::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use ocean::render::frame::CameraFrame;
 use ocean::render::passes::ocean::{Method, Terms};
 
 const W: u32 = 160;
@@ -90,20 +91,10 @@ impl Setup {
 /// The reference's precondition: nothing is displaced anywhere on screen (every train unresolved
 /// per grid cell), so the visible point is the ray's hit on the rest plane.
 fn assert_nothing_displaced(reference: &ReferenceScene, scene: &Scene) {
-    let cells = scene.render.grid_cell_px;
     for py in (0..H).step_by(4) {
         for px in (0..W).step_by(4) {
-            let Some((_, a_u, a_v)) = reference.plane_hit(reference.pixel_ray(px as f64, py as f64)) else {
-                continue; // sky
-            };
-            for t in &reference.footprint.waves.trains {
-                let k = glam::DVec2::from(t.direction) / t.wavelength;
-                let step = k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs());
-                assert!(
-                    step >= GEOMETRY_STEPS[1] as f64,
-                    "train {} m resolved by the grid at ({px}, {py})",
-                    t.wavelength
-                );
+            if let Some(wavelength) = reference.displaced_train(scene.render.grid_cell_px, px as f64, py as f64) {
+                panic!("train {wavelength} m resolved by the grid at ({px}, {py})");
             }
         }
     }
@@ -132,7 +123,6 @@ fn full_sky_lookup_keeps_its_integral_in_every_distance_band() {
     let frame = render_terms_by(&gpu, &s, W, H, Terms { sun: false, sky: true, sea: false }, Method::Full);
     let counts = gpu.validation_counts();
     assert_eq!(counts.error_total(), 0, "{counts:?}");
-    let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     let mut compared = 0;
     for (b, pixels) in sea_pixels_by_band(camera, W, H).iter().enumerate() {
         if pixels.len() < 100 || BANDS_M[b] >= 1000.0 {
@@ -143,8 +133,8 @@ fn full_sky_lookup_keeps_its_integral_in_every_distance_band() {
             let (px, py) = ((i as u32 % W) as f64, (i as u32 / W) as f64);
             let Some(cpu) = reference.shade(px, py) else { continue };
             let g = frame.hdr[i];
-            gpu_sum += luminance([g[0] as f64, g[1] as f64, g[2] as f64]);
-            cpu_sum += luminance(cpu.sky);
+            gpu_sum += luminance(g);
+            cpu_sum += luminance_rgb(cpu.sky);
         }
         let error = gpu_sum / cpu_sum - 1.0;
         eprintln!("band {}-{} m: GPU sky {:+.2}% from the quadrature", BANDS_M[b], BANDS_M[b + 1], 100.0 * error);

@@ -201,7 +201,7 @@ fn a_session_with_a_resize_and_a_minimize_is_validation_clean() {
     let img = rgb(&shot);
     assert_eq!(img.dimensions(), (400, 240));
     let (sky, sea) = (mean_rows(&img, 0..60), mean_rows(&img, 180..240));
-    let luma = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let luma = ocean::output::luminance_rgb;
     assert!(luma(sky) > 100.0, "the default scene's sky is bright: {sky:?}");
     assert!(luma(sea) > 20.0, "the sea is not black: {sea:?}");
     assert!(luma(sky) > luma(sea) + 20.0, "the sky above is brighter than the sea below: {sky:?} {sea:?}");

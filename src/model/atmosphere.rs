@@ -12,11 +12,12 @@
 use crate::model::sky::{SkyModel, SOLAR_ILLUMINANCE_KLUX, SUN_ANGULAR_RADIUS};
 use std::f64::consts::PI;
 
-/// The atmosphere's parameters (scene `[atmosphere]`); Earth's by default: Bruneton (2017)'s demo
-/// values, also Hillaire (2020), table 1. Coefficients per metre for the linear sRGB primaries
-/// (680, 550, 440 nm).
 /// Earth's mean radius as Bruneton's precomputed atmosphere takes it (m): the default planet.
 pub const EARTH_RADIUS_M: f64 = 6_360e3;
+
+/// The atmosphere's parameters (scene `[sky.atmosphere]`, on the scene's planet through
+/// Scene::atmosphere); Earth's by default: Bruneton (2017)'s demo values, also Hillaire (2020),
+/// table 1. Coefficients per metre for the linear sRGB primaries (680, 550, 440 nm).
 
 #[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]

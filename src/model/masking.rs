@@ -8,14 +8,6 @@ use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::waves::WaveSet;
 use glam::{DVec2, DVec3};
 
-/// Azimuths of the view from the wind (degrees). The trains' shapes are symmetric fore and aft
-/// and their directions spread evenly either side of the wind, so these cover every azimuth.
-pub const AZIMUTHS_DEG: [f64; 4] = [0.0, 30.0, 60.0, 90.0];
-/// Depressions of the view (degrees) measured; from the last the ratio goes linearly to 1 at
-/// UNMASKED_DEG (measured within 1.5% of 1 at 20 degrees on the figure seas) and stays there.
-pub const DEPRESSIONS_DEG: [f64; 8] = [0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0];
-pub const UNMASKED_DEG: f64 = 20.0;
-
 /// Profiles per azimuth, their length and the stretch at their start left out (m): a point there
 /// could be hidden by waves before the profile begins (a crest 1 m high hides 60 m behind it at
 /// 1 degree).

@@ -35,7 +35,12 @@ macro_rules! say {
 
 /// Rec. 709 luminance of linear RGB (the alpha is ignored).
 pub fn luminance(p: [f32; 4]) -> f64 {
-    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+    luminance_rgb([p[0] as f64, p[1] as f64, p[2] as f64])
+}
+
+/// Rec. 709 luminance of linear RGB in f64.
+pub fn luminance_rgb(c: [f64; 3]) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
 pub fn stats(hdr: &[[f32; 4]]) -> ImageStats {
@@ -102,7 +107,7 @@ pub fn tonemap(hdr: &[[f32; 4]], width: u32, render: &crate::model::scene::Rende
 /// glsl/tone.glsl's filmic_curve: Narkowicz (2015)'s ACES fit on luminance, hue kept, the colour
 /// moved towards its grey only as far as its brightest channel needs.
 pub fn filmic_curve(x: [f64; 3]) -> [f64; 3] {
-    let y = 0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2];
+    let y = luminance_rgb(x);
     if y.is_nan() || y <= 0.0 {
         return [0.0; 3];
     }

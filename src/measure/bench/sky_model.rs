@@ -8,16 +8,16 @@ use crate::error::{Error, Result};
 use crate::measure::bench::error_vs_time::{band_label, sea_pixels_by_band};
 use crate::measure::groundtruth::GroundTruthFiles;
 use crate::measure::reference::ReferenceScene;
+use crate::model::masking::{self, Masking};
 use crate::model::scene::Scene;
 use crate::model::sky::SkyModel;
 use crate::model::waves::{self, WaveSet};
-use crate::output::{luminance, write_text};
+use crate::output::{luminance, luminance_rgb, write_text};
 use crate::render::footprint::Footprint;
-use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use crate::render::frame::CameraFrame;
 use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
 use crate::render::renderer::{Options, Renderer};
 use crate::vk::gpu::Gpu;
-use glam::DVec2;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -35,23 +35,12 @@ pub struct SkyBand {
     pub paper: (f64, f64),
 }
 
-/// The visible facets' mean Fresnel at one depression of the view and one azimuth.
+/// The sea's own masking at one azimuth and depression of the view.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct MaskingRow {
     pub azimuth: &'static str,
     pub depression_deg: f64,
-    /// Over the facets a ray from the eye reaches first (the profile's own masking).
-    pub visible: f64,
-    /// Over every facet facing the eye, by its projected area (no masking).
-    pub facing: f64,
-    /// The model's: the table's mean over Gaussian slopes of the sea's variance, Smith's masking
-    /// (independent of the facet's slope, so it cancels).
-    pub model: f64,
-    /// Share of the facing projected area that stays visible.
-    pub visible_share: f64,
-    /// How much further the visible facets lean towards the eye than the facing ones (their mean
-    /// slope towards it, visible minus facing).
-    pub lean: f64,
+    pub masking: Masking,
 }
 
 pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir: &Path) -> Result<()> {
@@ -83,13 +72,18 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
         for &i in pixels {
             let (px, py) = ((i as u32 % w) as f64, (i as u32 / w) as f64);
             let (Some(f), Some(p)) = (sky_of(&full_model, px, py), sky_of(&paper_model, px, py)) else { continue };
-            let rgb = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-            let values = [luminance(truth.sky[i]), rgb(f), luminance(full_gpu[i]), rgb(p), luminance(paper_gpu[i])];
+            let values = [
+                luminance(truth.sky[i]),
+                luminance_rgb(f),
+                luminance(full_gpu[i]),
+                luminance_rgb(p),
+                luminance(paper_gpu[i]),
+            ];
             for (s, v) in sums.iter_mut().zip(values) {
                 *s += v;
             }
             counted += 1;
-            displaced += usize::from(grid_displaces(&full_model, scene, px, py));
+            displaced += usize::from(full_model.displaced_train(scene.render.grid_cell_px, px, py).is_some());
         }
         if counted == 0 || sums[0] <= 0.0 {
             continue;
@@ -105,43 +99,22 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
         });
     }
     let masking = profiles(&wave_set, scene.render.time_s);
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io { path: out_dir.to_owned(), message: e.to_string() })?;
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     write_text(&out_dir.join("sky_model.md"), &markdown(scene_name, reference, &bands, &masking))?;
     Ok(())
-}
-
-/// Whether the grid displaces some train at pixel (px, py): its step per grid cell below the
-/// geometry's cut-off (the condition tests/brdf.rs asserts nowhere holds in its views).
-fn grid_displaces(m: &ReferenceScene, scene: &Scene, px: f64, py: f64) -> bool {
-    let Some((_, a_u, a_v)) = m.plane_hit(m.pixel_ray(px, py)) else { return false };
-    let cells = scene.render.grid_cell_px;
-    m.footprint.waves.trains.iter().any(|t| {
-        let k = DVec2::from(t.direction) / t.wavelength;
-        k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs()) < GEOMETRY_STEPS[1] as f64
-    })
 }
 
 /// Depressions of the view measured (degrees): the far field's 1-3 degrees to the mid field's 20.
 const DEPRESSIONS_DEG: [f64; 6] = [1.0, 2.0, 3.0, 5.0, 10.0, 20.0];
 
 /// The sea's own masking (src/model/masking.rs) down the wind and across it, sampled every
-/// centimetre (what `full` reads is sampled every 5 cm).
+/// centimetre.
 pub fn profiles(waves: &WaveSet, t: f64) -> Vec<MaskingRow> {
     let mut rows = Vec::new();
     for (azimuth, azimuth_deg) in [("down the wind", 0.0), ("across the wind", 90.0)] {
-        for (m, depression_deg) in crate::model::masking::measure(waves, t, azimuth_deg, &DEPRESSIONS_DEG, 0.01)
-            .into_iter()
-            .zip(DEPRESSIONS_DEG)
-        {
-            rows.push(MaskingRow {
-                azimuth,
-                depression_deg,
-                visible: m.visible,
-                facing: m.facing,
-                model: m.model,
-                visible_share: m.visible_share,
-                lean: m.visible_tilt - m.facing_tilt,
-            });
+        let measured = masking::measure(waves, t, azimuth_deg, &DEPRESSIONS_DEG, 0.01);
+        for (masking, depression_deg) in measured.into_iter().zip(DEPRESSIONS_DEG) {
+            rows.push(MaskingRow { azimuth, depression_deg, masking });
         }
     }
     rows
@@ -188,17 +161,18 @@ fn markdown(scene_name: &str, reference: &Path, bands: &[SkyBand], masking: &[Ma
     );
     s.push_str("|---|---|---|---|---|---|---|---|\n");
     for r in masking {
+        let m = &r.masking;
         let _ = writeln!(
             s,
             "| {} | {}° | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.4} |",
             r.azimuth,
             r.depression_deg,
-            r.visible,
-            r.facing,
-            r.model,
-            r.visible / r.model,
-            r.visible_share,
-            r.lean
+            m.visible,
+            m.facing,
+            m.model,
+            m.visible / m.model,
+            m.visible_share,
+            m.visible_tilt - m.facing_tilt
         );
     }
     s
