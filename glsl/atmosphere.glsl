@@ -10,13 +10,14 @@
 #ifndef ATMOSPHERE_GLSL
 #define ATMOSPHERE_GLSL
 
+#include "sky_view.glsl"
+
 const ivec2 TRANSMITTANCE_SIZE = ivec2(256, 64);   // atmosphere::TRANSMITTANCE_SIZE
 const int MULTIPLE_SCATTERING_SIZE = 32;           // atmosphere::MULTIPLE_SCATTERING_SIZE
 const int SKY_STEPS = 40;                          // atmosphere::SKY_STEPS
 const int MS_DIRECTIONS = 8;                       // atmosphere::MS_DIRECTIONS
 const int MS_STEPS = 20;                           // atmosphere::MS_STEPS
 const int AERIAL_SIZE = 32;                        // resources::AERIAL_SIZE: rays per side and slices
-const ivec2 SKY_VIEW_SIZE = ivec2(256, 128);       // atmosphere::SKY_VIEW_SIZE
 
 float bottom_radius() { return frame.atmosphere[0].x; }
 float top_radius() { return frame.atmosphere[0].y; }
@@ -85,32 +86,6 @@ float altitude_along(float h, float mu, float t) {
     return excess / (r_t + bottom_radius());
 }
 
-float unit_to_texcoord(float x, int size) { return 0.5 / float(size) + x * (1.0 - 1.0 / float(size)); }
-float texcoord_to_unit(float u, int size) { return (u - 0.5 / float(size)) / (1.0 - 1.0 / float(size)); }
-
-// The sky-view table (Hillaire 2020's, over the upper hemisphere): u the azimuth from the sun's,
-// in [0, pi] (the sky is symmetric about the sun's vertical plane), as sqrt(phi / pi) so that the
-// glow around the sun gets the most texels; v the elevation in [0, pi/2] as sqrt(l / (pi/2)), so
-// that the horizon does.
-vec2 sky_view_uv(vec3 dir) {
-    vec3 sun = frame.sun_dir.xyz;
-    float l = asin(clamp(dir.z, 0.0, 1.0));
-    // The azimuth from the sun's: the angle between the two horizontal parts (0 where either is
-    // vertical: the sky is symmetric about the zenith then).
-    float cross_z = dir.x * sun.y - dir.y * sun.x, along = dir.x * sun.x + dir.y * sun.y;
-    float phi = (cross_z == 0.0 && along == 0.0) ? 0.0 : abs(atan(cross_z, along));
-    return vec2(unit_to_texcoord(sqrt(phi / PI), SKY_VIEW_SIZE.x), unit_to_texcoord(sqrt(l / (0.5 * PI)), SKY_VIEW_SIZE.y));
-}
-
-vec3 sky_view_direction(vec2 uv) {
-    float phi = PI * pow(texcoord_to_unit(uv.x, SKY_VIEW_SIZE.x), 2.0);
-    float l = 0.5 * PI * pow(texcoord_to_unit(uv.y, SKY_VIEW_SIZE.y), 2.0);
-    vec3 sun = frame.sun_dir.xyz;
-    float sun_azimuth = (sun.x == 0.0 && sun.y == 0.0) ? 0.0 : atan(sun.y, sun.x);
-    float a = sun_azimuth + phi;
-    return vec3(cos(l) * cos(a), cos(l) * sin(a), sin(l));
-}
-
 // Bruneton (2017): x_mu the distance to the top between its extremes, x_r = rho / H.
 vec2 transmittance_uv(float h, float mu) {
     float H = sqrt(atmosphere_height() * (top_radius() + bottom_radius()));
@@ -147,6 +122,27 @@ vec3 integrate_transmittance(float h, float mu, int steps) {
     }
     return exp(-depth);
 }
+
+// Where the unit ray from altitude h enters the air: 0 from inside it, -1 where it passes it by.
+// The top sphere's near root in the sphere's product forms (glsl/planet.glsl): c = (h - H_top)
+// (r + R_top) = r^2 - R_top^2, the root's argument r^2 (d - s)(d + s) with d the ray's depression
+// and s = sqrt(c) / r the sine of the air's own dip, t = c / (r d + root).
+float air_entry(float h, vec3 dir) {
+    float top = atmosphere_height();
+    if (h <= top) return 0.0;
+    float r = bottom_radius() + h;
+    float c = (h - top) * (r + top_radius());
+    float s = sqrt(c) / r, d = -dir.z;
+    return d > s ? c / (r * d + r * sqrt((d - s) * (d + s))) : -1.0;
+}
+
+#ifdef PLANET_GLSL
+// The aerial perspective's span along the unit ray u (glsl/aerial_perspective.comp): from where it
+// enters the air to the sea's sphere, or to the limb's distance where it passes above the limb.
+float aerial_span(vec3 u) {
+    return max(sea_distance(onto_sea(u)).x - max(air_entry(frame.atmosphere[4].z, u), 0.0), 0.0);
+}
+#endif
 
 #ifdef TRANSMITTANCE_TABLE
 vec3 transmittance(float h, float mu) {
@@ -189,6 +185,22 @@ vec3 aerial_transmittance(float h, float mu, float d) {
     return down * exp(-medium_at(0.0).extinction * max(d - d_ground, 0.0));
 }
 
+// A ray from altitude h along unit dir as the air sees it: from where it enters the air (space is
+// empty: nothing happens before), with the ray's and the sun's zenith cosines and their cosine nu
+// there, the distance skipped, and whether it meets the air at all.
+struct AirRay { float h; float mu; float mu_s; float nu; float skipped; bool enters; };
+
+AirRay air_ray(float h, vec3 dir, vec3 sun) {
+    float t = air_entry(h, dir);
+    AirRay a = AirRay(h, dir.z, sun.z, dot(dir, sun), max(t, 0.0), t >= 0.0);
+    if (t <= 0.0) return a;
+    float r = bottom_radius() + h;
+    a.h = atmosphere_height();
+    a.mu = clamp((r * dir.z + t) / top_radius(), -1.0, 1.0);
+    a.mu_s = clamp((r * sun.z + t * a.nu) / top_radius(), -1.0, 1.0);
+    return a;
+}
+
 // Quadratic sample spacing along a ray of length d: sample i's midpoint and length.
 vec2 march_step(float d, int i, int n) {
     float a = float(i) / float(n), b = float(i + 1) / float(n);
@@ -197,6 +209,17 @@ vec2 march_step(float d, int i, int n) {
 }
 #endif
 
+// The sea-level sky irradiance table (glsl/sea_irradiance.comp): SEA_IRRADIANCE_SIZE texels over
+// the sun's zenith cosine in [SEA_IRRADIANCE_MU_MIN, 1], 18 degrees below the horizon (the end of
+// astronomical twilight, below which the sky is dark) to the zenith.
+const int SEA_IRRADIANCE_SIZE = 256;           // atmosphere::SEA_IRRADIANCE_SIZE
+const float SEA_IRRADIANCE_MU_MIN = -0.309017; // sin(-18 degrees)
+
+float sea_irradiance_u(float mu_s) {
+    float x = clamp((mu_s - SEA_IRRADIANCE_MU_MIN) / (1.0 - SEA_IRRADIANCE_MU_MIN), 0.0, 1.0);
+    return unit_to_texcoord(x, SEA_IRRADIANCE_SIZE);
+}
+
 #ifdef MULTIPLE_SCATTERING_TABLE
 vec3 multiple_scattering(float h, float mu_s) {
     vec2 uv = vec2(unit_to_texcoord(0.5 * mu_s + 0.5, MULTIPLE_SCATTERING_SIZE),
@@ -204,23 +227,25 @@ vec3 multiple_scattering(float h, float mu_s) {
     return textureLod(MULTIPLE_SCATTERING_TABLE, uv, 0.0).rgb;
 }
 
-// Sky radiance (kcd/m^2) from altitude h towards unit dir, with the sun towards frame.sun_dir:
-// single scattering and psi_ms along the ray (atmosphere::Atmosphere::sky_radiance).
-vec3 physical_sky_radiance(float h, vec3 dir) {
-    vec3 sun = frame.sun_dir.xyz;
-    float mu = dir.z, nu = dot(dir, sun);
-    float r = bottom_radius() + h;
-    float d = meets_ground(h, mu) ? distance_to_ground(h, mu) : distance_to_top(h, mu);
+// Sky radiance (kcd/m^2) from altitude h towards unit dir, with the sun towards `sun`: single
+// scattering and psi_ms along the ray (atmosphere::Atmosphere::sky_radiance), from where the ray
+// enters the air (air_ray): black where it never does.
+vec3 physical_sky_radiance(float h, vec3 dir, vec3 sun) {
+    AirRay a = air_ray(h, dir, sun);
+    if (!a.enters) return vec3(0.0);
+    float mu = a.mu, nu = a.nu;
+    float r = bottom_radius() + a.h;
+    float d = meets_ground(a.h, mu) ? distance_to_ground(a.h, mu) : distance_to_top(a.h, mu);
     float phase_r = rayleigh_phase(nu), phase_m = mie_phase(nu);
     vec3 L = vec3(0.0);
     for (int i = 0; i < SKY_STEPS; ++i) {
         vec2 s = march_step(d, i, SKY_STEPS);
-        float h_t = clamp(altitude_along(h, mu, s.x), 0.0, atmosphere_height());
-        float mu_s = clamp((r * sun.z + s.x * nu) / (bottom_radius() + h_t), -1.0, 1.0);
+        float h_t = clamp(altitude_along(a.h, mu, s.x), 0.0, atmosphere_height());
+        float mu_s = clamp((r * a.mu_s + s.x * nu) / (bottom_radius() + h_t), -1.0, 1.0);
         Medium m = medium_at(h_t);
         vec3 single = sun_transmittance(h_t, mu_s) * (m.rayleigh * phase_r + m.mie * phase_m);
         vec3 multiple = (m.rayleigh + m.mie) * multiple_scattering(h_t, mu_s);
-        L += transmittance_between(h, mu, s.x) * (single + multiple) * s.y;
+        L += transmittance_between(a.h, mu, s.x) * (single + multiple) * s.y;
     }
     return L * frame.atmosphere[4].x;   // the sun's illuminance outside the atmosphere (klux)
 }

@@ -27,9 +27,19 @@ Frame3 wind_frame(vec3 n) {
 
 vec3 to_local(Frame3 f, vec3 d) { return vec3(dot(d, f.t_x), dot(d, f.t_y), dot(d, f.n)); }
 
-// Radiance of the sun reflected towards v. sigma2: slope variance for shadowing; sigma2_sun adds the
-// sun disc's own slope spread (the Gaussian convolved with the disc) to the slope density.
-vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2) {
+// The light a sea point is under: the sun's irradiance normal to it, the sky's on the level sea,
+// and the scale of the sky map's radiance there (1 under the sun the map was made for).
+struct SeaLight { vec3 sun; vec3 sky_irradiance; vec3 sky_scale; };
+
+// The frame's light: the sea's below the eye, everywhere.
+SeaLight frame_sea_light() {
+    return SeaLight(frame.sun_irradiance.rgb, frame.sky_irradiance.rgb, vec3(1.0));
+}
+
+// Radiance of the sun reflected towards v under the sun's irradiance `sun` (normal to it).
+// sigma2: slope variance for shadowing; sigma2_sun adds the sun disc's own slope spread (the
+// Gaussian convolved with the disc) to the slope density.
+vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
     vec3 vl = to_local(f, v), ll = to_local(f, l);
     float cv = max(vl.z, 0.0), cl = ll.z;
     if (cl <= 0.0) return vec3(0.0);              // sun below the tangent plane
@@ -48,7 +58,7 @@ vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2) {
     float denom = cv * cl + cl * cos_times_lambda(cv, slope_spread(vl, sigma2))
                 + cv * cos_times_lambda(cl, slope_spread(ll, sigma2));
     if (denom <= 0.0) return vec3(0.0);
-    return frame.sun_irradiance.rgb * (fresnel * p_over_hz4 * cl / (4.0 * denom));
+    return sun * (fresnel * p_over_hz4 * cl / (4.0 * denom));
 }
 
 // Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
@@ -107,10 +117,10 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
                 + sky_map_grad(reflected_u(f, v, slopes.mean - step), g_major, minor));
 }
 
-// Everything the sea sends towards v at one pixel. sun_visible: the share of the sun that the
-// displaced grid leaves the point (its shadow map); the unresolved slopes' own shadowing is
-// Smith's, inside reflected_sun, over the slopes the grid does not hold.
-vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible) {
+// Everything the sea sends towards v at one pixel, under `light`. sun_visible: the share of the
+// sun that the displaced grid leaves the point (its shadow map); the unresolved slopes' own
+// shadowing is Smith's, inside reflected_sun, over the slopes the grid does not hold.
+vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible, SeaLight light) {
     // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
     // where cos_v = 0 is the formulas' own finite limit.
     float vn = dot(v, n);
@@ -123,16 +133,16 @@ vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible) {
     vec3 vl = to_local(f, v);
     float cos_v = clamp(vl.z, 0.0, 1.0);
     vec3 color = vec3(0.0);
-    if (TERM_SUN && frame.sun_irradiance.w > 0.0 && sun_visible > 0.0) {
-        color += sun_visible * reflected_sun(f, v, frame.sun_dir.xyz, sigma2);
+    if (TERM_SUN && sun_visible > 0.0 && max(light.sun.r, max(light.sun.g, light.sun.b)) > 0.0) {
+        color += sun_visible * reflected_sun(f, v, frame.sun_dir.xyz, sigma2, light.sun);
     }
     float fresnel = sea_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
     vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2) : vec4(0.0);
-    if (TERM_SKY) color += fresnel * sky.rgb;
-    if (TERM_SEA) color += (1.0 - fresnel * (1.0 - sky.a)) * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
+    if (TERM_SKY) color += fresnel * light.sky_scale * sky.rgb;
+    if (TERM_SEA) color += (1.0 - fresnel * (1.0 - sky.a)) * frame.sea_albedo.rgb * light.sky_irradiance / PI;
     return color;
 }
 

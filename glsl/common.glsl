@@ -14,9 +14,9 @@ const int METHOD_FULL = 3;           // the paper with ours: the visible facets'
 
 // Largest finite binary16: the HDR target's range. Radiance above it is clamped, never Inf.
 const float HDR_MAX = 65504.0;
-// Farther than any visible sea point (m): the geometric horizon of a 100 km high eye on the Earth is
-// 1.13e6 m away. Rest positions beyond it are artefacts of interpolating towards the horizon line.
-const float FAR_LIMIT = 1.0e7;
+// Farther than any visible sea point (m): those lie within the planet's radius of the point below
+// the eye (at most 1e9 m, src/model/scene.rs). It marks a rest position gone wrong.
+const float FAR_LIMIT = 2.0e9;
 // exp(-x) underflows single precision (below FLT_MIN) once x exceeds ln(FLT_MAX) ~ 88.7;
 // 87 keeps the result a normal float. Past it the exact value is 0 to f32 precision.
 const float EXP_UNDERFLOW = 87.0;

@@ -3,8 +3,10 @@
 // al. 2002's key), read at every 4th pixel of every 4th row by one workgroup, sets
 // EV100 = log2(L S / K) with S = 100, K = 12.5 (the reflected-light meter's calibration; Lagarde &
 // de Rousiers 2014), and the display scale 1000 / (1.2 2^EV100) per kcd/m^2 (scene::ev100_to_exposure).
-// Luminance below 1e-3 cd/m^2 (where vision turns scotopic) counts as 1e-3, so black pixels
-// (night, the cleared background) neither send the logarithm to -inf nor dominate the key.
+// Luminance below 1e-3 cd/m^2 (where vision turns scotopic) is left out of the key, so black
+// pixels (night, the cleared background, space around the planet seen from orbit) neither send
+// the logarithm to -inf nor dominate it: the meter reads the lit subject, as a photographer's
+// spot meter would. An image with nothing brighter has the key 1e-3 cd/m^2.
 layout(local_size_x = 256) in;
 layout(set = 0, binding = 4, rgba16f) readonly uniform image2D hdr;
 layout(set = 0, binding = 7, std140) writeonly buffer MeasuredExposure { vec4 measured; } result;
@@ -21,8 +23,9 @@ void main() {
         for (int x = int(gl_LocalInvocationIndex) * 4; x < size.x; x += 256 * 4) {
             vec3 L = imageLoad(hdr, ivec2(x, y)).rgb;
             float Y = 1000.0 * dot(max(L, vec3(0.0)), vec3(0.2126, 0.7152, 0.0722));   // cd/m^2
-            sum += log2(max(Y, DARKEST_CD));
-            n += 1u;
+            bool lit = Y >= DARKEST_CD;
+            sum += lit ? log2(Y) : 0.0;
+            n += lit ? 1u : 0u;
         }
     }
     partial[gl_LocalInvocationIndex] = sum;
@@ -36,8 +39,7 @@ void main() {
         barrier();
     }
     if (gl_LocalInvocationIndex == 0u) {
-        // Every image has at least one pixel, so counted[0] >= 1.
-        float key = partial[0] / float(max(counted[0], 1u));
+        float key = counted[0] > 0u ? partial[0] / float(counted[0]) : log2(DARKEST_CD);
         float ev100 = key + log2(100.0 / 12.5);
         result.measured = vec4(1000.0 / (1.2 * exp2(ev100)), ev100, key, 0.0);
     }

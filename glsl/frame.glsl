@@ -31,10 +31,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     // heights (m); [1] Rayleigh scattering (rgb, per m), Mie g; [2] ozone absorption at its peak
     // (rgb), Mie scattering; [3] ozone centre and width (m), Mie absorption, ground albedo;
     // [4] the sun's illuminance outside the atmosphere (klux), the sun disc's chord^2
-    // (2 (1 - cos radius)), the eye's altitude (m), the aerial perspective's depth (m).
+    // (2 (1 - cos radius)), the eye's altitude (m), unused.
     vec4 atmosphere[5];
     mat4 sun_view_proj;    // camera-relative world -> the sun's shadow map (src/render/sun_shadow.rs): z 0 nearest the sun
     vec4 shadow;           // x: the camera's near plane (m); y: 1 if the sun's view exists this frame
+    vec4 planet;           // the sea's sphere (glsl/planet.glsl): R (m), sin(dip), c = H (2R + H) (m^2), sqrt(c) (m)
+    vec4 eye_sky;          // the eye's sky-view table's elevations (glsl/sky_view.glsl): x lowest, y highest (rad)
 } frame;
 
 // The wave trains, sorted by increasing wavelength. Two words per train keep the per-pixel loop

@@ -9,6 +9,7 @@
 #include "frame.glsl"
 #include "common.glsl"
 #include "sky.glsl"
+#include "planet.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -90,30 +91,45 @@ float hit_tolerance(float t, float range) {
     return 1e-4 + 1e-6 * max(t, range);
 }
 
-// Vertical gap between the ray point o + t r and the surface below or above it (positive above).
+// Vertical gap between the ray point o + t r and the surface below or above it (positive above):
+// the waves displace the rest sphere's point at rest position x (glsl/planet.glsl), as the grid.
 float gap(vec3 o, vec3 r, float t, inout vec2 x, out Surface s) {
     vec3 p = o + t * r;
     x = invert(p.xy, x, s);
-    return p.z - (-frame.cam_forward.w + s.d.z);
+    return p.z + frame.cam_forward.w + sphere_drop(x) - s.d.z;
+}
+
+// Height of p above the rest sphere, vertically (the slab's bounds are +-tile.slab of it), and
+// its rate of change along r: r.z plus the drop's gradient x / sqrt(R^2 - |x|^2) along r.xy. The
+// drop is convex, so the rate only grows along a ray.
+vec2 level_and_rate(vec3 p, vec3 r) {
+    float R = frame.planet.x, len = length(p.xy);
+    float below = sqrt(max((R - len) * (R + len), 0.0));
+    float rate = r.z + (below > 0.0 ? dot(p.xy, r.xy) / below : 0.0);
+    return vec2(p.z + frame.cam_forward.w + sphere_drop(p.xy), rate);
 }
 
 // First hit of o + t r (t > t0) with the surface: returns t, or -1 where the ray misses. Sphere-
-// traces the vertical gap g with the slope bound L: g shrinks by at most dt (L |r.xy| - r.z) per
-// step dt, so dt = g / (L |r.xy| - r.z) does not cross the surface when L holds; should a step
+// traces the vertical gap g with the slope bound L: g shrinks by at most dt (L |r.xy| - rate)
+// per step dt, rate the ray's climb over the rest sphere (level_and_rate, which only grows along
+// the ray), so dt = g / (L |r.xy| - rate) does not cross the surface when L holds; should a step
 // still land below it (or below every trough, or run out of steps going down), bisection on the
 // bracket finds the crossing. (Results travel as floats, control flow has one exit.)
 float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
-    float height = frame.cam_forward.w;
-    float closing = tile.lipschitz * length(r.xy) - r.z;
-    float top = -height + tile.slab;
-    float bottom = -height - tile.slab;
+    float height = frame.cam_forward.w, R = frame.planet.x, slab = tile.slab;
+    bool from_eye = o == vec3(0.0);
     float t = t0;
     float result = -1.0;
     float searching = 1.0;
-    // Skip to the top of the slab when starting above it; a ray rising from above never hits.
-    if (o.z > top) {
-        searching = r.z < 0.0 ? 1.0 : 0.0;
-        t = r.z < 0.0 ? max(t, (top - o.z) / r.z) : t;
+    // Skip to the top of the slab when starting above it: from the eye the exact sphere of the
+    // crests (a ray that misses it misses the sea); elsewhere the level's tangent, which the
+    // convex level only reaches later.
+    vec2 start = level_and_rate(o + t * r, r);
+    if (start.x > slab) {
+        float skip = from_eye ? (height > slab ? sphere_distance(r, height - slab, R + slab) : 0.0)
+                              : (start.y < 0.0 ? t + (slab - start.x) / start.y : -1.0);
+        searching = skip >= 0.0 ? 1.0 : 0.0;
+        t = max(t, skip);
     }
     vec2 x = (o + t * r).xy;
     Surface s = surface(x);
@@ -121,9 +137,11 @@ float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
     float t_below = -1.0;     // first point known below it, once bracketed
     for (uint it = 0u; it < max_march && searching > 0.0; ++it) {
         vec3 p = o + t * r;
-        if (r.z >= 0.0 && (p.z > top + 1e-3 || closing <= 0.0)) {
+        vec2 level = level_and_rate(p, r);
+        float closing = tile.lipschitz * length(r.xy) - level.y;
+        if (level.y >= 0.0 && (level.x > slab + 1e-3 || closing <= 0.0)) {
             searching = 0.0;   // left the slab upwards, or rising faster than any slope: a miss
-        } else if (p.z < bottom) {
+        } else if (level.x < -slab) {
             t_below = t;       // below every trough
             searching = 0.0;
         } else {
@@ -140,8 +158,17 @@ float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
             }
         }
     }
-    // Going down and out of steps: the point below every trough brackets the crossing.
-    if (searching > 0.0 && r.z < 0.0) t_below = (bottom - o.z) / r.z;
+    // Going down and out of steps: a point below every trough brackets the crossing: from the eye
+    // the troughs' sphere, elsewhere the level's tangent (kept only where it does lie below).
+    if (searching > 0.0) {
+        vec3 p = o + t * r;
+        vec2 level = level_and_rate(p, r);
+        float below = from_eye ? sphere_distance(r, height + slab, R - slab)
+                               : (level.y < 0.0 ? t + (-slab - level.x) / level.y : -1.0);
+        vec2 xb = x;
+        Surface sb;
+        if (below >= t && gap(o, r, below, xb, sb) < 0.0) t_below = below;
+    }
     if (result < 0.0 && t_below >= 0.0) {
         vec2 xb = x;
         for (int b = 0; b < BISECTION_STEPS; ++b) {
@@ -275,14 +302,18 @@ void main() {
     if (tile.stratum == 0u) {
         // Does the sub-sample spacing resolve the shortest train (at most half a turn per step)?
         vec3 ray = camera_ray(pixel_to_ndc(vec2(pixel) + 0.5));
-        float w = -ray.z;
         float resolved = 1.0;   // a pixel of sky has nothing to resolve
-        if (w > 0.0) {
+        vec3 u = normalize(ray);
+        vec2 hit = sea_distance(onto_sea(u));
+        if (meets_sea(u) && hit.y > 0.0) {
+            // The rest position's step per sub-sample (glsl/waves.glsl sample_scale's formula).
+            float len = length(ray), t = hit.x / len, w = hit.y * len;
+            vec3 up = sea_normal(hit.x * u.xy);
             vec3 dr_du = frame.cam_right.xyz * (2.0 * frame.viewport.z);
             vec3 dr_dv = frame.cam_down.xyz * (2.0 * frame.viewport.w);
-            float scale = frame.cam_forward.w / (w * w * float(n));
-            vec2 a_u = (dr_du.xy * w + ray.xy * dr_du.z) * scale;
-            vec2 a_v = (dr_dv.xy * w + ray.xy * dr_dv.z) * scale;
+            float scale = t / (w * float(n));
+            vec2 a_u = (dr_du.xy * w + ray.xy * dot(up, dr_du)) * scale;
+            vec2 a_v = (dr_dv.xy * w + ray.xy * dot(up, dr_dv)) * scale;
             vec2 k = exact_waves[0].xy;   // trains are sorted: the first is the shortest
             resolved = max(abs(dot(k, a_u)), abs(dot(k, a_v))) <= 0.5 ? 1.0 : 0.0;
         }

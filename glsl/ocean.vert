@@ -1,7 +1,8 @@
 #version 450
-// Projected grid: one vertex per grid node, generated from gl_VertexIndex. Rows start on the
-// horizon line and run down past the bottom edge; every node's ray meets the mean sea plane at
-// t >= 0, the top row at t = infinity, which stays a finite homogeneous point (x H, 0).
+// Projected grid: one vertex per grid node, generated from gl_VertexIndex. Rows start at the limb's
+// highest point on screen (frame::GridLayout) and run down past the bottom edge; every node's ray
+// meets the sea's mean sphere (glsl/planet.glsl), and a node whose ray passes above the limb is
+// moved down onto it in its azimuth, so the grid's edge runs along the limb and never gaps there.
 #include "frame.glsl"
 #include "common.glsl"
 WAVES_BLOCK;
@@ -12,7 +13,9 @@ layout(constant_id = 4) const bool GEOMETRY = true;
 // Whether this is the sun's view of the grid (the shadow pass, src/render/passes/shadow.rs).
 layout(constant_id = 10) const bool SUN_VIEW = false;
 
-layout(location = 0) out vec3 out_rest_h;   // (H r.xy, w): rest position = xy / w, interpolated projectively
+// x, y: the rest position (horizontal offset from the eye, m); z: 1 where the node is displaced,
+// so that a fragment between undisplaced nodes only (z = 0) takes its own ray's exact rest point.
+layout(location = 0) out vec3 out_rest;
 
 void main() {
     uint cols = frame.grid_dims.x;
@@ -23,14 +26,13 @@ void main() {
     float ndc_x = mix(-1.0 - margin_x, 1.0 + margin_x, float(col) / float(cols - 1u));
     float ndc_y = min(frame.grid.y + float(row) * cell_px * 2.0 * frame.viewport.w, 1.0 + margin_y);
     vec3 ray = camera_ray(vec2(ndc_x, ndc_y));
-    float w = max(-ray.z, 0.0);
-    float height = frame.cam_forward.w;
-    vec2 rest_times_w = height * ray.xy;
+    vec3 u = onto_sea(normalize(ray));
+    vec3 rest = sea_distance(u).x * u;
 
     vec3 d = vec3(0.0);
     SampleScale cell = sample_scale(ray, cell_px, frame.filter_steps.xy);
-    if (GEOMETRY && cell.any) d = displacement(rest_times_w / w, cell, frame.filter_steps.xy);   // any implies w > 0
-    vec4 p_h = vec4(rest_times_w + w * d.xy, w * (d.z - height), w);
-    gl_Position = (SUN_VIEW ? frame.sun_view_proj : frame.view_proj) * p_h;
-    out_rest_h = vec3(rest_times_w, w);
+    bool displaced = GEOMETRY && cell.any;
+    if (displaced) d = displacement(rest.xy, cell, frame.filter_steps.xy);
+    gl_Position = (SUN_VIEW ? frame.sun_view_proj : frame.view_proj) * vec4(rest + d, 1.0);
+    out_rest = vec3(rest.xy, displaced ? 1.0 : 0.0);
 }

@@ -10,7 +10,8 @@
 #include "common.glsl"
 WAVES_BLOCK;
 layout(set = 0, binding = 2) uniform sampler2D sky_map;
-#define SKY_MAP_SAMPLER sky_map
+layout(set = 0, binding = 10) uniform sampler2D eye_sky;   // resources::EYE_SKY_BINDING
+#define EYE_SKY_SAMPLER eye_sky
 layout(set = 0, binding = 3, rgba16ui) uniform restrict uimage2D hdr_bits;
 layout(constant_id = 0) const bool TERM_SUN = true;
 layout(constant_id = 1) const bool TERM_SKY = true;
@@ -37,19 +38,26 @@ layout(set = 0, binding = 6) uniform sampler2D aerial_transmittance;
 // The sun's shadows from the displaced grid (src/render/passes/shadow.rs): its view's depth, and
 // the camera's, which places each pixel's surface point on the same triangles.
 layout(constant_id = 9) const bool SHADOW = false;
+// Whether any pixel in view resolves a train into its normal (the train loop; constant 11) and
+// whether the physical sky's aerial perspective is applied (constant 12): specialize::plan leaves
+// each out where it changes nothing.
+layout(constant_id = 11) const bool NORMALS = true;
+layout(constant_id = 12) const bool AERIAL = true;
 layout(set = 0, binding = 8) uniform sampler2DShadow sun_shadow_map;
 layout(set = 0, binding = 9) uniform sampler2D scene_depth;
 
-const int AERIAL_SIZE = 32;   // resources::AERIAL_SIZE
+#include "atmosphere.glsl"
 
 // The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and
-// distance d from the eye: slice k of the atlas holds the path to D (k + 1)^2 / 32^2, so d lies
-// at slice s = 32 sqrt(d / D) - 1; before slice 0, the path's share of it (in-scatter from 0,
-// transmittance from 1). The column within a slice is clamped to its texel centres, so that no
-// lookup blends in the next slice.
-vec3 aerial_perspective(vec3 radiance, vec2 uv, float d) {
-    float depth = frame.atmosphere[4].w;
-    float s = float(AERIAL_SIZE) * sqrt(clamp(d / depth, 0.0, 1.0)) - 1.0;
+// distance d from the eye along the unit ray u: slice k of the atlas holds the path to
+// D (k + 1)^2 / 32^2 past the ray's entry into the air, D its span (aerial_span), so d lies at
+// slice s = 32 sqrt((d - entry) / D) - 1, the last slice where the sea's sphere is; before slice 0,
+// the path's share of it (in-scatter from 0, transmittance from 1). The column within a slice is
+// clamped to its texel centres, so that no lookup blends in the next slice.
+vec3 aerial_perspective(vec3 radiance, vec2 uv, vec3 u, float d) {
+    float span = aerial_span(u);
+    float past_entry = d - max(air_entry(frame.atmosphere[4].z, u), 0.0);
+    float s = span > 0.0 ? float(AERIAL_SIZE) * sqrt(clamp(past_entry / span, 0.0, 1.0)) - 1.0 : -1.0;
     vec2 column = clamp(uv * float(AERIAL_SIZE), vec2(0.5), vec2(float(AERIAL_SIZE) - 0.5));
     float k0 = clamp(floor(s), 0.0, float(AERIAL_SIZE - 1)), k1 = min(k0 + 1.0, float(AERIAL_SIZE - 1));
     float f = clamp(s - k0, 0.0, 1.0);
@@ -64,6 +72,42 @@ vec3 aerial_perspective(vec3 radiance, vec2 uv, float d) {
         transmittance = mix(vec3(1.0), transmittance, share);
     }
     return radiance * transmittance + inscatter;
+}
+
+// Each sea point's light under its own sun (the sphere turns the sun's elevation from point to
+// point: seen from high up, the terminator and the night side): the sun's transmittance to sea
+// level and the sea-level sky irradiance (glsl/sea_irradiance.comp) at the point's sun zenith
+// cosine, from the GPU's tables. Each is calibrated by the frame's value below the eye (the f64
+// model's) over the tables' own there, held within a factor of 2 (they agree to a few percent but
+// for tiny values near the horizon), so that near the eye nothing changes. The sky map holds the sky
+// under the sun below the eye; its radiance is scaled by the sky irradiance's ratio, held to at most
+// tenfold (a map of twilight does not stand for a daylit sky); under a dark map it stays dark.
+layout(set = 0, binding = 12) uniform sampler2D sea_transmittance;   // resources::SEA_TRANSMITTANCE_BINDING
+layout(set = 0, binding = 13) uniform sampler2D sea_irradiance;      // resources::SEA_IRRADIANCE_BINDING
+const float SKY_SCALE_MAX = 10.0;
+
+vec3 sun_at_sea(float mu_s) {
+    return mu_s < 0.0 ? vec3(0.0) : frame.atmosphere[4].x * textureLod(sea_transmittance, transmittance_uv(0.0, mu_s), 0.0).rgb;
+}
+
+vec3 sky_at_sea(float mu_s) {
+    return textureLod(sea_irradiance, vec2(sea_irradiance_u(mu_s), 0.5), 0.0).rgb;
+}
+
+vec3 calibration(vec3 exact, vec3 table) {
+    return mix(vec3(1.0), clamp(exact / max(table, vec3(FLT_MIN_NORMAL)), vec3(0.5), vec3(2.0)), greaterThan(table, vec3(0.0)));
+}
+
+SeaLight local_sea_light(vec3 up) {
+    if (!SKY_PHYSICAL) return frame_sea_light();
+    float mu_eye = frame.sun_dir.z, mu = clamp(dot(frame.sun_dir.xyz, up), -1.0, 1.0);
+    vec3 sun_eye = sun_at_sea(mu_eye), sky_eye = sky_at_sea(mu_eye), sky_here = sky_at_sea(mu);
+    SeaLight light;
+    light.sun = sun_at_sea(mu) * calibration(frame.sun_irradiance.rgb, sun_eye);
+    light.sky_irradiance = sky_here * calibration(frame.sky_irradiance.rgb, sky_eye);
+    light.sky_scale = mix(vec3(0.0), min(sky_here / max(sky_eye, vec3(FLT_MIN_NORMAL)), vec3(SKY_SCALE_MAX)),
+                          greaterThan(sky_eye, vec3(0.0)));
+    return light;
 }
 
 // The share of the sun a pixel's surface point sees past the displaced grid (1 where nothing
@@ -84,30 +128,9 @@ layout(local_size_x = 8, local_size_y = 8) in;   // SHADE_GROUP in src/render/pa
 
 const bool ANY_TERM = TERM_SUN || TERM_SKY || TERM_SEA;
 
-// Where a ray meets the mean sea plane (rest position, camera-relative); FAR_LIMIT for a ray that
-// does not fall, as the visibility pass stores for the horizon.
-vec2 mean_plane_point(vec3 ray) {
-    float w = -ray.z;
-    vec2 x = w > 0.0 ? frame.cam_forward.w * ray.xy / w : vec2(FAR_LIMIT);
-    return all(lessThan(abs(x), vec2(FAR_LIMIT))) ? x : vec2(FAR_LIMIT);
-}
-
-// The share of the pixel through whose centre `ray` passes that lies below the mean sea plane's
-// horizon. ray.z is linear across the screen (camera_ray), so the horizon is a straight line
-// and the share is the pixel's area where that linear function is negative: with no roll (the
-// camera has none) it changes along the rows only and the ramp over one pixel's change of ray.z
-// is exact for a box pixel; with a slope it would be the usual ramp over |a| + |b|. A view
-// straight up or down has ray.z constant on the screen: all or nothing.
-float below_horizon_share(vec3 ray) {
-    float a = abs(frame.cam_right.z) * 2.0 * frame.viewport.z;
-    float b = abs(frame.cam_down.z) * 2.0 * frame.viewport.w;
-    float width = a + b;
-    return width > 0.0 ? clamp(0.5 - ray.z / width, 0.0, 1.0) : (ray.z < 0.0 ? 1.0 : 0.0);
-}
-
 vec3 sky(vec3 dir) {
     if (!BACKGROUND) return vec3(0.0);
-    return sky_radiance(dir) + sun_disc(dir);
+    return sky_seen(dir) + sun_disc(dir);
 }
 
 // Every invocation runs to the end (no early return): the blocked train loop needs the whole
@@ -118,49 +141,52 @@ void main() {
     uvec4 bits = inside ? imageLoad(hdr_bits, p) : NO_SEA_BITS;
     bool covered = bits != NO_SEA_BITS;
     vec3 ray = camera_ray(pixel_to_ndc(vec2(p) + 0.5));   // the pixel's centre, as gl_FragCoord
-    // The share of the pixel the sea covers: the part below the mean horizon, also where the grid
-    // left the centre uncovered. Where crests can rise over the horizon (the eye no higher than
-    // the highest), a pixel the grid drew may be a crest standing above it: left whole.
+    vec3 u = normalize(ray);
+    // The share of the pixel the sea covers: the part below the limb, also where the grid left the
+    // centre uncovered. Where crests can rise over the limb (the eye no higher than the highest),
+    // a pixel the grid drew may be a crest standing above it: left whole.
     bool crests_reach_horizon = frame.wave_extent.y >= frame.cam_forward.w;
-    float sea_share = SEA_ONLY || (covered && (ray.z > 0.0 || crests_reach_horizon)) ? 1.0 : below_horizon_share(ray);
+    float sea_share = SEA_ONLY || (covered && (!meets_sea(u) || crests_reach_horizon)) ? 1.0 : below_limb_share(ray);
     bool is_sea = SEA_ONLY || covered || sea_share > 0.0;
-    vec2 x = covered ? bits_to_rest_position(bits) : mean_plane_point(ray);
-    // An uncovered pixel's sea lies at most on the horizon (x then FAR_LIMIT: the grazing limit);
-    // a ray straight up has no horizon in its pixel (its share is 0) and takes any finite v.
-    vec3 toward_sea = covered || ray.z <= 0.0 ? ray : vec3(ray.xy, 0.0);
-    vec3 v = dot(toward_sea, toward_sea) > 0.0 ? -normalize(toward_sea) : vec3(0.0, 0.0, 1.0);
+    vec2 x = covered ? bits_to_rest_position(bits) : mean_sea_point(ray);
+    // An uncovered pixel's sea lies at most on the limb (its ray moved onto it: the grazing limit).
+    vec3 v = -(covered ? u : onto_sea(u));
+    // The sphere's normal under the pixel: the frame the waves' normal is tilted into.
+    vec3 up = sea_normal(x);
+    float v_up = dot(v, up);
     SampleScale pixel = sample_scale(ray, 1.0, frame.filter_steps.zw);
-    // v.z <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
-    // FAR_LIMIT (stored for pixels too far for any train) nothing is resolvable either.
-    bool resolves = ANY_TERM && is_sea && pixel.any && v.z > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)));
-    float grazing = resolves ? 2.0 * PI / v.z : 0.0;
+    // v . up <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
+    // FAR_LIMIT (a rest position gone wrong) nothing is resolvable either.
+    bool resolves = NORMALS && ANY_TERM && is_sea && pixel.any && v_up > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)));
+    float grazing = resolves ? 2.0 * PI / v_up : 0.0;
     vec2 at = resolves ? x : vec2(0.0);
 #ifdef TRAIN_BLOCKS
     SurfaceSample s = surface_sample_blocked(at, pixel, frame.filter_steps.zw, grazing, resolves);
 #else
     SurfaceSample s = resolves ? surface_sample(at, pixel, frame.filter_steps.zw, grazing) : flat_surface();
 #endif
-    vec3 n = vec3(0.0, 0.0, 1.0);
+    vec3 n = up;
     // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror).
     vec2 sigma2 = METHOD == METHOD_NO_FILTER ? vec2(0.0) : frame.wind.zw;
     if (resolves) {
         // A fully steep train (k h = 1) has a cusp at its crest, where the tangents are parallel:
-        // the two sides' normals average to the vertical there.
+        // the two sides' normals average to the vertical there. The waves' normal is in the
+        // tangent frame of the point below the eye; the sphere's drop tilts it by up.
         vec3 c = cross(s.tangent_x, s.tangent_y);
         float len2 = dot(c, c);
-        n = len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+        n = tilt_to(len2 > 0.0 ? c * inversesqrt(len2) : vec3(0.0, 0.0, 1.0), up);
         sigma2 = s.sigma2;
     }
     // The baseline drops whatever the normals do not resolve and keeps one roughness everywhere.
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
-    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray, covered)) : vec3(0.0);
-    if (SKY_PHYSICAL && is_sea && BACKGROUND) {
+    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray, covered), local_sea_light(up)) : vec3(0.0);
+    if (SKY_PHYSICAL && AERIAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
-        radiance = aerial_perspective(radiance, uv, length(vec3(x, frame.cam_forward.w)));
+        radiance = aerial_perspective(radiance, uv, u, length(sea_point(x)));
     }
-    // The rest of the pixel sees the sky at (or just above) the horizon; a share below 1 means
-    // ray.z > -width / 2 with |ray| >= 1 (camera_ray), so this direction is never zero.
-    if (!SEA_ONLY && sea_share < 1.0) radiance = mix(sky(normalize(vec3(ray.xy, max(ray.z, 0.0)))), radiance, sea_share);
+    // The rest of the pixel sees the sky at (or just above) the limb: its ray, raised onto the
+    // limb where it falls below it.
+    if (!SEA_ONLY && sea_share < 1.0) radiance = mix(sky(above_sea(u)), radiance, sea_share);
     if (inside) imageStore(hdr_bits, p, radiance_to_bits(store_radiance(radiance)));
     if (COUNT_TRAINS && inside && is_sea) {
         atomicAdd(counts.sea_pixels, 1u);

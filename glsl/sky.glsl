@@ -1,10 +1,12 @@
 // The sky: Preetham, Shirley & Smits, "A Practical Analytic Model for Daylight" (SIGGRAPH
 // 1999), evaluated here from the CPU's Perez coefficients and zenith values (src/model/sky.rs), or
-// the physical atmosphere (specialization constant 8, SKY_PHYSICAL), which sky_map.comp
-// raymarches into the sky map (glsl/atmosphere.glsl) and everything else reads from the map
-// (where the includer names its sampler SKY_MAP_SAMPLER).
+// the physical atmosphere (specialization constant 8, SKY_PHYSICAL), raymarched
+// (glsl/atmosphere.glsl) into the sky map for what the sea reflects and into the eye's own
+// sky-view table for the sky seen directly (where the includer names it EYE_SKY_SAMPLER).
 #ifndef SKY_GLSL
 #define SKY_GLSL
+
+#include "sky_view.glsl"
 
 layout(constant_id = 8) const bool SKY_PHYSICAL = false;
 
@@ -47,7 +49,9 @@ vec3 preetham_sky(vec3 dir) {
 const float LIMB_DARKENING_U = 0.6;
 
 vec3 sun_disc(vec3 dir) {
-    vec3 disc = frame.sun_radiance.rgb * frame.sun_irradiance.w;
+    // The physical sun's radiance is the eye's own (zero where the planet hides it from the eye,
+    // which from high up sees it below the sea's horizon); Preetham's goes with the sea's horizon.
+    vec3 disc = frame.sun_radiance.rgb * (SKY_PHYSICAL ? 1.0 : frame.sun_irradiance.w);
     if (!SKY_PHYSICAL) return dot(dir, frame.sun_dir.xyz) >= frame.sun_dir.w ? disc : vec3(0.0);
     vec3 chord = dir - frame.sun_dir.xyz;
     float x2 = dot(chord, chord) / frame.atmosphere[4].y;
@@ -80,16 +84,15 @@ vec2 sky_map_uv(vec2 u) {
     return u * (0.5 / frame.tone.y) + 0.5;
 }
 
-#ifdef SKY_MAP_SAMPLER
-// The sky seen directly (the sun disc not included): the physical sky from the map that holds
-// it, Preetham's evaluated. Directions below the horizon see the map's mirror image. Where the map
-// holds the sea below the horizon (METHOD_FULL: rgb F2 L, alpha 1 - F2), rgb / (1 - alpha) is the
-// sky again, for each texel and for any blend of them near the rim: a weighted mean of sky
-// radiances. 1 - alpha >= FRESNEL_R0 > 0 on every texel, so on every blend.
-vec3 sky_radiance(vec3 dir) {
+// The sky seen directly: the physical sky from the eye's own sky-view table (EYE_SKY_SAMPLER,
+// raymarched from the eye's altitude: passes/eye_sky.rs), Preetham's evaluated. The map holds
+// the sky seen from the sea, which the sea reflects. Above the air's own limb, seen from outside
+// it, is empty space: black.
+#ifdef EYE_SKY_SAMPLER
+vec3 sky_seen(vec3 dir) {
     if (SKY_PHYSICAL) {
-        vec4 m = textureLod(SKY_MAP_SAMPLER, sky_map_uv(stereographic(dir)), 0.0);
-        return m.rgb / (1.0 - m.a);
+        if (asin(clamp(dir.z, -1.0, 1.0)) > frame.eye_sky.y) return vec3(0.0);
+        return textureLod(EYE_SKY_SAMPLER, sky_view_uv(dir, true), 0.0).rgb;
     }
     return preetham_sky(dir);
 }

@@ -27,7 +27,7 @@ void main() {
     bool below = dir.z < 0.0;
     dir.z = abs(dir.z);
 #ifdef PHYSICAL_SKY
-    vec3 L = textureLod(sky_view_table, sky_view_uv(dir), 0.0).rgb;
+    vec3 L = textureLod(sky_view_table, sky_view_uv(dir, false), 0.0).rgb;
 #else
     vec3 L = preetham_sky(dir);
 #endif

@@ -3,11 +3,14 @@
 #ifndef WAVES_GLSL
 #define WAVES_GLSL
 
-// How samples `cells` pixels apart map onto the mean sea plane around one camera ray r.
-// The ray meets the plane z = -H at rest position x = H r.xy / w, w = -r.z, and along a screen
-// axis with dr/ds = r', dx/ds = H (r'.xy w + r.xy r'.z) / w^2. The numerators q stay finite at the
-// horizon; the division by w^2 is only formed where some train is resolvable, which bounds w away
-// from 0 (see `any`).
+#include "planet.glsl"
+
+// How samples `cells` pixels apart map onto the sea's rest positions around one camera ray r
+// (glsl/planet.glsl: x is the horizontal offset of the point P = t r on the mean sphere). Along a
+// screen axis with dr/ds = r', the sphere's constraint n . dP = 0 gives dt = t (n . r') / w with
+// w = -n . r, so dx/ds = (t / w) q with q = r'.xy w + r.xy (n . r'); on a plane (n = z, t = H / w)
+// this is H (r'.xy w + r.xy r'.z) / w^2. The numerators q stay finite at the limb, where w -> 0;
+// t / w is only formed where some train is resolvable, which bounds w away from 0 (see `any`).
 struct SampleScale {
     vec2 a_u;            // rest-position change per sample along screen u (m)
     vec2 a_v;            // same along screen v
@@ -17,12 +20,17 @@ struct SampleScale {
 };
 
 SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
-    float w = max(-ray.z, 0.0);
+    float len = length(ray);   // >= 1: camera_ray's component along the view is 1
+    vec3 u = ray / len;
+    bool meets = meets_sea(u);
+    vec2 hit = sea_distance(onto_sea(u));
+    vec3 n = sea_normal(hit.x * u.xy);
+    float w = meets ? hit.y * len : 0.0;   // -n . ray
+    float t = hit.x / len;                 // P = t ray
     vec3 dr_du = frame.cam_right.xyz * (2.0 * frame.viewport.z);
     vec3 dr_dv = frame.cam_down.xyz * (2.0 * frame.viewport.w);
-    vec2 q_u = dr_du.xy * w + ray.xy * dr_du.z;
-    vec2 q_v = dr_dv.xy * w + ray.xy * dr_dv.z;
-    float w2 = w * w;
+    vec2 q_u = dr_du.xy * w + ray.xy * dot(n, dr_du);
+    vec2 q_v = dr_dv.xy * w + ray.xy * dot(n, dr_dv);
     // The smallest phase step any direction can have: min over unit k of max(|k.q_u|, |k.q_v|).
     // Between the directions where |k.q_u| = |k.q_v| the max only grows, and there k is normal to
     // q_u - q_v or q_u + q_v, where |k.q_u| = |det| / |q_u -+ q_v|: the minimum is |det| over the
@@ -30,24 +38,24 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     float det = abs(q_u.x * q_v.y - q_u.y * q_v.x);
     float diagonal = max(length(q_u - q_v), length(q_u + q_v));
     float q_min = diagonal > 0.0 ? det / diagonal : 0.0;   // det <= diagonal^2 / 2: no overflow
-    float reach = frame.cam_forward.w * cells;                // H cells
+    float reach = t * cells;
     float longest = frame.wave_extent.x;
     SampleScale s;
     if (METHOD == METHOD_NO_FILTER) {
-        // Every train at full weight wherever the ray meets the plane: no loop exit.
-        s.any = w > 0.0;
+        // Every train at full weight wherever the ray meets the sea: no loop exit.
+        s.any = meets;
         s.a_u = s.a_v = vec2(0.0);
         s.lambda_cut = s.lambda_cut2 = 0.0;
         return s;
     }
-    // Train lambda is unresolved everywhere when q_min reach / (lambda w^2) >= steps.y.
-    s.any = longest * w2 * steps.y > q_min * reach;
+    // Train lambda is unresolved everywhere when q_min reach / (lambda w) >= steps.y.
+    s.any = longest * w * steps.y > q_min * reach;
     if (s.any) {
-        // q_min > 0 away from the horizon, so here w^2 > q_min reach / (longest step) > 0.
-        float per_w2 = reach / w2;
-        s.a_u = q_u * per_w2;
-        s.a_v = q_v * per_w2;
-        s.lambda_cut = q_min * per_w2 / steps.y;   // < longest <= 1e4 m: its square is finite
+        // Here w > q_min reach / (longest step) >= 0, and w > 0 strictly.
+        float per_w = reach / w;
+        s.a_u = q_u * per_w;
+        s.a_v = q_v * per_w;
+        s.lambda_cut = q_min * per_w / steps.y;   // < longest <= 1e4 m: its square is finite
     } else {
         s.a_u = vec2(0.0);
         s.a_v = vec2(0.0);

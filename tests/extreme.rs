@@ -127,9 +127,10 @@ fn the_horizon_has_no_seam() {
     let (w, h) = (128u32, 96u32);
     let mut checked = 0;
     for (name, scene) in &cases {
-        // NDC y of the horizon: tan(pitch) / tan(fov/2), y pointing down.
+        // NDC y of the limb: tan(pitch + dip) / tan(fov/2), y pointing down.
         let tan_half = (scene.camera.fov_y_deg.to_radians() / 2.0).tan();
-        let ndc = scene.camera.pitch_deg.to_radians().tan() / tan_half;
+        let dip = scene.planet.dip(scene.camera.height_m);
+        let ndc = (scene.camera.pitch_deg.to_radians() + dip).tan() / tan_half;
         let row = ((ndc + 1.0) / 2.0 * h as f64).round();
         if !(6.0..h as f64 - 6.0).contains(&row) {
             continue; // the horizon is off screen

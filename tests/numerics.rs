@@ -234,7 +234,7 @@ fn normal_weights_across_the_screen() {
     for py in (30..64).step_by(2) {
         for px in [0.0, 20.0, 32.0, 63.0] {
             let ray = reference.pixel_ray(px, py as f64);
-            let Some((_, a_u, a_v)) = reference.plane_hit(ray) else { continue };
+            let Some((_, a_u, a_v)) = reference.rest_hit(ray) else { continue };
             let v_z = -ray.normalize().z;
             for lambda in [0.02, 0.1, 0.5, 2.0, 8.0, 30.0] {
                 for angle in [0.0f64, 0.7, 1.6] {

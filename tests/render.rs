@@ -125,9 +125,10 @@ fn only_rows_no_crest_can_reach_are_left_to_the_sky() {
     use ocean::model::waves;
     use ocean::render::frame;
     let rows = |scene: &Scene| frame::build(scene, &waves::generate(scene), 256, 192, 8.0).sky_rows;
-    // Level camera 6 m up: the horizon is the lower edge of row 95; rows 0..95 rise, and the
-    // last of them is left to the sea's shader.
-    assert_eq!(rows(&Scene::default()), 94);
+    // Level camera 6 m up: the level ray is the lower edge of row 95, and the highest crests'
+    // limb lies 0.07 degrees below it, within row 96 (0.31 degrees a row): rows 0..=95 pass above
+    // it, and the last of them is left to the sea's shader.
+    assert_eq!(rows(&Scene::default()), 95);
     // Looking up: the whole image rises, and no grid row is drawn: all rows are sky.
     let mut up = Scene::default();
     up.camera.pitch_deg = 45.0;

@@ -62,6 +62,13 @@ fn malformed_toml_names_the_line() {
 fn out_of_range_values_name_key_and_range() {
     let cases = [
         ("[camera]\nheight_m = -1.0", "camera.height_m"),
+        ("[camera]\nheight_m = 0.0", "camera.height_m"),
+        ("[camera]\nheight_m = 5e7", "camera.height_m"),
+        ("[camera]\nheight_m = nan", "camera.height_m"),
+        ("[planet]\nradius_m = 0.0", "planet.radius_m"),
+        ("[planet]\nradius_m = -6360e3", "planet.radius_m"),
+        ("[planet]\nradius_m = inf", "planet.radius_m"),
+        ("[planet]\nradius_m = nan", "planet.radius_m"),
         ("[camera]\nfov_y_deg = 180.0", "camera.fov_y_deg"),
         ("[camera]\npitch_deg = 91.0", "camera.pitch_deg"),
         ("[waves]\ncount = 0", "waves.count"),

@@ -36,6 +36,8 @@ fn omissions_keep_the_picture() {
         ("extreme/sun_night.toml", vec!["sun term", "sky term", "refracted term", "sky map", "sky behind the sea"]),
         ("extreme/camera_10km.toml", vec!["vertex displacement"]),
         ("high_altitude.toml", vec!["vertex displacement"]),
+        ("orbit.toml", vec!["vertex displacement", "per-pixel wave normals"]),
+        ("extreme/look_down_5cm.toml", vec!["aerial perspective"]),
     ];
     for (file, expected) in cases {
         let scene = Scene::load(&dir.join(file)).unwrap();

@@ -52,7 +52,7 @@ pub fn shade_work(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> Sh
         for px in (0..width).step_by(STRIDE as usize) {
             sampled += 1;
             let ray = footprint.pixel_ray(px as f64, py as f64);
-            let Some((_, a_u, a_v)) = footprint.plane_hit(ray) else { continue };
+            let Some((_, a_u, a_v)) = footprint.rest_hit(ray) else { continue };
             sea += 1;
             let v_z = -ray.normalize().z;
             trains += waves

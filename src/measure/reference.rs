@@ -49,16 +49,16 @@ impl ReferenceScene<'_> {
         self.footprint.pixel_ray(px, py)
     }
 
-    /// Rest-plane position hit by `ray` and its derivatives per pixel (`footprint::plane_hit`).
-    pub fn plane_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
-        self.footprint.plane_hit(ray)
+    /// Rest position hit by `ray` and its derivatives per pixel (`footprint::rest_hit`).
+    pub fn rest_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
+        self.footprint.rest_hit(ray)
     }
 
     /// A train the grid displaces at pixel (px, py) of a grid of `cells` px, its wavelength (m):
     /// its phase step per grid cell below the geometry's cut-off. None where it displaces
     /// nothing, or the pixel sees no sea, which is where this reference is the method's.
     pub fn displaced_train(&self, cells: f64, px: f64, py: f64) -> Option<f64> {
-        let (_, a_u, a_v) = self.plane_hit(self.pixel_ray(px, py))?;
+        let (_, a_u, a_v) = self.rest_hit(self.pixel_ray(px, py))?;
         self.footprint.waves.trains.iter().map(|t| (DVec2::from(t.direction) / t.wavelength, t.wavelength)).find_map(
             |(k, wavelength)| {
                 let step = k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs());

@@ -200,6 +200,8 @@ pub const TRANSMITTANCE_SIZE: (usize, usize) = (256, 64);
 pub const MULTIPLE_SCATTERING_SIZE: usize = 32;
 /// Texture size of the GPU's sky-view table (azimuth from the sun, elevation; glsl/atmosphere.glsl).
 pub const SKY_VIEW_SIZE: (usize, usize) = (256, 128);
+/// Texels of the sea-level sky irradiance table over the sun's zenith cosine (glsl/atmosphere.glsl).
+pub const SEA_IRRADIANCE_SIZE: usize = 256;
 
 /// x in [0, 1] to a texture coordinate that puts 0 and 1 at the centres of the end texels.
 pub fn unit_to_texcoord(x: f64, size: usize) -> f64 {
@@ -303,12 +305,25 @@ impl Atmosphere {
         bilinear(&self.transmittance, TRANSMITTANCE_SIZE.0, TRANSMITTANCE_SIZE.1, u, v)
     }
 
-    /// Transmittance to the sun from radius r (0 where the planet hides the sun's centre).
+    /// Transmittance to the sun from radius r (0 where the planet hides the sun's centre). From
+    /// above the air, the path starts where the ray enters it (glsl/atmosphere.glsl `air_ray`), and
+    /// a ray that never does is clear.
     pub fn sun_transmittance(&self, r: f64, mu_s: f64) -> [f64; 3] {
         if distance_to_ground(&self.params, r, mu_s).is_some() {
             return [0.0; 3];
         }
-        self.transmittance(r, mu_s)
+        let top = self.params.top_radius_m;
+        if r <= top {
+            return self.transmittance(r, mu_s);
+        }
+        // The top sphere's near root, r^2 - R_top^2 as a product of the altitudes' difference.
+        let c = (r - top) * (r + top);
+        let disc = r * r * mu_s * mu_s - c;
+        if mu_s >= 0.0 || disc <= 0.0 {
+            return [1.0; 3];
+        }
+        let t = c / (-r * mu_s + disc.sqrt());
+        self.transmittance(top, ((r * mu_s + t) / top).clamp(-1.0, 1.0))
     }
 
     /// Transmittance between the ray's origin (r, mu) and the point at distance d along it, as a

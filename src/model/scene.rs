@@ -378,7 +378,8 @@ impl Scene {
 
     pub fn validate(&self) -> Result<(), String> {
         let c = &self.camera;
-        in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(100_000.0))?;
+        // Up to beyond geostationary orbit (35,786 km).
+        in_range("camera.height_m", c.height_m, Bound::Open(0.0), Bound::Closed(4e7))?;
         in_range("camera.pitch_deg", c.pitch_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
         // Phases k.x are reduced in f64: at 1e7 m and k = 314 rad/m that keeps 3e-5 rad.
         in_range("camera.x_m", c.x_m, Bound::Closed(-1e7), Bound::Closed(1e7))?;

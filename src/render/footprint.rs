@@ -1,11 +1,12 @@
-//! The method's split of the trains at one pixel, in f64 on the CPU: the rest-plane point a
+//! The method's split of the trains at one pixel, in f64 on the CPU: the rest point a
 //! pixel sees and its footprint (derivatives per pixel), each train's weight in the per-pixel
 //! normal, the resolved normal and the residual slope variance left to the BRDF (paper, sections
 //! 4-5; glsl/waves.glsl does the same on the GPU). The frame uses it for the baseline's roughness,
 //! the f64 reference (`measure::reference`) to shade a pixel.
 //!
 //! Only valid where the grid is not displaced: the visible point is the ray's intersection with
-//! the rest plane.
+//! the rest sphere. The normal is in the tangent frame of the point below the eye, as the
+//! waves; `resolved_surface` tilts it by the sphere's normal there, as glsl/shade.glsl.
 
 use super::frame::{CameraFrame, NORMAL_STEPS};
 use crate::model::waves::{trochoid_slope_variance, WaveSet};
@@ -42,31 +43,24 @@ impl Footprint<'_> {
         self.camera.ray(ndc)
     }
 
-    /// Rest-plane position hit by `ray`, and its derivatives per pixel along screen u and v,
-    /// from differentiating x(s) = H r(s).xy / (-r(s).z) with r linear in pixels.
-    pub fn plane_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
-        let h = self.camera.plane_height;
-        let w = -ray.z;
-        if w <= 0.0 {
-            return None;
-        }
+    /// Rest position hit by `ray` on the rest sphere, and its derivatives per pixel along
+    /// screen u and v (`CameraFrame::rest_derivative`, r linear in pixels).
+    pub fn rest_hit(&self, ray: DVec3) -> Option<(DVec2, DVec2, DVec2)> {
+        let hit = self.camera.sea_hit(ray)?;
         let dr_du = self.camera.right * self.camera.tan_half_x * (2.0 / self.width as f64);
         let dr_dv = -self.camera.up * self.camera.tan_half_y * (2.0 / self.height as f64);
-        let x = |r: DVec3| DVec2::new(r.x, r.y) * (h / -r.z);
-        let derivative = |dr: DVec3| {
-            let r_xy = DVec2::new(ray.x, ray.y);
-            let dr_xy = DVec2::new(dr.x, dr.y);
-            (dr_xy * w + r_xy * dr.z) * (h / (w * w))
-        };
-        Some((x(ray), derivative(dr_du), derivative(dr_dv)))
+        let derivative = |dr: DVec3| CameraFrame::rest_derivative(&hit, ray, dr);
+        Some((hit.point.truncate(), derivative(dr_du), derivative(dr_dv)))
     }
 
     /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
     /// where the pixel sees no sea.
     pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
         let ray = self.pixel_ray(px, py);
-        let (x, a_u, a_v) = self.plane_hit(ray)?;
+        let (x, a_u, a_v) = self.rest_hit(ray)?;
         let v = -ray.normalize();
+        let up = self.camera.sea_normal(x);
+        let v_up = v.dot(up);
         let wind = DVec2::from(self.waves.wind_direction);
         let mut tx = DVec3::X;
         let mut ty = DVec3::Y;
@@ -75,7 +69,7 @@ impl Footprint<'_> {
             let dir = DVec2::from(t.direction);
             let k_turns = dir / t.wavelength;
             let kh = t.k * t.amplitude;
-            let wn = if v.z > 0.0 { normal_weight(k_turns, kh, a_u, a_v, v.z) } else { 0.0 };
+            let wn = if v_up > 0.0 { normal_weight(k_turns, kh, a_u, a_v, v_up) } else { 0.0 };
             let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
             let (s, c) = theta.sin_cos();
             let (c, s) = (wn * kh * c, wn * kh * s);
@@ -87,6 +81,6 @@ impl Footprint<'_> {
             sigma2[1] += across * across * residual;
         }
         let n = tx.cross(ty).try_normalize().unwrap_or(DVec3::Z);
-        Some((n, v, sigma2))
+        Some((super::frame::tilt_to(n, up), v, sigma2))
     }
 }

@@ -4,7 +4,7 @@
 use crate::model::scene::{Scene, MAX_WAVES};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
-use glam::{DMat4, DVec3, Mat4};
+use glam::{DMat4, DVec2, DVec3, Mat4};
 
 /// Phase step per sample (turns) up to which a train is fully resolved, and from which it is not
 /// resolved at all, by the grid (geometry) and by the per-pixel normal. Half a turn per sample is
@@ -60,6 +60,8 @@ pub struct FrameUniforms {
     pub atmosphere: [[f32; 4]; 5],
     pub sun_view_proj: [[f32; 4]; 4],
     pub shadow: [f32; 4],
+    pub planet: [f32; 4],
+    pub eye_sky: [f32; 4],
 }
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
@@ -76,6 +78,28 @@ impl Default for GpuWaves {
     }
 }
 
+/// Where a camera ray meets the rest sphere.
+#[derive(Clone, Copy, Debug)]
+pub struct SeaHit {
+    /// The point, eye-relative.
+    pub point: DVec3,
+    /// point = t ray.
+    pub t: f64,
+    /// The sphere's outward normal there.
+    pub normal: DVec3,
+    /// -normal . ray: > 0 below the limb.
+    pub w: f64,
+}
+
+/// v, given in the frame of the point below the eye (z up), in the frame whose z is the unit
+/// vector `up` (up.z > 0): the rotation about z x up taking z to up (glsl/planet.glsl `tilt_to`).
+pub fn tilt_to(v: DVec3, up: DVec3) -> DVec3 {
+    let k = 1.0 / (1.0 + up.z);
+    let tx = DVec3::new(1.0 - up.x * up.x * k, -up.x * up.y * k, -up.x);
+    let ty = DVec3::new(-up.x * up.y * k, 1.0 - up.y * up.y * k, -up.y);
+    v.x * tx + v.y * ty + v.z * up
+}
+
 /// The camera in the camera-relative world frame (origin at the eye, z up).
 #[derive(Clone, Copy, Debug)]
 pub struct CameraFrame {
@@ -84,8 +108,11 @@ pub struct CameraFrame {
     pub up: DVec3,
     pub tan_half_x: f64,
     pub tan_half_y: f64,
-    /// Height of the eye above the rest plane the grid is projected on.
+    /// Height of the eye above the rest sphere the grid is projected on (named for the tangent
+    /// plane below the eye, where the waves live).
     pub plane_height: f64,
+    /// The planet's radius: the rest sphere's (glsl/planet.glsl).
+    pub planet_radius: f64,
     /// Height of the eye above mean sea level: the scene's, raised with the water under the eye
     /// so that it is never closer to that water than the scene asks.
     pub eye_height: f64,
@@ -107,7 +134,49 @@ impl CameraFrame {
         // sits that much above mean sea level. A projected grid needs the eye above the rest plane:
         // an eye lower than twice the offset keeps half its height.
         let plane_height = (eye_height - waves.mean_height_offset).max(0.5 * eye_height);
-        CameraFrame { forward, right, up, tan_half_x, tan_half_y, plane_height, eye_height }
+        let planet_radius = scene.planet.radius_m;
+        CameraFrame { forward, right, up, tan_half_x, tan_half_y, plane_height, eye_height, planet_radius }
+    }
+
+    /// H (2R + H): |C|^2 - R^2 as a product, C the sphere's centre seen from the eye.
+    pub fn limb_c(&self) -> f64 {
+        self.plane_height * (2.0 * self.planet_radius + self.plane_height)
+    }
+
+    /// The sine of the limb's dip below level: sqrt(H (2R + H)) / (R + H).
+    pub fn dip_sine(&self) -> f64 {
+        self.limb_c().sqrt() / (self.planet_radius + self.plane_height)
+    }
+
+    /// Where `ray` (any length) meets the rest sphere; None at or above the limb.
+    pub fn sea_hit(&self, ray: DVec3) -> Option<SeaHit> {
+        let len = ray.length();
+        let planet = crate::model::scene::Planet { radius_m: self.planet_radius };
+        let distance = planet.ray_distance(self.plane_height, -ray.z / len)?;
+        let point = ray * (distance / len);
+        let normal = self.sea_normal(point.truncate());
+        Some(SeaHit { point, t: distance / len, normal, w: -normal.dot(ray) })
+    }
+
+    /// The sphere's outward normal at rest position x (horizontal offset from the eye).
+    pub fn sea_normal(&self, x: DVec2) -> DVec3 {
+        let (r, len) = (self.planet_radius, x.length());
+        DVec3::new(x.x, x.y, ((r - len) * (r + len)).max(0.0).sqrt()).normalize()
+    }
+
+    /// The rest point (eye-relative) at rest position x: its height has the sphere's drop
+    /// R - sqrt(R^2 - |x|^2), formed without cancellation.
+    pub fn sea_point(&self, x: DVec2) -> DVec3 {
+        let (r, len) = (self.planet_radius, x.length());
+        let drop = x.length_squared() / (r + ((r - len) * (r + len)).max(0.0).sqrt());
+        DVec3::new(x.x, x.y, -self.plane_height - drop)
+    }
+
+    /// How the rest position of `hit` (on `ray`) moves as the ray moves by `dr`: with the sphere's
+    /// constraint n . dP = 0, dx = (t / w) (w dr.xy + r.xy (n . dr)) (glsl/waves.glsl
+    /// `sample_scale`, the same formula).
+    pub fn rest_derivative(hit: &SeaHit, ray: DVec3, dr: DVec3) -> DVec2 {
+        (dr.truncate() * hit.w + ray.truncate() * hit.normal.dot(dr)) * (hit.t / hit.w)
     }
 
     /// Unnormalized ray through an NDC position (y down), as `camera_ray` in the shaders.
@@ -116,11 +185,10 @@ impl CameraFrame {
     }
 
     /// Distance from the eye to where the ray through pixel (px, py) (centre) of a width x height
-    /// image meets the rest plane; None above the horizon.
+    /// image meets the rest sphere; None at or above the limb.
     pub fn pixel_distance(&self, px: u32, py: u32, width: u32, height: u32) -> Option<f64> {
         let ndc = [(px as f64 + 0.5) / width as f64 * 2.0 - 1.0, (py as f64 + 0.5) / height as f64 * 2.0 - 1.0];
-        let r = self.ray(ndc);
-        (r.z < 0.0).then(|| self.plane_height / -r.z * r.length())
+        self.sea_hit(self.ray(ndc)).map(|hit| hit.point.length())
     }
 
     pub fn view_proj(&self, aspect: f64) -> DMat4 {
@@ -130,16 +198,17 @@ impl CameraFrame {
         DMat4::from_diagonal(glam::DVec4::new(1.0, -1.0, 1.0, 1.0)) * proj * view
     }
 
-    /// NDC y of the horizon (where the ray is level), or +-inf when it is off to infinity.
-    pub fn horizon_ndc_y(&self) -> f64 {
-        // forward.z - y tan_half_y up.z = 0
-        let slope = self.tan_half_y * self.up.z;
-        if slope > 0.0 {
-            self.forward.z / slope
-        } else if self.forward.z < 0.0 {
+    /// NDC y of the limb's highest point on screen, or +-inf when it is off to infinity. With no
+    /// roll a row's rays fall most at the centre column (|ray| is least there), whose elevation
+    /// is pitch - atan(y tan_half_y): the limb, at -dip, is at y = tan(pitch + dip) / tan_half_y.
+    pub fn limb_ndc_y(&self) -> f64 {
+        let angle = self.forward.z.clamp(-1.0, 1.0).asin() + self.dip_sine().asin();
+        if angle >= std::f64::consts::FRAC_PI_2 {
+            f64::INFINITY
+        } else if angle <= -std::f64::consts::FRAC_PI_2 {
             f64::NEG_INFINITY
         } else {
-            f64::INFINITY
+            angle.tan() / self.tan_half_y
         }
     }
 }
@@ -155,13 +224,14 @@ pub struct GridLayout {
 }
 
 impl GridLayout {
-    /// The grid runs from the horizon (or the top margin) down past the bottom edge, and past the
+    /// The grid runs from the limb's highest point (or the top margin) down past the bottom edge, and past the
     /// side edges, by the screen-space reach of the largest displacement at the nearest visible sea.
     pub fn new(cam: &CameraFrame, waves: &WaveSet, cell_px: f64, width: u32, height: u32) -> GridLayout {
         let reach = std::f64::consts::SQRT_2 * waves.highest_crest();
-        let bottom = cam.ray([0.0, 1.0]);
-        let (margin_x, margin_y) = if bottom.z < 0.0 {
-            let depth = cam.plane_height / -bottom.z; // view depth: ray . forward = 1
+        // The nearest visible sea is the bottom centre's (no roll: that ray falls most); where it
+        // misses the sphere no ray meets the sea.
+        let (margin_x, margin_y) = if let Some(hit) = cam.sea_hit(cam.ray([0.0, 1.0])) {
+            let depth = hit.t; // view depth: ray . forward = 1
             let clear = depth - reach;
             let margin = |tan_half: f64| {
                 if clear > Z_NEAR {
@@ -180,7 +250,7 @@ impl GridLayout {
         let cell_ndc_x = 2.0 * cell_px / width as f64;
         let cell_ndc_y = 2.0 * cell_px / height as f64;
         let columns = ((2.0 + 2.0 * margin_x) / cell_ndc_x).ceil() as u32 + 1;
-        let top_ndc_y = cam.horizon_ndc_y().max(-1.0 - margin_y);
+        let top_ndc_y = cam.limb_ndc_y().max(-1.0 - margin_y);
         let bottom_ndc_y = 1.0 + margin_y;
         let rows =
             if top_ndc_y < bottom_ndc_y { ((bottom_ndc_y - top_ndc_y) / cell_ndc_y).ceil() as u32 + 1 } else { 0 };
@@ -205,34 +275,39 @@ pub fn baseline_slope_variance(
 /// Rows at the top of a `height`-row image that only sky can cover, so that the shading pass
 /// leaves the sea's shader out there: on a CPU driver a branch does not skip the code of the
 /// side no lane takes, so a sky pixel shaded by the sea's shader pays for all of it. Those rows'
-/// rays all rise, and no crest reaches the eye (the displaced grid then stays below the horizon
-/// line); the last such row is left to the sea's shader in case f32 rounding on the GPU puts a
-/// grid pixel there.
-pub fn sky_only_rows(camera: &CameraFrame, waves: &WaveSet, width: u32, height: u32) -> u32 {
+/// rays all pass above the limb of the sphere through the highest crests (radius R + A, seen
+/// from H - A above it), so no crest can meet them and the displaced grid stays below them; the
+/// last such row is left to the sea's shader in case f32 rounding on the GPU puts a grid pixel
+/// there.
+pub fn sky_only_rows(camera: &CameraFrame, waves: &WaveSet, height: u32) -> u32 {
     let highest_crest = waves.highest_crest();
     if highest_crest >= camera.plane_height {
         return 0;
     }
-    // Ray z is linear in NDC: a row rises when both ends of its lower edge do. The camera has no
-    // roll, so with up.z >= 0 the rising rows are a prefix of the image.
-    let half_px = 1.0 / width as f64;
-    let rises = |row: u32| {
-        let y = (row + 1) as f64 / height as f64 * 2.0 - 1.0;
-        camera.ray([-1.0 + half_px, y]).z > 0.0 && camera.ray([1.0 - half_px, y]).z > 0.0
+    let (r, h) = (camera.planet_radius, camera.plane_height);
+    let crest_dip_sine = ((h - highest_crest) * (2.0 * r + h + highest_crest)).sqrt() / (r + h);
+    // With no roll a row's rays fall most at its centre column and its lower edge (the centre
+    // column's elevation falls with y), so the rows that clear the crests are a prefix.
+    let clears = |row: u32| {
+        let ray = camera.ray([0.0, (row + 1) as f64 / height as f64 * 2.0 - 1.0]);
+        -ray.z / ray.length() < crest_dip_sine
     };
-    (0..height).take_while(|&row| rises(row)).count().saturating_sub(1) as u32
+    (0..height).take_while(|&row| clears(row)).count().saturating_sub(1) as u32
 }
 
-/// The first row of a `height`-row image at and below which every pixel's ray falls, so only sea
-/// can be seen there (the sea is a height field: a falling ray meets it), and the shading pass
-/// leaves the sky's shader out; `height` when no such row exists. Ray z is linear in NDC y and
-/// constant along a row (the camera has no roll), so a row falls when its upper edge does; one
-/// row of margin is left for f32 rounding on the GPU.
-pub fn sea_only_rows(camera: &CameraFrame, width: u32, height: u32) -> u32 {
-    let half_px = 1.0 / width as f64;
+/// The first row of a `height`-row image at and below which every pixel's ray falls below the
+/// limb, so only sea can be seen there (the sea is a height field over the sphere), and the
+/// shading pass leaves the sky's shader out; `height` when no such row exists. With no roll a
+/// row's rays fall least at its upper edge and at the image's sides (|ray| is largest there);
+/// one row of margin is left for f32 rounding on the GPU.
+pub fn sea_only_rows(camera: &CameraFrame, height: u32) -> u32 {
+    let dip_sine = camera.dip_sine();
     let falls = |row: u32| {
         let y = row as f64 / height as f64 * 2.0 - 1.0;
-        camera.ray([-1.0 + half_px, y]).z < 0.0 && camera.ray([1.0 - half_px, y]).z < 0.0
+        [-1.0, 1.0].iter().all(|&x| {
+            let ray = camera.ray([x, y]);
+            -ray.z / ray.length() > dip_sine
+        })
     };
     (0..height).find(|&row| falls(row)).map_or(height, |row| (row + 1).min(height))
 }
@@ -251,6 +326,20 @@ pub struct FrameData {
     /// The sun's view of the displaced sea (None: the sun is down, nothing is displaced, or the
     /// scene's shadow map is off).
     pub sun_view: Option<crate::render::sun_shadow::SunView>,
+}
+
+/// The elevations (rad) the eye's sky-view table spans (glsl/sky_view.glsl): from the planet's
+/// limb, below which the sea is seen, up to the zenith; from outside the air, up to the air's own
+/// limb, above which space is empty. The two limbs' dips are atan(sqrt(r^2 - R^2) / R) of each
+/// radius R, r^2 - R^2 as a product.
+pub fn eye_sky_elevations(atm: &crate::model::atmosphere::AtmosphereParams, eye_height: f64) -> [f64; 2] {
+    let (ground, top) = (atm.bottom_radius_m, atm.top_radius_m);
+    let dip = |radius: f64| {
+        let above = ground + eye_height - radius;
+        (above * (ground + eye_height + radius)).max(0.0).sqrt().atan2(radius)
+    };
+    let highest = if ground + eye_height > top { -dip(top) } else { std::f64::consts::FRAC_PI_2 };
+    [-dip(ground), highest]
 }
 
 fn v4(v: [f64; 3], w: f64) -> [f32; 4] {
@@ -291,15 +380,17 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
 
     let physical = scene.sky.model == crate::model::scene::SkyKind::Physical;
     let atm = &scene.atmosphere();
-    // The physical sky's sun and sky light at the sea, seen from the eye (the sea's altitude is
-    // within metres of it); Preetham's otherwise.
-    let (sun_radiance, sky_irradiance) = if physical {
-        crate::model::atmosphere::sun_and_sky(atm, camera.eye_height, sky.sun_dir)
+    // The physical sky's sun and sky light at the sea (at sea level, below the eye however high
+    // it is), and the sun disc seen from the eye; Preetham's otherwise (one altitude).
+    let (sun_at_sea, sky_irradiance, sun_radiance) = if physical {
+        let (sun_at_sea, sky_at_sea) = crate::model::atmosphere::sun_and_sky(atm, 0.0, sky.sun_dir);
+        let sun_at_eye = crate::model::atmosphere::shared(atm).sun_radiance(camera.eye_height, sky.sun_dir[2]);
+        (sun_at_sea, sky_at_sea, sun_at_eye)
     } else {
-        (sky.sun_radiance, sky.sky_irradiance())
+        (sky.sun_radiance, sky.sky_irradiance(), sky.sun_radiance)
     };
-    let sun_irradiance = sun_radiance.map(|l| l * SkyModel::sun_solid_angle());
-    let sun_above = if sun_radiance.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
+    let sun_irradiance = sun_at_sea.map(|l| l * SkyModel::sun_solid_angle());
+    let sun_above = if sun_at_sea.iter().any(|&l| l > 0.0) { 1.0 } else { 0.0 };
     // Only a scene that may draw the shadow map pays for its view.
     let shadows = scene.render.shadow_map != crate::model::scene::ShadowMapMode::Off;
     let sun_view = if shadows && sun_above > 0.0 {
@@ -368,8 +459,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
                 crate::model::sky::SOLAR_ILLUMINANCE_KLUX,
                 2.0 * (1.0 - crate::model::sky::SUN_ANGULAR_RADIUS.cos()),
                 camera.eye_height,
-                // The aerial perspective's depth: to the top of the atmosphere along the horizontal.
-                crate::model::atmosphere::distance_to_top(atm, atm.bottom_radius_m + camera.eye_height, 0.0),
+                0.0,
             ],
         ]
         .map(|v| v.map(|x| x as f32)),
@@ -377,9 +467,19 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         // x: the camera's near plane (depth to distance); y: whether the sun's view exists this
         // frame.
         shadow: [Z_NEAR as f32, sun_view.is_some() as u32 as f32, 0.0, 0.0],
+        planet: [
+            camera.planet_radius as f32,
+            camera.dip_sine() as f32,
+            camera.limb_c() as f32,
+            camera.limb_c().sqrt() as f32,
+        ],
+        eye_sky: {
+            let [lowest, highest] = eye_sky_elevations(atm, camera.eye_height);
+            [lowest as f32, highest as f32, 0.0, 0.0]
+        },
     };
     // No grid row: no sea anywhere in view.
-    let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, width, height) };
-    let sea_rows = if grid.rows == 0 { height } else { sea_only_rows(&camera, width, height) };
+    let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, height) };
+    let sea_rows = if grid.rows == 0 { height } else { sea_only_rows(&camera, height) };
     FrameData { uniforms, waves: gpu_waves, grid, sky_rows, sea_rows, camera, sky, sun_view }
 }

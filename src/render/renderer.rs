@@ -12,6 +12,7 @@ use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::exposure::{ExposurePass, Tone};
+use crate::render::passes::eye_sky::EyeSkyPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
@@ -210,10 +211,9 @@ impl<'g> Renderer<'g> {
     /// With supersampling the grid keeps its cell size in output pixels.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         let device = &gpu.device;
-        // The sky's model is the scene's; the physical sky behind the sea is read from its map.
+        // The sky's model is the scene's.
         let mut options = options;
         options.shader.sky_physical = scene.sky.model == SkyKind::Physical;
-        options.sky_map |= options.shader.sky_physical && options.shader.background;
         assert!(options.sky_map || !options.shader.terms.sky, "the sky term samples the sky map");
         assert!(
             options.sky_map || !options.shader.terms.sea || options.shader.method != Method::Full,
@@ -233,6 +233,8 @@ impl<'g> Renderer<'g> {
             readback: options.output == Output::Readback,
             atmosphere: options.shader.sky_physical && !options.shader.draws_nothing(),
             shadow_map: options.shader.shadow.then_some(scene.render.shadow_map_size),
+            eye_sky: options.shader.background,
+            aerial: options.shader.aerial,
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
@@ -244,7 +246,12 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(SkyMipsPass));
         }
         if let (Some(tables), false) = (&resources.atmosphere, options.shader.draws_nothing()) {
-            passes.push(Box::new(AerialPass::new(device, &resources, tables)?));
+            if options.shader.aerial {
+                passes.push(Box::new(AerialPass::new(device, &resources, tables)?));
+            }
+            if options.shader.background {
+                passes.push(Box::new(EyeSkyPass::new(device, &resources, tables)?));
+            }
         }
         if options.shader.draws_nothing() {
             passes.push(Box::new(BlackPass));

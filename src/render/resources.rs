@@ -22,6 +22,13 @@ pub const EXPOSURE_BINDING: u32 = 7;
 /// Binding of the mean Fresnel table in the shading, sky-map and numerics shaders
 /// (glsl/slopes.glsl, MeanFresnel).
 pub const MEAN_FRESNEL_BINDING: u32 = 11;
+/// Binding of the eye's sky-view table in the visibility and shading passes (glsl/sky.glsl,
+/// EYE_SKY_SAMPLER).
+pub const EYE_SKY_BINDING: u32 = 10;
+/// Bindings of the transmittance table and the sea-level sky irradiance in the shading pass
+/// (glsl/shade.glsl, each sea point's light under its own sun).
+pub const SEA_TRANSMITTANCE_BINDING: u32 = 12;
+pub const SEA_IRRADIANCE_BINDING: u32 = 13;
 
 /// What the resources are made for.
 #[derive(Clone, Copy, Debug)]
@@ -42,6 +49,11 @@ pub struct ResourceSpec {
     /// The sun's shadow map's texels per side, when it is drawn (else a 1x1 placeholder keeps
     /// the shading pass's bindings valid).
     pub shadow_map: Option<u32>,
+    /// Whether the sky seen directly is raymarched from the eye into its own table (else a 1x1
+    /// placeholder keeps the bindings valid).
+    pub eye_sky: bool,
+    /// Whether the aerial perspective's atlases are built (else 1x1 placeholders).
+    pub aerial: bool,
 }
 
 /// The physical atmosphere's tables (glsl/atmosphere.glsl), sampled linearly, clamped.
@@ -50,9 +62,12 @@ pub struct AtmosphereTables<'g> {
     pub transmittance: Image<'g>,
     /// Hillaire's multiple scattering psi_ms (atmosphere::MULTIPLE_SCATTERING_SIZE squared).
     pub multiple_scattering: Image<'g>,
-    /// The sky seen from the eye over the upper hemisphere (atmosphere::SKY_VIEW_SIZE), rebuilt
+    /// The sky seen from the sea over the upper hemisphere (atmosphere::SKY_VIEW_SIZE), rebuilt
     /// with the sky map, which is resampled from it.
     pub sky_view: Image<'g>,
+    /// The sky's irradiance on level sea as a function of the sun's zenith cosine
+    /// (atmosphere::SEA_IRRADIANCE_SIZE x 1, glsl/sea_irradiance.comp).
+    pub sea_irradiance: Image<'g>,
     pub sampler: Owned<'g, vk::Sampler>,
 }
 
@@ -119,6 +134,9 @@ pub struct Resources<'g> {
     /// that keep the shading pass's bindings valid (its code for them is specialized away).
     pub aerial_inscatter: Image<'g>,
     pub aerial_transmittance: Image<'g>,
+    /// The sky seen from the eye (passes/eye_sky.rs, glsl/sky_view.comp's EYE_VIEW), where the
+    /// eye is high enough for it to differ from the sea's sky in the map; else a 1x1 placeholder.
+    pub eye_sky: Image<'g>,
     /// The exact Fresnel averaged over the visible slopes (model::fresnel) by table cell, written once here:
     /// host writes before a submission are visible to it, so no pass declares it.
     pub mean_fresnel: Buffer<'g>,
@@ -141,7 +159,19 @@ pub struct Readback<'g> {
 impl<'g> Resources<'g> {
     /// Resources for `width` x `height` output images rendered with `ssaa` x `ssaa` samples per pixel.
     pub fn new(gpu: &'g Gpu, spec: &ResourceSpec) -> Result<Self> {
-        let ResourceSpec { width, height, ssaa, sky_map, anisotropy, slots, readback, atmosphere, shadow_map } = *spec;
+        let ResourceSpec {
+            width,
+            height,
+            ssaa,
+            sky_map,
+            anisotropy,
+            slots,
+            readback,
+            atmosphere,
+            shadow_map,
+            eye_sky,
+            aerial,
+        } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
         if width == 0 || height == 0 || width > side || height > side {
@@ -224,7 +254,7 @@ impl<'g> Resources<'g> {
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: valid create info; anisotropy only when the feature was enabled.
         let sky_sampler = unsafe { gpu.raw().create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
-        let aerial_extent = if atmosphere {
+        let aerial_extent = if atmosphere && aerial {
             vk::Extent2D { width: AERIAL_SIZE * AERIAL_SIZE, height: AERIAL_SIZE }
         } else {
             vk::Extent2D { width: 1, height: 1 }
@@ -232,6 +262,13 @@ impl<'g> Resources<'g> {
         let aerial_usage = I::STORAGE | I::SAMPLED;
         let aerial_inscatter = Image::new(gpu, "aerial inscatter", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let aerial_transmittance = Image::new(gpu, "aerial transmittance", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
+        let eye_extent = if atmosphere && eye_sky {
+            let (w, h) = crate::model::atmosphere::SKY_VIEW_SIZE;
+            vk::Extent2D { width: w as u32, height: h as u32 }
+        } else {
+            vk::Extent2D { width: 1, height: 1 }
+        };
+        let eye_sky = Image::new(gpu, "eye sky view", HDR_FORMAT, eye_extent, 1, aerial_usage)?;
         let atmosphere = if atmosphere { Some(atmosphere_tables(gpu)?) } else { None };
         let filter = if gpu.device.depth_filter_linear { vk::Filter::LINEAR } else { vk::Filter::NEAREST };
         // Lit where the receiver is no farther from the sun than the nearest surface stored.
@@ -257,6 +294,7 @@ impl<'g> Resources<'g> {
             atmosphere,
             aerial_inscatter,
             aerial_transmittance,
+            eye_sky,
             mean_fresnel,
             exposure,
         })
@@ -288,7 +326,7 @@ pub fn mean_fresnel_buffer(gpu: &Gpu) -> Result<Buffer<'_>> {
 }
 
 fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
-    use crate::model::atmosphere::{MULTIPLE_SCATTERING_SIZE, SKY_VIEW_SIZE, TRANSMITTANCE_SIZE};
+    use crate::model::atmosphere::{MULTIPLE_SCATTERING_SIZE, SEA_IRRADIANCE_SIZE, SKY_VIEW_SIZE, TRANSMITTANCE_SIZE};
     let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
     let (tw, th) = (TRANSMITTANCE_SIZE.0 as u32, TRANSMITTANCE_SIZE.1 as u32);
     let transmittance =
@@ -298,8 +336,10 @@ fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
         Image::new(gpu, "atmosphere multiple scattering", HDR_FORMAT, vk::Extent2D { width: n, height: n }, 1, usage)?;
     let view_extent = vk::Extent2D { width: SKY_VIEW_SIZE.0 as u32, height: SKY_VIEW_SIZE.1 as u32 };
     let sky_view = Image::new(gpu, "atmosphere sky view", HDR_FORMAT, view_extent, 1, usage)?;
+    let irradiance_extent = vk::Extent2D { width: SEA_IRRADIANCE_SIZE as u32, height: 1 };
+    let sea_irradiance = Image::new(gpu, "atmosphere sea irradiance", HDR_FORMAT, irradiance_extent, 1, usage)?;
     let sampler = single_level_sampler(gpu, vk::Filter::LINEAR, None, "atmosphere tables sampler")?;
-    Ok(AtmosphereTables { transmittance, multiple_scattering, sky_view, sampler })
+    Ok(AtmosphereTables { transmittance, multiple_scattering, sky_view, sea_irradiance, sampler })
 }
 
 /// A sampler of single-level images, clamped to the edge, filtered by `filter`, comparing with

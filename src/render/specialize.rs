@@ -6,10 +6,10 @@
 use crate::model::scene::{Scene, ShadowMapMode, SkyKind};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
-use crate::render::frame::{CameraFrame, GEOMETRY_STEPS};
+use crate::render::frame::{CameraFrame, GEOMETRY_STEPS, NORMAL_STEPS};
 use crate::render::passes::ocean::{Method, TrainReads};
 use crate::render::renderer::Options;
-use crate::render::sun_shadow::displaced_probes;
+use crate::render::sun_shadow::{displaced_probes, resolving_probes};
 use serde::Serialize;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -28,6 +28,36 @@ fn grid_resolves_some_train(camera: &CameraFrame, waves: &WaveSet, cell_px: f64,
     !displaced_probes(camera, waves, cell_px, (width, height), GEOMETRY_MARGIN).is_empty()
 }
 
+/// Whether some pixel in view resolves some train into its normal (the shading pass's test, with
+/// the grid's safety factor; the grazing factor only makes it stricter).
+fn pixels_resolve_some_train(camera: &CameraFrame, waves: &WaveSet, width: u32, height: u32) -> bool {
+    !resolving_probes(camera, waves, 1.0, NORMAL_STEPS[1] as f64, (width, height), GEOMETRY_MARGIN).is_empty()
+}
+
+/// Screen positions per axis where `farthest_sea` probes the view.
+const SEA_PROBES: usize = 41;
+
+/// The largest distance (m) from the eye to the sea anywhere in view: over a grid of rays across
+/// the screen, its edges included, and the limb's distance where some ray passes above the limb
+/// while others meet the sea (the limb is then in view). None where no ray meets the sea.
+fn farthest_sea(camera: &CameraFrame) -> Option<f64> {
+    let mut farthest: Option<f64> = None;
+    let mut misses = false;
+    for i in 0..SEA_PROBES * SEA_PROBES {
+        let at = |j: usize| -1.0 + 2.0 * j as f64 / (SEA_PROBES - 1) as f64;
+        match camera.sea_hit(camera.ray([at(i % SEA_PROBES), at(i / SEA_PROBES)])) {
+            Some(hit) => farthest = Some(farthest.unwrap_or(0.0).max(hit.point.length())),
+            None => misses = true,
+        }
+    }
+    farthest.map(|d| if misses { d.max(camera.limb_c().sqrt()) } else { d })
+}
+
+/// The air's optical depth below which the aerial perspective is left out: the in-scatter, about
+/// that depth times the sky's radiance, and the loss stay under a thousandth of what the sea sends,
+/// which reflects at least R0 = 2% of the sky (Fresnel at normal incidence): 1e-3 x 0.02.
+const AERIAL_DEPTH: f64 = 2e-5;
+
 /// The options a frame of `scene` needs, starting from `requested` (which it only narrows), and
 /// what was left out. `width`, `height` are the output size.
 pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: Options) -> (Options, Vec<Omission>) {
@@ -37,27 +67,27 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
     let physical = scene.sky.model == SkyKind::Physical;
     options.shader.sky_physical = physical;
-    // The physical sky's sun goes when the planet hides the disc's centre; its night is where
-    // astronomical twilight ends (the sun 18 degrees down, Preetham's fade too): the sunlight the
-    // air still scatters is then below the night sky's own light.
-    // Hidden: the disc's centre below the eye's geometric horizon (the frame's eye is never
-    // lower than the scene's, so it sees at least as far down).
-    let sun_dark = if physical {
-        let (h, r) = (scene.camera.height_m, scene.planet.radius_m);
-        let horizon_mu = -(h * (2.0 * r + h)).sqrt() / (r + h);
-        scene.sun.elevation_deg.to_radians().sin() < horizon_mu
-    } else {
-        sky.sun_radiance.iter().all(|&l| l == 0.0)
-    };
-    let night = if physical { scene.sun.elevation_deg <= -18.0 } else { sky.sky_scale == 0.0 };
+    // The physical sky's sun goes when the planet hides the disc's centre from every visible sea
+    // point; its night is where astronomical twilight ends there (the sun 18 degrees down,
+    // Preetham's fade too): the sunlight the air still scatters is then below the night sky's own
+    // light. A visible point lies at most the eye's dip of arc from the point below the eye, so
+    // its sun stands at most that much higher (the frame's eye is never lower than the scene's,
+    // so it sees at least as far).
+    let dip_deg = scene.planet.dip(scene.camera.height_m).to_degrees();
+    let highest_sun_deg = scene.sun.elevation_deg + dip_deg;
+    let sun_dark = if physical { highest_sun_deg < 0.0 } else { sky.sun_radiance.iter().all(|&l| l == 0.0) };
+    let night = if physical { highest_sun_deg <= -18.0 } else { sky.sky_scale == 0.0 };
     let terms = &mut options.shader.terms;
     if terms.sun && sun_dark {
         terms.sun = false;
-        omit("sun term", format!("the sun is {:.1} degrees below the horizon", -scene.sun.elevation_deg));
+        omit("sun term", format!("the sun is {:.1} degrees below every visible sea point's horizon", -highest_sun_deg));
     }
     if terms.sky && night {
         terms.sky = false;
-        omit("sky term", "night: the sun is more than 18 degrees below the horizon, the sky is dark".into());
+        omit(
+            "sky term",
+            "night: the sun is more than 18 degrees below every visible sea point's horizon, the sky is dark".into(),
+        );
     }
     if terms.sea && night {
         terms.sea = false;
@@ -73,32 +103,58 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             "no term to shade and no sky behind the sea: the image is black (cleared)".into(),
         );
     }
-    // The physical sky behind the sea is read from the map too, and so is the share of the
-    // reflections that enter the sea again (the full method's refracted term).
+    // The share of the reflections that enter the sea again (the full method's refracted term) is
+    // read from the map too; the sky seen directly is not (the eye's own table, or Preetham's).
     let sea_reads_map = options.shader.terms.sea && options.shader.method == Method::Full;
-    let map_read = options.shader.terms.sky || sea_reads_map || (physical && options.shader.background);
+    let map_read = options.shader.terms.sky || sea_reads_map;
     if !map_read && options.sky_map {
         options.sky_map = false;
         omit(
             "sky map and its mip chain (512x512, 10 levels)",
-            "nothing samples it: no sky term, no sky behind the sea".into(),
+            "nothing samples it: no sky term, no refracted light it feeds".into(),
         );
     }
     let k = options.ssaa;
     let camera = CameraFrame::new(scene, waves, width * k, height * k);
+    // Why a scale resolves nothing: the longest train against the samples it would need.
+    let too_short = |scale: &str, unresolved: f32, samples: &str| {
+        let longest = waves.trains.last().map_or(0.0, |t| t.wavelength);
+        format!(
+            "no train is long enough for {scale} anywhere in view (the longest, {longest:.1} m, spans under {} {samples})",
+            1.0 / unresolved
+        )
+    };
     if options.shader.geometry
         && !options.shader.draws_nothing()
         && !grid_resolves_some_train(&camera, waves, scene.render.grid_cell_px * k as f64, width * k, height * k)
     {
         options.shader.geometry = false;
-        let longest = waves.trains.last().map_or(0.0, |t| t.wavelength);
-        omit(
-            "vertex displacement",
-            format!(
-                "no train is long enough for the grid anywhere in view (the longest, {longest:.1} m, spans under {} cells)",
-                1.0 / GEOMETRY_STEPS[1]
-            ),
-        );
+        omit("vertex displacement", too_short("the grid", GEOMETRY_STEPS[1], "cells"));
+    }
+    // The unfiltered baseline resolves every train everywhere.
+    let resolving = options.shader.method != Method::NoFilter;
+    if options.shader.normals
+        && resolving
+        && !options.shader.draws_nothing()
+        && !pixels_resolve_some_train(&camera, waves, width * k, height * k)
+    {
+        options.shader.normals = false;
+        omit("per-pixel wave normals (the shading pass's train loop)", too_short("a pixel", NORMAL_STEPS[1], "pixels"));
+    }
+    if physical && options.shader.aerial && !options.shader.draws_nothing() {
+        let atm = scene.atmosphere();
+        let extinction = atm.coefficients(0.0).extinction.into_iter().fold(0.0, f64::max);
+        // Sea-level air is the densest a path to the sea crosses.
+        let farthest = farthest_sea(&camera).unwrap_or(0.0);
+        if extinction * farthest < AERIAL_DEPTH {
+            options.shader.aerial = false;
+            omit(
+                "aerial perspective (its pass and atlases)",
+                format!(
+                    "the farthest sea in view is {farthest:.1} m away: the air's optical depth to it is under {AERIAL_DEPTH:.0e}"
+                ),
+            );
+        }
     }
     if let (true, Some(why)) = (options.shader.shadow, options.shader.shadow_map_unneeded(scene.render.shadow_map)) {
         options.shader.shadow = false;
@@ -130,7 +186,11 @@ pub fn pipelines(options: &Options) -> Vec<String> {
             "ocean ({}; terms: {}; {}; {})",
             options.shader.method.name(),
             if terms.is_empty() { "none".to_owned() } else { terms.join(", ") },
-            if options.shader.geometry { "displaced" } else { "flat grid" },
+            match (options.shader.geometry, options.shader.normals) {
+                (true, _) => "displaced",
+                (false, true) => "flat grid",
+                (false, false) => "flat grid, no per-pixel normals",
+            },
             match options.shader.train_reads {
                 TrainReads::Blocks => "wave table read in blocks",
                 TrainReads::PerTrain => "wave table read per train",

@@ -21,9 +21,20 @@ pub fn displaced_probes(
     size: (u32, u32),
     margin: f64,
 ) -> Vec<DVec2> {
+    resolving_probes(camera, waves, cell_px, GEOMETRY_STEPS[1] as f64, size, margin)
+}
+
+/// The rest positions of the probes at which samples `cells` pixels apart resolve some train to
+/// less than the phase step `unresolved` (turns), with `margin` as in `displaced_probes`.
+pub fn resolving_probes(
+    camera: &CameraFrame,
+    waves: &WaveSet,
+    cells: f64,
+    unresolved: f64,
+    size: (u32, u32),
+    margin: f64,
+) -> Vec<DVec2> {
     let Some(longest) = waves.trains.last().map(|t| t.wavelength) else { return Vec::new() };
-    let reach = camera.plane_height * cell_px;
-    let unresolved = GEOMETRY_STEPS[1] as f64;
     let dr_du = camera.right * camera.tan_half_x * (2.0 / size.0 as f64);
     let dr_dv = -camera.up * camera.tan_half_y * (2.0 / size.1 as f64);
     (0..PROBES * PROBES)
@@ -33,14 +44,12 @@ pub fn displaced_probes(
                 -2.0 + 4.0 * (i / PROBES) as f64 / (PROBES - 1) as f64,
             ];
             let r = camera.ray(ndc);
-            let w = (-r.z).max(0.0);
-            let q = |d: DVec3| DVec2::new(d.x * w + r.x * d.z, d.y * w + r.y * d.z);
-            let (qu, qv) = (q(dr_du), q(dr_dv));
+            let hit = camera.sea_hit(r)?;
+            let (qu, qv) = (CameraFrame::rest_derivative(&hit, r, dr_du), CameraFrame::rest_derivative(&hit, r, dr_dv));
             let det = (qu.x * qv.y - qu.y * qv.x).abs();
             let diagonal = (qu - qv).length().max((qu + qv).length());
             let q_min = if diagonal > 0.0 { det / diagonal } else { 0.0 };
-            // Resolved implies w > 0: the rest position is finite.
-            (longest * w * w * unresolved > margin * q_min * reach).then(|| camera.plane_height * r.truncate() / w)
+            (longest * unresolved > margin * q_min * cells).then(|| hit.point.truncate())
         })
         .collect()
 }
@@ -95,7 +104,7 @@ pub fn fit(
             for corner in 0..8 {
                 let sign = |bit: u32| if corner & (1 << bit) != 0 { 1.0 } else { -1.0 };
                 let x = *p + towards * shift + DVec2::new(sign(0), sign(1)) * amplitude;
-                let world = DVec3::new(x.x, x.y, -camera.plane_height + sign(2) * amplitude);
+                let world = camera.sea_point(x) + DVec3::Z * (sign(2) * amplitude);
                 let light = DVec3::new(world.dot(across), world.dot(up), world.dot(toward_sun));
                 lo = lo.min(light);
                 hi = hi.max(light);

@@ -1,5 +1,6 @@
 //! The physical atmosphere's tables (compute): transmittance, then Hillaire's multiple
-//! scattering from it, rebuilt only when the sky (the air, not the sun) changes; and the
+//! scattering from it, then the sea-level sky irradiance over the sun's elevation from both,
+//! rebuilt only when the sky (the air, not the sun) changes; and the
 //! aerial perspective between the eye and the sea, every frame (the eye moves).
 
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
@@ -8,6 +9,7 @@ use crate::render::resources::{AtmosphereTables, Resources, AERIAL_SIZE, FRAME_B
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
+use crate::vk::image::Image;
 use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
 use ash::vk;
@@ -16,12 +18,16 @@ use ash::vk;
 /// multiple_scattering.comp).
 const TABLE_BINDING: u32 = 3;
 const TRANSMITTANCE_BINDING: u32 = 4;
+const MULTIPLE_SCATTERING_BINDING: u32 = 5;
 
 pub struct AtmospherePass<'g> {
     transmittance_bindings: Bindings<'g>,
     transmittance: Owned<'g, vk::Pipeline>,
     multiple_bindings: Bindings<'g>,
     multiple: Owned<'g, vk::Pipeline>,
+    /// The sea-level sky irradiance over the sun's zenith cosine, from both tables.
+    irradiance_bindings: Bindings<'g>,
+    irradiance: Owned<'g, vk::Pipeline>,
 }
 
 impl<'g> AtmospherePass<'g> {
@@ -68,7 +74,27 @@ impl<'g> AtmospherePass<'g> {
             shaders::MULTIPLE_SCATTERING_COMP,
             "atmosphere multiple scattering",
         )?;
-        Ok(AtmospherePass { transmittance_bindings, transmittance, multiple_bindings, multiple })
+        let irradiance_bindings = raymarch_bindings(
+            device,
+            "atmosphere sea irradiance",
+            r,
+            tables,
+            &[(TABLE_BINDING, tables.sea_irradiance.view)],
+        )?;
+        let irradiance = compute_pipeline(
+            device,
+            irradiance_bindings.layout(),
+            shaders::SEA_IRRADIANCE_COMP,
+            "atmosphere sea irradiance",
+        )?;
+        Ok(AtmospherePass {
+            transmittance_bindings,
+            transmittance,
+            multiple_bindings,
+            multiple,
+            irradiance_bindings,
+            irradiance,
+        })
     }
 }
 
@@ -86,6 +112,7 @@ impl Pass for AtmospherePass<'_> {
         let tables = r.atmosphere.as_ref().expect("made with the physical sky");
         t.image(&tables.transmittance, 0, 1, Access::ComputeStorageWrite, true);
         t.image(&tables.multiple_scattering, 0, 1, Access::ComputeStorageWrite, true);
+        t.image(&tables.sea_irradiance, 0, 1, Access::ComputeStorageWrite, true);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
@@ -95,6 +122,12 @@ impl Pass for AtmospherePass<'_> {
         rec.tracker.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
         rec.tracker.flush(&rec.device.raw, rec.cmd);
         dispatch_over(rec, self.multiple.raw, &self.multiple_bindings, tables.multiple_scattering.extent);
+        // The irradiance raymarches through both.
+        rec.tracker.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
+        rec.tracker.flush(&rec.device.raw, rec.cmd);
+        // SEA_IRRADIANCE_SIZE texels as 32 x 8 invocations (glsl/sea_irradiance.comp).
+        let extent = vk::Extent2D { width: 32, height: tables.sea_irradiance.extent.width / 32 };
+        dispatch_over(rec, self.irradiance.raw, &self.irradiance_bindings, extent);
     }
 }
 
@@ -106,35 +139,51 @@ pub struct AerialPass<'g> {
 
 impl<'g> AerialPass<'g> {
     pub fn new(device: &'g Device, r: &Resources, tables: &AtmosphereTables) -> Result<Self> {
-        use vk::DescriptorType as D;
-        let compute = vk::ShaderStageFlags::COMPUTE;
-        let bindings = Bindings::new(
-            device,
-            "aerial perspective",
-            &[
-                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
-                (TABLE_BINDING, D::STORAGE_IMAGE, compute),
-                (TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
-                (5, D::COMBINED_IMAGE_SAMPLER, compute),
-                (6, D::STORAGE_IMAGE, compute),
-            ],
-        )?;
-        write_frame_uniforms(&bindings, r, false);
-        let (general, read) = (vk::ImageLayout::GENERAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
-        bindings.write_image(TABLE_BINDING, D::STORAGE_IMAGE, r.aerial_inscatter.view, general, vk::Sampler::null());
-        bindings.write_image(6, D::STORAGE_IMAGE, r.aerial_transmittance.view, general, vk::Sampler::null());
-        let sampler = tables.sampler.raw;
-        bindings.write_image(
-            TRANSMITTANCE_BINDING,
-            D::COMBINED_IMAGE_SAMPLER,
-            tables.transmittance.view,
-            read,
-            sampler,
-        );
-        bindings.write_image(5, D::COMBINED_IMAGE_SAMPLER, tables.multiple_scattering.view, read, sampler);
+        let outputs = [(TABLE_BINDING, r.aerial_inscatter.view), (6, r.aerial_transmittance.view)];
+        let bindings = raymarch_bindings(device, "aerial perspective", r, tables, &outputs)?;
         let pipeline =
             compute_pipeline(device, bindings.layout(), shaders::AERIAL_PERSPECTIVE_COMP, "aerial perspective")?;
         Ok(AerialPass { bindings, pipeline })
+    }
+}
+
+/// The bindings of a pass that raymarches the air through both tables (glsl/atmosphere.glsl's
+/// TRANSMITTANCE_TABLE at 4, MULTIPLE_SCATTERING_TABLE at 5) into storage images at `outputs`.
+pub fn raymarch_bindings<'g>(
+    device: &'g Device,
+    name: &str,
+    r: &Resources,
+    tables: &AtmosphereTables,
+    outputs: &[(u32, vk::ImageView)],
+) -> Result<Bindings<'g>> {
+    use vk::DescriptorType as D;
+    let compute = vk::ShaderStageFlags::COMPUTE;
+    let mut layout = vec![
+        (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
+        (TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+        (MULTIPLE_SCATTERING_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+    ];
+    layout.extend(outputs.iter().map(|&(binding, _)| (binding, D::STORAGE_IMAGE, compute)));
+    let bindings = Bindings::new(device, name, &layout)?;
+    write_frame_uniforms(&bindings, r, false);
+    let (general, read) = (vk::ImageLayout::GENERAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+    let sampler = tables.sampler.raw;
+    bindings.write_image(TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, tables.transmittance.view, read, sampler);
+    let ms = tables.multiple_scattering.view;
+    bindings.write_image(MULTIPLE_SCATTERING_BINDING, D::COMBINED_IMAGE_SAMPLER, ms, read, sampler);
+    for &(binding, view) in outputs {
+        bindings.write_image(binding, D::STORAGE_IMAGE, view, general, vk::Sampler::null());
+    }
+    Ok(bindings)
+}
+
+/// Declares a raymarching pass's accesses: both tables sampled, `outputs` written whole.
+pub fn declare_raymarch(t: &mut Tracker, r: &Resources, outputs: &[&Image]) {
+    let tables = r.atmosphere.as_ref().expect("made with the physical sky");
+    t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
+    t.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
+    for image in outputs {
+        t.image(*image, 0, 1, Access::ComputeStorageWrite, true);
     }
 }
 
@@ -148,11 +197,7 @@ impl Pass for AerialPass<'_> {
     }
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
-        let tables = r.atmosphere.as_ref().expect("made with the physical sky");
-        t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
-        t.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
-        t.image(&r.aerial_inscatter, 0, 1, Access::ComputeStorageWrite, true);
-        t.image(&r.aerial_transmittance, 0, 1, Access::ComputeStorageWrite, true);
+        declare_raymarch(t, r, &[&r.aerial_inscatter, &r.aerial_transmittance]);
     }
 
     fn record(&self, rec: &mut Recorder, _r: &Resources) {

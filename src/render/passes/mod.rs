@@ -6,6 +6,7 @@ pub mod atmosphere;
 pub mod black;
 pub mod display;
 pub mod exposure;
+pub mod eye_sky;
 pub mod ocean;
 pub mod readback;
 pub mod resolve;

@@ -7,7 +7,7 @@ use super::shade::SHADE_GROUP;
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::model::scene::ShadowMapMode;
-use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
+use crate::render::resources::{Resources, EYE_SKY_BINDING, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::{Device, DEPTH_FORMAT, HDR_BITS_FORMAT};
@@ -84,13 +84,19 @@ pub struct ShaderConfig {
     /// profiling only: a normal frame's shader has no counting code).
     pub count_trains: bool,
     /// Whether the sky is the physical atmosphere (specialization constant 8; set from the scene
-    /// by the renderer): its map is raymarched through the atmosphere's tables, and the sky seen
-    /// directly is read from the map.
+    /// by the renderer): its map (the sky seen from the sea, which the sea reflects) and the eye's
+    /// own sky-view table (the sky seen directly) are raymarched through the atmosphere's tables.
     pub sky_physical: bool,
     /// Whether the displaced grid shadows the reflected sun through the sun's shadow map
     /// (specialization constant 9; passes/shadow.rs draws it). The renderer keeps it only with the
     /// sun term, the displacement and `render.shadow_map` not "off".
     pub shadow: bool,
+    /// Whether the shading pass resolves trains into per-pixel normals (specialization constant
+    /// 11): its train loop. Left out where no pixel in view resolves any train (specialize::plan).
+    pub normals: bool,
+    /// Whether the shading pass applies the physical sky's aerial perspective (constant 12), whose
+    /// atlases passes/atmosphere.rs builds. Left out where the farthest visible sea is close.
+    pub aerial: bool,
 }
 
 impl Default for ShaderConfig {
@@ -104,6 +110,8 @@ impl Default for ShaderConfig {
             count_trains: false,
             sky_physical: false,
             shadow: true,
+            normals: true,
+            aerial: true,
         }
     }
 }
@@ -133,7 +141,8 @@ impl ShaderConfig {
     /// shade.comp): the terms (0-2), the method (3), geometry (4) and the background (5); for the
     /// shading pass also whether its rows see only sea (6) and whether it counts trains (7); the
     /// sky's model (8) and the sun's shadows (9) for all; whether the grid is drawn from the sun
-    /// (10, the shadow pass's vertex stage only).
+    /// (10, the shadow pass's vertex stage only); the shading pass's normals (11) and aerial
+    /// perspective (12).
     pub fn specialization(&self) -> Specialization {
         self.shade_specialization(false)
     }
@@ -160,6 +169,8 @@ impl ShaderConfig {
             self.sky_physical as u32,
             self.shadow as u32,
             sun_view as u32,
+            self.normals as u32,
+            self.aerial as u32,
         ])
     }
 
@@ -168,9 +179,6 @@ impl ShaderConfig {
         ShaderConfig { terms, method, background: false, ..ShaderConfig::default() }
     }
 }
-
-/// The sky map's binding in the visibility pass (the sky pipeline reads the physical sky from it).
-const SKY_MAP_BINDING: u32 = 2;
 
 /// The clear value of pixels no grid triangle covers: +Inf as the rest position's x, the bits of
 /// `NO_SEA_BITS` in glsl/common.glsl.
@@ -200,15 +208,15 @@ impl<'g> OceanPass<'g> {
             &[
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
                 (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
-                (SKY_MAP_BINDING, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
+                (EYE_SKY_BINDING, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
             ],
         )?;
         write_frame_uniforms(&bindings, r, true);
-        // The physical sky seen directly is read from the map (sky.frag).
+        // The physical sky seen directly (sky.frag; a placeholder without the physical sky).
         bindings.write_image(
-            SKY_MAP_BINDING,
+            EYE_SKY_BINDING,
             D::COMBINED_IMAGE_SAMPLER,
-            r.sky_map.view,
+            r.eye_sky.view,
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             r.sky_sampler.raw,
         );
@@ -258,7 +266,7 @@ impl Pass for OceanPass<'_> {
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         if self.sky.is_some() {
-            t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::FragmentSampled, false);
+            t.image(&r.eye_sky, 0, 1, Access::FragmentSampled, false);
         }
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);

@@ -5,7 +5,10 @@
 use super::ocean::{sky_shaded_rows, ShaderConfig, TrainReads};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::{Resources, FRAME_BINDING, MEAN_FRESNEL_BINDING, WAVES_BINDING};
+use crate::render::resources::{
+    Resources, EYE_SKY_BINDING, FRAME_BINDING, MEAN_FRESNEL_BINDING, SEA_IRRADIANCE_BINDING, SEA_TRANSMITTANCE_BINDING,
+    WAVES_BINDING,
+};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -73,15 +76,28 @@ impl<'g> ShadePass<'g> {
                 (SUN_SHADOW_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, compute),
+                (EYE_SKY_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (SEA_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (SEA_IRRADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
             ],
         )?;
         bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, r.mean_fresnel.raw);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        for (binding, image) in
-            [(AERIAL_INSCATTER_BINDING, &r.aerial_inscatter), (AERIAL_TRANSMITTANCE_BINDING, &r.aerial_transmittance)]
-        {
+        for (binding, image) in [
+            (AERIAL_INSCATTER_BINDING, &r.aerial_inscatter),
+            (AERIAL_TRANSMITTANCE_BINDING, &r.aerial_transmittance),
+            (EYE_SKY_BINDING, &r.eye_sky),
+        ] {
             bindings.write_image(binding, D::COMBINED_IMAGE_SAMPLER, image.view, read, r.sky_sampler.raw);
         }
+        // Each sea point's light under its own sun: the atmosphere's tables (placeholders without
+        // the physical sky, whose code is specialized away).
+        let (transmittance, irradiance, sampler) = match &r.atmosphere {
+            Some(tables) => (tables.transmittance.view, tables.sea_irradiance.view, tables.sampler.raw),
+            None => (r.aerial_inscatter.view, r.aerial_inscatter.view, r.sky_sampler.raw),
+        };
+        bindings.write_image(SEA_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, transmittance, read, sampler);
+        bindings.write_image(SEA_IRRADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, irradiance, read, sampler);
         bindings.write_image(
             SUN_SHADOW_BINDING,
             D::COMBINED_IMAGE_SAMPLER,
@@ -130,6 +146,11 @@ impl Pass for ShadePass<'_> {
         t.image(&r.hdr, 0, 1, Access::ComputeStorageReadWrite, false);
         t.image(&r.aerial_inscatter, 0, 1, Access::ComputeSampled, false);
         t.image(&r.aerial_transmittance, 0, 1, Access::ComputeSampled, false);
+        t.image(&r.eye_sky, 0, 1, Access::ComputeSampled, false);
+        if let Some(tables) = &r.atmosphere {
+            t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
+            t.image(&tables.sea_irradiance, 0, 1, Access::ComputeSampled, false);
+        }
         t.image(&r.shadow_map, 0, 1, Access::ComputeSampled, false);
         if r.shadows {
             t.image(&r.depth, 0, 1, Access::ComputeSampled, false);

@@ -3,6 +3,8 @@
 //! in its own pass, the full mip chain by successive linear blits, each level a barrier from the
 //! one above.
 
+use super::atmosphere::{declare_raymarch, raymarch_bindings};
+use super::eye_sky::SKY_VIEW_BINDING;
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::passes::ocean::Method;
@@ -47,21 +49,8 @@ impl<'g> SkyMapPass<'g> {
         let (code, sky_view) = match &resources.atmosphere {
             Some(tables) => {
                 bindings.write_image(4, D::COMBINED_IMAGE_SAMPLER, tables.sky_view.view, read, tables.sampler.raw);
-                let view_bindings = Bindings::new(
-                    device,
-                    "sky view",
-                    &[
-                        (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, stages),
-                        (3, D::STORAGE_IMAGE, stages),
-                        (4, D::COMBINED_IMAGE_SAMPLER, stages),
-                        (5, D::COMBINED_IMAGE_SAMPLER, stages),
-                    ],
-                )?;
-                write_frame_uniforms(&view_bindings, resources, false);
-                view_bindings.write_image(3, D::STORAGE_IMAGE, tables.sky_view.view, general, vk::Sampler::null());
-                let sampler = tables.sampler.raw;
-                view_bindings.write_image(4, D::COMBINED_IMAGE_SAMPLER, tables.transmittance.view, read, sampler);
-                view_bindings.write_image(5, D::COMBINED_IMAGE_SAMPLER, tables.multiple_scattering.view, read, sampler);
+                let target = [(SKY_VIEW_BINDING, tables.sky_view.view)];
+                let view_bindings = raymarch_bindings(device, "sky view", resources, tables, &target)?;
                 let pipeline = compute_pipeline(device, view_bindings.layout(), shaders::SKY_VIEW_COMP, "sky view")?;
                 (shaders::SKY_MAP_PHYSICAL_COMP, Some((view_bindings, pipeline)))
             }
@@ -84,9 +73,7 @@ impl Pass for SkyMapPass<'_> {
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         if let Some(tables) = &r.atmosphere {
-            t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
-            t.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
-            t.image(&tables.sky_view, 0, 1, Access::ComputeStorageWrite, true);
+            declare_raymarch(t, r, &[&tables.sky_view]);
         }
         t.image(&r.sky_map, 0, 1, Access::ComputeStorageWrite, true);
     }
