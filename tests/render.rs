@@ -179,3 +179,25 @@ fn the_shading_floor_counts_the_sea_and_the_device_rate() {
     let gflops = delivered_gflops(&gpu(), 1).expect("timestamps");
     assert!(gflops.is_finite() && gflops > 0.1, "{gflops} GFLOP/s");
 }
+
+/// A frame keeps what its camera's change leaves valid: turning the eye keeps the sky seen from it
+/// (it depends on the eye's height and the sun) and rebuilds the aerial perspective (it follows
+/// the camera's rays); raising the eye rebuilds both.
+#[test]
+fn turning_the_eye_keeps_its_sky_and_rebuilds_its_aerial_perspective() {
+    use ocean::render::renderer::{Options, Renderer};
+    let gpu = gpu();
+    let mut scene = Scene::default();
+    let mut renderer = Renderer::new(&gpu, &scene, 64, 48, Options::default()).unwrap();
+    renderer.render(&scene).unwrap();
+    scene.camera.yaw_deg += 20.0;
+    renderer.render(&scene).unwrap();
+    let skipped = renderer.skipped_last_frame().to_vec();
+    assert!(skipped.contains(&"eye_sky") && !skipped.contains(&"aerial_perspective"), "turned: {skipped:?}");
+    scene.camera.height_m *= 2.0;
+    renderer.render(&scene).unwrap();
+    let skipped = renderer.skipped_last_frame().to_vec();
+    assert!(!skipped.contains(&"eye_sky") && !skipped.contains(&"aerial_perspective"), "raised: {skipped:?}");
+    drop(renderer);
+    assert_eq!(gpu.validation_counts().error_total(), 0, "{:?}", gpu.validation_counts());
+}

@@ -155,6 +155,9 @@ pub struct Renderer<'g> {
     sky_in_map: Option<MapKey>,
     /// The view (camera rays, eye height) the view-dependent passes last built for, with the sky.
     view_built: Option<ViewKey>,
+    /// The sky and the eye's altitude (its bits, as the frame's uniforms hold it) the eye's sky
+    /// table was last built for.
+    eye_built: Option<(MapKey, u32)>,
     /// The passes the last recorded frame left out, their results still current.
     skipped_last_frame: Vec<&'static str>,
     /// Whether the shading pass counts trains (ShaderConfig::count_trains).
@@ -303,6 +306,7 @@ impl<'g> Renderer<'g> {
             tracker: Tracker::default(),
             sky_in_map: None,
             view_built: None,
+            eye_built: None,
             skipped_last_frame: Vec::new(),
             counts_trains: options.shader.count_trains && !options.shader.draws_nothing(),
             sky_model: scene.sky.model,
@@ -542,6 +546,9 @@ impl<'g> Renderer<'g> {
         let view = ViewKey::new(&data, &sky);
         let view_current = sky_current && self.view_built.as_ref() == Some(&view);
         self.view_built = Some(view);
+        let eye = (sky.clone(), data.uniforms.atmosphere[4][2].to_bits());
+        let eye_current = sky_current && self.eye_built.as_ref() == Some(&eye);
+        self.eye_built = Some(eye);
         self.sky_in_map = Some(sky);
         let s = &self.slots[slot];
         let frame = Frame {
@@ -565,6 +572,7 @@ impl<'g> Renderer<'g> {
             (sky_current && p.builds_sky_map())
                 || (air_current && p.builds_for_sky())
                 || (view_current && p.builds_for_view())
+                || (eye_current && p.builds_for_eye())
         };
         self.skipped_last_frame = self.passes.iter().filter(|p| skipped(p.as_ref())).map(|p| p.name()).collect();
         for pass in self.passes.iter().filter(|p| !skipped(p.as_ref())) {

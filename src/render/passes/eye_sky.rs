@@ -1,7 +1,7 @@
 //! The sky seen from the eye (compute): glsl/sky_view.comp specialized EYE_VIEW, raymarched from
 //! the eye's altitude over what it sees of the sky, from the planet's limb up (or, from outside the
-//! air, up to the air's own limb), for the sky seen directly where the eye is high enough above the
-//! sea for it to differ from the sky map's (specialize::plan). Rebuilt with the view: the eye moves.
+//! air, up to the air's own limb), for the sky seen directly (the sky map holds the sky seen from
+//! the sea). Rebuilt when the sky, the sun or the eye's height changes, not when the eye only turns.
 
 use super::atmosphere::{declare_raymarch, raymarch_bindings};
 use super::{dispatch_over, Frame, Pass, Recorder};
@@ -38,7 +38,7 @@ impl Pass for EyeSkyPass<'_> {
         "eye_sky"
     }
 
-    fn builds_for_view(&self) -> bool {
+    fn builds_for_eye(&self) -> bool {
         true
     }
 

@@ -64,6 +64,12 @@ pub trait Pass {
     fn builds_for_view(&self) -> bool {
         false
     }
+    /// Whether the pass only builds what depends on the sky, the sun and the eye's altitude (the
+    /// sky seen from the eye, whichever way it looks), which a frame under the same sky from the
+    /// same height can skip.
+    fn builds_for_eye(&self) -> bool {
+        false
+    }
 }
 
 /// Points binding `FRAME_BINDING` (and `WAVES_BINDING` with `waves`) at one slot's window of the
