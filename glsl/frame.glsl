@@ -37,6 +37,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 shadow;           // x: the camera's near plane (m); y: 1 if the sun's view exists this frame
     vec4 planet;           // the sea's sphere (glsl/planet.glsl): R (m), sin(dip), c = H (2R + H) (m^2), sqrt(c) (m)
     vec4 eye_sky;          // the eye's sky-view table's elevations (glsl/sky_view.glsl): x lowest, y highest (rad)
+    vec4 sea_light[3];     // the sea-level light table's calibration below the eye (frame::sea_light_calibration):
+                           // rgb sun, rgb sky irradiance, rgb 1 / the table's sky irradiance
 } frame;
 
 // The wave trains, sorted by increasing wavelength. Two words per train keep the per-pixel loop

@@ -1,9 +1,12 @@
 #version 450
-// The sky's irradiance on level sea at sea level as a function of the sun's zenith cosine (a 1D
-// table over glsl/atmosphere.glsl's sea_irradiance_u), for the light of each sea point under its
-// own sun on the sphere (the night side, the terminator seen from high up; glsl/shade.glsl). The
-// same midpoint rule as the CPU's model::sky::horizontal_irradiance(16, 32): 16 zenith cosines,
-// 32 azimuths, here 16 over [0, pi] doubled, the sky being symmetric about the sun's vertical plane.
+// The light at sea level as a function of the sun's zenith cosine (a table over
+// glsl/atmosphere.glsl's sea_irradiance_u), for each sea point under its own sun on the sphere
+// (the night side, the terminator seen from high up; glsl/shade.glsl): row 0 the sky's irradiance
+// on level sea, row 1 the sun's irradiance normal to it (the transmittance table's at sea level,
+// zero where the planet hides the sun's centre), so that a point's light is two fetches at one
+// coordinate. The sky's by the same midpoint rule as the CPU's model::sky::horizontal_irradiance(16,
+// 32): 16 zenith cosines, 32 azimuths, here 16 over [0, pi] doubled, the sky being symmetric about
+// the sun's vertical plane.
 #include "frame.glsl"
 #include "common.glsl"
 layout(set = 0, binding = 4) uniform sampler2D transmittance_table;
@@ -37,4 +40,6 @@ void main() {
     // dmu dphi over the hemisphere, the azimuths doubled.
     E *= (1.0 / float(ZENITH_SAMPLES)) * (2.0 * PI / float(AZIMUTH_SAMPLES));
     imageStore(table, ivec2(i, 0), vec4(store_radiance(E), 1.0));
+    vec3 sun_irradiance = frame.atmosphere[4].x * sun_transmittance(0.0, mu_s);
+    imageStore(table, ivec2(i, 1), vec4(store_radiance(sun_irradiance), 1.0));
 }

@@ -75,39 +75,23 @@ vec3 aerial_perspective(vec3 radiance, vec2 uv, vec3 u, float d) {
 }
 
 // Each sea point's light under its own sun (the sphere turns the sun's elevation from point to
-// point: seen from high up, the terminator and the night side): the sun's transmittance to sea
-// level and the sea-level sky irradiance (glsl/sea_irradiance.comp) at the point's sun zenith
-// cosine, from the GPU's tables. Each is calibrated by the frame's value below the eye (the f64
-// model's) over the tables' own there, held within a factor of 2 (they agree to a few percent but
-// for tiny values near the horizon), so that near the eye nothing changes. The sky map holds the sky
-// under the sun below the eye; its radiance is scaled by the sky irradiance's ratio, held to at most
-// tenfold (a map of twilight does not stand for a daylit sky); under a dark map it stays dark.
-layout(set = 0, binding = 12) uniform sampler2D sea_transmittance;   // resources::SEA_TRANSMITTANCE_BINDING
-layout(set = 0, binding = 13) uniform sampler2D sea_irradiance;      // resources::SEA_IRRADIANCE_BINDING
+// point: seen from high up, the terminator and the night side): the sea-level sky irradiance and
+// the sun's irradiance at the point's sun zenith cosine, from the GPU's table
+// (glsl/sea_irradiance.comp), calibrated on the CPU by the frame's exact values below the eye
+// over the table's there (frame::sea_light_calibration), so that near the eye nothing changes. The
+// sky map holds the sky under the sun below the eye; its radiance is scaled by the sky
+// irradiance's ratio, held to at most tenfold (a map of twilight does not stand for a daylit sky);
+// under a dark map it stays dark.
+layout(set = 0, binding = 13) uniform sampler2D sea_light_table;   // resources::SEA_LIGHT_BINDING
 const float SKY_SCALE_MAX = 10.0;
-
-vec3 sun_at_sea(float mu_s) {
-    return mu_s < 0.0 ? vec3(0.0) : frame.atmosphere[4].x * textureLod(sea_transmittance, transmittance_uv(0.0, mu_s), 0.0).rgb;
-}
-
-vec3 sky_at_sea(float mu_s) {
-    return textureLod(sea_irradiance, vec2(sea_irradiance_u(mu_s), 0.5), 0.0).rgb;
-}
-
-vec3 calibration(vec3 exact, vec3 table) {
-    return mix(vec3(1.0), clamp(exact / max(table, vec3(FLT_MIN_NORMAL)), vec3(0.5), vec3(2.0)), greaterThan(table, vec3(0.0)));
-}
 
 SeaLight local_sea_light(vec3 up) {
     if (!SKY_PHYSICAL) return frame_sea_light();
-    float mu_eye = frame.sun_dir.z, mu = clamp(dot(frame.sun_dir.xyz, up), -1.0, 1.0);
-    vec3 sun_eye = sun_at_sea(mu_eye), sky_eye = sky_at_sea(mu_eye), sky_here = sky_at_sea(mu);
-    SeaLight light;
-    light.sun = sun_at_sea(mu) * calibration(frame.sun_irradiance.rgb, sun_eye);
-    light.sky_irradiance = sky_here * calibration(frame.sky_irradiance.rgb, sky_eye);
-    light.sky_scale = mix(vec3(0.0), min(sky_here / max(sky_eye, vec3(FLT_MIN_NORMAL)), vec3(SKY_SCALE_MAX)),
-                          greaterThan(sky_eye, vec3(0.0)));
-    return light;
+    float u = sea_irradiance_u(clamp(dot(frame.sun_dir.xyz, up), -1.0, 1.0));
+    vec3 sky = textureLod(sea_light_table, vec2(u, 0.25), 0.0).rgb;
+    vec3 sun = textureLod(sea_light_table, vec2(u, 0.75), 0.0).rgb;
+    return SeaLight(sun * frame.sea_light[0].rgb, sky * frame.sea_light[1].rgb,
+                    min(sky * frame.sea_light[2].rgb, vec3(SKY_SCALE_MAX)));
 }
 
 // The share of the sun a pixel's surface point sees past the displaced grid (1 where nothing

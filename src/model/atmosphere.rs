@@ -482,6 +482,44 @@ pub fn sun_and_sky(params: &AtmosphereParams, eye_m: f64, sun: [f64; 3]) -> ([f6
     value
 }
 
+/// The sea-level light table's lowest sun zenith cosine, sin(-18 degrees): astronomical twilight's
+/// end, below which the sky is dark (glsl/atmosphere.glsl SEA_IRRADIANCE_MU_MIN).
+pub const SEA_IRRADIANCE_MU_MIN: f64 = -0.309017;
+
+/// The sea-level light table (glsl/sea_irradiance.comp: SEA_IRRADIANCE_SIZE nodes over the sun's
+/// zenith cosine from SEA_IRRADIANCE_MU_MIN to 1) as the GPU's linear lookup reads it at `mu_s`,
+/// from this model: the sky's irradiance on level sea and the sun's irradiance normal to it (klux).
+/// Kept for the last atmosphere and cosine asked.
+pub fn sea_light_table(params: &AtmosphereParams, mu_s: f64) -> ([f64; 3], [f64; 3]) {
+    use std::sync::Mutex;
+    type Key = (AtmosphereParams, u64);
+    type SkyAndSun = ([f64; 3], [f64; 3]);
+    static LAST: Mutex<Option<(Key, SkyAndSun)>> = Mutex::new(None);
+    let key = (params.clone(), mu_s.to_bits());
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((k, v)) = last.as_ref() {
+        if *k == key {
+            return *v;
+        }
+    }
+    let a = shared(params);
+    let n = SEA_IRRADIANCE_SIZE - 1;
+    let x = ((mu_s - SEA_IRRADIANCE_MU_MIN) / (1.0 - SEA_IRRADIANCE_MU_MIN)).clamp(0.0, 1.0) * n as f64;
+    let i = (x.floor() as usize).min(n - 1);
+    let f = x - i as f64;
+    let node = |i: usize| {
+        let mu = SEA_IRRADIANCE_MU_MIN + i as f64 / n as f64 * (1.0 - SEA_IRRADIANCE_MU_MIN);
+        let sun = [(1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu];
+        let sun_irradiance = a.sun_transmittance(params.bottom_radius_m, mu).map(|t| t * SOLAR_ILLUMINANCE_KLUX);
+        (a.sky_irradiance(0.0, sun), sun_irradiance)
+    };
+    let ((sky0, sun0), (sky1, sun1)) = (node(i), node(i + 1));
+    let lerp = |a: [f64; 3], b: [f64; 3]| std::array::from_fn(|c| a[c] + f * (b[c] - a[c]));
+    let value = (lerp(sky0, sky1), lerp(sun0, sun1));
+    *last = Some((key, value));
+    value
+}
+
 /// Limb darkening of the sun disc: I(m) / I(centre) = 1 - u (1 - m), m the cosine at the disc's
 /// surface (sqrt(1 - (angle / radius)^2)), u = 0.6 in the visible (a linear law of the fits in
 /// Cox, Allen's Astrophysical Quantities, 2000). The disc's mean is 1 - u / 3 of its centre.

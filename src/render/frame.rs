@@ -62,6 +62,7 @@ pub struct FrameUniforms {
     pub shadow: [f32; 4],
     pub planet: [f32; 4],
     pub eye_sky: [f32; 4],
+    pub sea_light: [[f32; 4]; 3],
 }
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
@@ -342,6 +343,26 @@ pub fn eye_sky_elevations(atm: &crate::model::atmosphere::AtmosphereParams, eye_
     [-dip(ground), highest]
 }
 
+/// How glsl/shade.glsl's `local_sea_light` turns the GPU's sea-level light table into each sea
+/// point's light: the frame's exact sun and sky irradiance below the eye over the table's value
+/// there ([0], [1]: held within a factor of 2, 1 where the table holds nothing: they agree but for
+/// tiny values near the horizon), so that below the eye the light is the exact one, and 1 over
+/// the table's sky irradiance there ([2]: the sky map's radiance scales by the ratio of the point's
+/// to it; 0 where it is dark).
+fn sea_light_calibration(
+    atm: &crate::model::atmosphere::AtmosphereParams,
+    mu_eye: f64,
+    sun_exact: [f64; 3],
+    sky_exact: [f64; 3],
+) -> [[f32; 4]; 3] {
+    let (sky_table, sun_table) = crate::model::atmosphere::sea_light_table(atm, mu_eye);
+    let ratio = |exact: [f64; 3], table: [f64; 3]| {
+        std::array::from_fn(|c| if table[c] > 0.0 { (exact[c] / table[c]).clamp(0.5, 2.0) } else { 1.0 })
+    };
+    let inverse = sky_table.map(|e| if e > 0.0 { 1.0 / e } else { 0.0 });
+    [v4(ratio(sun_exact, sun_table), 0.0), v4(ratio(sky_exact, sky_table), 0.0), v4(inverse, 0.0)]
+}
+
 fn v4(v: [f64; 3], w: f64) -> [f32; 4] {
     [v[0] as f32, v[1] as f32, v[2] as f32, w as f32]
 }
@@ -476,6 +497,11 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         eye_sky: {
             let [lowest, highest] = eye_sky_elevations(atm, camera.eye_height);
             [lowest as f32, highest as f32, 0.0, 0.0]
+        },
+        sea_light: if physical {
+            sea_light_calibration(atm, sky.sun_dir[2], sun_irradiance, sky_irradiance)
+        } else {
+            [[1.0; 4]; 3]
         },
     };
     // No grid row: no sea anywhere in view.

@@ -25,10 +25,9 @@ pub const MEAN_FRESNEL_BINDING: u32 = 11;
 /// Binding of the eye's sky-view table in the visibility and shading passes (glsl/sky.glsl,
 /// EYE_SKY_SAMPLER).
 pub const EYE_SKY_BINDING: u32 = 10;
-/// Bindings of the transmittance table and the sea-level sky irradiance in the shading pass
-/// (glsl/shade.glsl, each sea point's light under its own sun).
-pub const SEA_TRANSMITTANCE_BINDING: u32 = 12;
-pub const SEA_IRRADIANCE_BINDING: u32 = 13;
+/// Binding of the sea-level light table in the shading pass (glsl/shade.glsl, each sea point's
+/// light under its own sun).
+pub const SEA_LIGHT_BINDING: u32 = 13;
 
 /// What the resources are made for.
 #[derive(Clone, Copy, Debug)]
@@ -65,8 +64,9 @@ pub struct AtmosphereTables<'g> {
     /// The sky seen from the sea over the upper hemisphere (atmosphere::SKY_VIEW_SIZE), rebuilt
     /// with the sky map, which is resampled from it.
     pub sky_view: Image<'g>,
-    /// The sky's irradiance on level sea as a function of the sun's zenith cosine
-    /// (atmosphere::SEA_IRRADIANCE_SIZE x 1, glsl/sea_irradiance.comp).
+    /// The light at sea level as a function of the sun's zenith cosine: the sky's irradiance on
+    /// level sea (row 0) and the sun's normal to it (row 1) (atmosphere::SEA_IRRADIANCE_SIZE x 2,
+    /// glsl/sea_irradiance.comp).
     pub sea_irradiance: Image<'g>,
     pub sampler: Owned<'g, vk::Sampler>,
 }
@@ -336,7 +336,7 @@ fn atmosphere_tables(gpu: &Gpu) -> Result<AtmosphereTables<'_>> {
         Image::new(gpu, "atmosphere multiple scattering", HDR_FORMAT, vk::Extent2D { width: n, height: n }, 1, usage)?;
     let view_extent = vk::Extent2D { width: SKY_VIEW_SIZE.0 as u32, height: SKY_VIEW_SIZE.1 as u32 };
     let sky_view = Image::new(gpu, "atmosphere sky view", HDR_FORMAT, view_extent, 1, usage)?;
-    let irradiance_extent = vk::Extent2D { width: SEA_IRRADIANCE_SIZE as u32, height: 1 };
+    let irradiance_extent = vk::Extent2D { width: SEA_IRRADIANCE_SIZE as u32, height: 2 };
     let sea_irradiance = Image::new(gpu, "atmosphere sea irradiance", HDR_FORMAT, irradiance_extent, 1, usage)?;
     let sampler = single_level_sampler(gpu, vk::Filter::LINEAR, None, "atmosphere tables sampler")?;
     Ok(AtmosphereTables { transmittance, multiple_scattering, sky_view, sea_irradiance, sampler })

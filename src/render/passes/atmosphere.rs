@@ -126,7 +126,7 @@ impl Pass for AtmospherePass<'_> {
         rec.tracker.image(&tables.multiple_scattering, 0, 1, Access::ComputeSampled, false);
         rec.tracker.flush(&rec.device.raw, rec.cmd);
         // SEA_IRRADIANCE_SIZE texels as 32 x 8 invocations (glsl/sea_irradiance.comp).
-        let extent = vk::Extent2D { width: 32, height: tables.sea_irradiance.extent.width / 32 };
+        let extent = vk::Extent2D { width: 32, height: crate::model::atmosphere::SEA_IRRADIANCE_SIZE as u32 / 32 };
         dispatch_over(rec, self.irradiance.raw, &self.irradiance_bindings, extent);
     }
 }

@@ -6,8 +6,7 @@ use super::ocean::{sky_shaded_rows, ShaderConfig, TrainReads};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{
-    Resources, EYE_SKY_BINDING, FRAME_BINDING, MEAN_FRESNEL_BINDING, SEA_IRRADIANCE_BINDING, SEA_TRANSMITTANCE_BINDING,
-    WAVES_BINDING,
+    Resources, EYE_SKY_BINDING, FRAME_BINDING, MEAN_FRESNEL_BINDING, SEA_LIGHT_BINDING, WAVES_BINDING,
 };
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
@@ -77,8 +76,7 @@ impl<'g> ShadePass<'g> {
                 (SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, compute),
                 (EYE_SKY_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
-                (SEA_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
-                (SEA_IRRADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (SEA_LIGHT_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
             ],
         )?;
         bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, r.mean_fresnel.raw);
@@ -90,14 +88,13 @@ impl<'g> ShadePass<'g> {
         ] {
             bindings.write_image(binding, D::COMBINED_IMAGE_SAMPLER, image.view, read, r.sky_sampler.raw);
         }
-        // Each sea point's light under its own sun: the atmosphere's tables (placeholders without
-        // the physical sky, whose code is specialized away).
-        let (transmittance, irradiance, sampler) = match &r.atmosphere {
-            Some(tables) => (tables.transmittance.view, tables.sea_irradiance.view, tables.sampler.raw),
-            None => (r.aerial_inscatter.view, r.aerial_inscatter.view, r.sky_sampler.raw),
+        // Each sea point's light under its own sun: the atmosphere's sea-level light table (a
+        // placeholder without the physical sky, whose code is specialized away).
+        let (table, sampler) = match &r.atmosphere {
+            Some(tables) => (tables.sea_irradiance.view, tables.sampler.raw),
+            None => (r.aerial_inscatter.view, r.sky_sampler.raw),
         };
-        bindings.write_image(SEA_TRANSMITTANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, transmittance, read, sampler);
-        bindings.write_image(SEA_IRRADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, irradiance, read, sampler);
+        bindings.write_image(SEA_LIGHT_BINDING, D::COMBINED_IMAGE_SAMPLER, table, read, sampler);
         bindings.write_image(
             SUN_SHADOW_BINDING,
             D::COMBINED_IMAGE_SAMPLER,
@@ -148,7 +145,6 @@ impl Pass for ShadePass<'_> {
         t.image(&r.aerial_transmittance, 0, 1, Access::ComputeSampled, false);
         t.image(&r.eye_sky, 0, 1, Access::ComputeSampled, false);
         if let Some(tables) = &r.atmosphere {
-            t.image(&tables.transmittance, 0, 1, Access::ComputeSampled, false);
             t.image(&tables.sea_irradiance, 0, 1, Access::ComputeSampled, false);
         }
         t.image(&r.shadow_map, 0, 1, Access::ComputeSampled, false);
