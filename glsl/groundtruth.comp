@@ -103,8 +103,7 @@ float gap(vec3 o, vec3 r, float t, inout vec2 x, out Surface s) {
 // its rate of change along r: r.z plus the drop's gradient x / sqrt(R^2 - |x|^2) along r.xy. The
 // drop is convex, so the rate only grows along a ray.
 vec2 level_and_rate(vec3 p, vec3 r) {
-    float R = frame.planet.x, len = length(p.xy);
-    float below = sqrt(max((R - len) * (R + len), 0.0));
+    float below = sphere_root(p.xy);
     float rate = r.z + (below > 0.0 ? dot(p.xy, r.xy) / below : 0.0);
     return vec2(p.z + frame.cam_forward.w + sphere_drop(p.xy), rate);
 }

@@ -63,12 +63,18 @@ vec2 sea_distance(vec3 u) {
     return vec2(c / (rh * d + root), min(root / R, 1.0));
 }
 
+// sqrt(R^2 - |x|^2) as sqrt((R - |x|)(R + |x|)): the sphere's height above its centre's level at
+// horizontal offset x from the point below the eye, without the cancellation of R^2 - |x|^2.
+float sphere_root(vec2 x) {
+    float R = frame.planet.x, len = length(x);
+    return sqrt(max((R - len) * (R + len), 0.0));
+}
+
 // The sphere's depth below the tangent plane at horizontal offset |x| from the point below the
 // eye: R - sqrt(R^2 - |x|^2) = |x|^2 / (R + sqrt((R - |x|)(R + |x|))), with no cancellation. A
 // visible point is within the limb's cap (|x| < R), where the root is real; rounding is clamped.
 float sphere_drop(vec2 x) {
-    float R = frame.planet.x, len = length(x);
-    return dot(x, x) / (R + sqrt(max((R - len) * (R + len), 0.0)));
+    return dot(x, x) / (frame.planet.x + sphere_root(x));
 }
 
 // The rest point (eye-relative) of the sea at rest position x, and the sphere's outward normal
@@ -78,8 +84,7 @@ vec3 sea_point(vec2 x) {
 }
 
 vec3 sea_normal(vec2 x) {
-    float R = frame.planet.x, len = length(x);
-    return normalize(vec3(x, sqrt(max((R - len) * (R + len), 0.0))));
+    return normalize(vec3(x, sphere_root(x)));
 }
 
 // The sea's rest position seen along any ray (at the limb for a ray at or above it).

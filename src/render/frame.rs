@@ -161,15 +161,19 @@ impl CameraFrame {
 
     /// The sphere's outward normal at rest position x (horizontal offset from the eye).
     pub fn sea_normal(&self, x: DVec2) -> DVec3 {
+        DVec3::new(x.x, x.y, self.sphere_root(x)).normalize()
+    }
+
+    /// sqrt(R^2 - |x|^2) as sqrt((R - |x|)(R + |x|)), without the cancellation (glsl/planet.glsl).
+    fn sphere_root(&self, x: DVec2) -> f64 {
         let (r, len) = (self.planet_radius, x.length());
-        DVec3::new(x.x, x.y, ((r - len) * (r + len)).max(0.0).sqrt()).normalize()
+        ((r - len) * (r + len)).max(0.0).sqrt()
     }
 
     /// The rest point (eye-relative) at rest position x: its height has the sphere's drop
     /// R - sqrt(R^2 - |x|^2), formed without cancellation.
     pub fn sea_point(&self, x: DVec2) -> DVec3 {
-        let (r, len) = (self.planet_radius, x.length());
-        let drop = x.length_squared() / (r + ((r - len) * (r + len)).max(0.0).sqrt());
+        let drop = x.length_squared() / (self.planet_radius + self.sphere_root(x));
         DVec3::new(x.x, x.y, -self.plane_height - drop)
     }
 
