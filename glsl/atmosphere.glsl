@@ -7,6 +7,10 @@
 // f32 and a planet: radii are ~6.4e6 m, so r^2 - R^2 formed as a difference of squares loses
 // everything at sea level (its ulp is ~4e6 m^2). Every such difference is formed from altitudes
 // instead: r^2 - R^2 = h (2R + h), R_top^2 - r^2 = (H_top - h)(R_top + r).
+//
+// The tables are read through samplers (TRANSMITTANCE_TABLE, MULTIPLE_SCATTERING_TABLE), or, for
+// the ground truth, through functions of the texture coordinate that the includer defines
+// (TRANSMITTANCE_LOOKUP, MULTIPLE_SCATTERING_LOOKUP: vec3 f(vec2 uv)).
 #ifndef ATMOSPHERE_GLSL
 #define ATMOSPHERE_GLSL
 
@@ -127,13 +131,17 @@ vec3 integrate_transmittance(float h, float mu, int steps) {
 // The top sphere's near root in the sphere's product forms (glsl/planet.glsl): c = (h - H_top)
 // (r + R_top) = r^2 - R_top^2, the root's argument r^2 (d - s)(d + s) with d the ray's depression
 // and s = sqrt(c) / r the sine of the air's own dip, t = c / (r d + root).
-float air_entry(float h, vec3 dir) {
+float air_entry_mu(float h, float mu) {
     float top = atmosphere_height();
     if (h <= top) return 0.0;
     float r = bottom_radius() + h;
     float c = (h - top) * (r + top_radius());
-    float s = sqrt(c) / r, d = -dir.z;
+    float s = sqrt(c) / r, d = -mu;
     return d > s ? c / (r * d + r * sqrt((d - s) * (d + s))) : -1.0;
+}
+
+float air_entry(float h, vec3 dir) {
+    return air_entry_mu(h, dir.z);
 }
 
 #ifdef PLANET_GLSL
@@ -144,11 +152,17 @@ float aerial_span(vec3 u) {
 }
 #endif
 
-#ifdef TRANSMITTANCE_TABLE
+#if defined(TRANSMITTANCE_TABLE)
 vec3 transmittance(float h, float mu) {
     return textureLod(TRANSMITTANCE_TABLE, transmittance_uv(h, mu), 0.0).rgb;
 }
+#elif defined(TRANSMITTANCE_LOOKUP)
+vec3 transmittance(float h, float mu) {
+    return TRANSMITTANCE_LOOKUP(transmittance_uv(h, mu));
+}
+#endif
 
+#if defined(TRANSMITTANCE_TABLE) || defined(TRANSMITTANCE_LOOKUP)
 // 0 where the planet hides the sun's centre.
 vec3 sun_transmittance(float h, float mu_s) {
     return meets_ground(h, mu_s) ? vec3(0.0) : transmittance(h, mu_s);
@@ -190,15 +204,21 @@ vec3 aerial_transmittance(float h, float mu, float d) {
 // there, the distance skipped, and whether it meets the air at all.
 struct AirRay { float h; float mu; float mu_s; float nu; float skipped; bool enters; };
 
-AirRay air_ray(float h, vec3 dir, vec3 sun) {
-    float t = air_entry(h, dir);
-    AirRay a = AirRay(h, dir.z, sun.z, dot(dir, sun), max(t, 0.0), t >= 0.0);
+// The same from the ray's zenith cosine mu, the sun's mu_s and their cosine nu: all the air sees
+// of a ray (it is spherically symmetric), so a sea point's sky is this in its own zenith's frame.
+AirRay air_ray_cosines(float h, float mu, float mu_s, float nu) {
+    float t = air_entry_mu(h, mu);
+    AirRay a = AirRay(h, mu, mu_s, nu, max(t, 0.0), t >= 0.0);
     if (t <= 0.0) return a;
     float r = bottom_radius() + h;
     a.h = atmosphere_height();
-    a.mu = clamp((r * dir.z + t) / top_radius(), -1.0, 1.0);
-    a.mu_s = clamp((r * sun.z + t * a.nu) / top_radius(), -1.0, 1.0);
+    a.mu = clamp((r * mu + t) / top_radius(), -1.0, 1.0);
+    a.mu_s = clamp((r * mu_s + t * nu) / top_radius(), -1.0, 1.0);
     return a;
+}
+
+AirRay air_ray(float h, vec3 dir, vec3 sun) {
+    return air_ray_cosines(h, dir.z, sun.z, dot(dir, sun));
 }
 
 // Quadratic sample spacing along a ray of length d: sample i's midpoint and length.
@@ -220,26 +240,29 @@ float sea_irradiance_u(float mu_s) {
     return unit_to_texcoord(x, SEA_IRRADIANCE_SIZE);
 }
 
-#ifdef MULTIPLE_SCATTERING_TABLE
+#if defined(MULTIPLE_SCATTERING_TABLE) || defined(MULTIPLE_SCATTERING_LOOKUP)
 vec3 multiple_scattering(float h, float mu_s) {
     vec2 uv = vec2(unit_to_texcoord(0.5 * mu_s + 0.5, MULTIPLE_SCATTERING_SIZE),
                    unit_to_texcoord(h / atmosphere_height(), MULTIPLE_SCATTERING_SIZE));
+#ifdef MULTIPLE_SCATTERING_TABLE
     return textureLod(MULTIPLE_SCATTERING_TABLE, uv, 0.0).rgb;
+#else
+    return MULTIPLE_SCATTERING_LOOKUP(uv);
+#endif
 }
 
-// Sky radiance (kcd/m^2) from altitude h towards unit dir, with the sun towards `sun`: single
-// scattering and psi_ms along the ray (atmosphere::Atmosphere::sky_radiance), from where the ray
-// enters the air (air_ray): black where it never does.
-vec3 physical_sky_radiance(float h, vec3 dir, vec3 sun) {
-    AirRay a = air_ray(h, dir, sun);
+// Sky radiance (kcd/m^2) along the air ray `a`: single scattering and psi_ms along it, `steps`
+// quadratically spaced samples (atmosphere::Atmosphere::sky_radiance_cosines): black where the
+// ray never enters the air.
+vec3 sky_radiance_along(AirRay a, int steps) {
     if (!a.enters) return vec3(0.0);
     float mu = a.mu, nu = a.nu;
     float r = bottom_radius() + a.h;
     float d = meets_ground(a.h, mu) ? distance_to_ground(a.h, mu) : distance_to_top(a.h, mu);
     float phase_r = rayleigh_phase(nu), phase_m = mie_phase(nu);
     vec3 L = vec3(0.0);
-    for (int i = 0; i < SKY_STEPS; ++i) {
-        vec2 s = march_step(d, i, SKY_STEPS);
+    for (int i = 0; i < steps; ++i) {
+        vec2 s = march_step(d, i, steps);
         float h_t = clamp(altitude_along(a.h, mu, s.x), 0.0, atmosphere_height());
         float mu_s = clamp((r * a.mu_s + s.x * nu) / (bottom_radius() + h_t), -1.0, 1.0);
         Medium m = medium_at(h_t);
@@ -248,6 +271,12 @@ vec3 physical_sky_radiance(float h, vec3 dir, vec3 sun) {
         L += transmittance_between(a.h, mu, s.x) * (single + multiple) * s.y;
     }
     return L * frame.atmosphere[4].x;   // the sun's illuminance outside the atmosphere (klux)
+}
+
+// Sky radiance (kcd/m^2) from altitude h towards unit dir, with the sun towards `sun`
+// (atmosphere::Atmosphere::sky_radiance), SKY_STEPS samples.
+vec3 physical_sky_radiance(float h, vec3 dir, vec3 sun) {
+    return sky_radiance_along(air_ray(h, dir, sun), SKY_STEPS);
 }
 #endif
 

@@ -1,8 +1,9 @@
 #version 450
 // Ground truth: N x N stratified samples per pixel, every wave train as exact surface geometry
 // (first hit of each sample ray with the displaced trochoid surface) and exact normals, no
-// slope-variance BRDF. Exact Fresnel for water, the sky from the analytic model in the exact
-// reflected direction, the reflected sun as its irradiance over a cone around it (tile.sun_cos_kernel;
+// slope-variance BRDF. Exact Fresnel for water, the sky in the exact reflected direction
+// (Preetham's model, or the physical atmosphere along the ray from its own sea point,
+// groundtruth_sky.glsl, with the aerial perspective along each sample's path from the eye), the reflected sun as its irradiance over a cone around it (tile.sun_cos_kernel;
 // the disc itself at the disc's radius), the sun seen directly as its disc. A reflected ray that meets the
 // sea again is shaded there (its reflection and refracted light, and so on, up to tile.bounces
 // times); the reflected weight left after the last is recorded as cut off.
@@ -10,17 +11,26 @@
 #include "common.glsl"
 #include "sky.glsl"
 #include "planet.glsl"
+#include "groundtruth_sky.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
+// The physical sky's check (src/measure/truth_sky.rs): per evaluation, the radiance and the
+// transmittance (rgb).
+layout(set = 0, binding = 3, std430) writeonly buffer SkyCheck { vec4 sky_check[]; };
+// The stratum that asks for the check instead of samples.
+const uint CHECK_STRATUM = 0xffffffffu;
 
 // Per train: xy wave vector (turns per metre), z phase at time t (turns), w amplitude h (m).
 layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_waves[]; };
-// Per pixel, four vec4: the sum over samples so far (rgb) with a = 1 where sub-samples resolve
-// the shortest train, 0 where not; the sum over the even strata, the (N/2) x (N/2) subset, for a
-// convergence estimate, with the sum of the refracted light's weight (Sample::transmitted) in a;
-// the reflected sun's sum, with the cut-off weight's in a; the reflected sky's sum; and the sums
-// of squares of the Rec. 709 luminances of the total, the sun, the sky, and of the refracted
-// weight (five vec4 in all), for each pixel's sample variance. Each dispatch adds one sample (stratum) to every pixel of a tile: a
+// Per pixel, seven vec4 (src/measure/groundtruth.rs WORDS_PER_PIXEL): the sum over samples so far
+// (rgb) with a = 1 where sub-samples resolve the shortest train, 0 where not; the sum over the
+// even strata, the (N/2) x (N/2) subset, for a convergence estimate, with the sum of the refracted
+// light's weight (Sample::transmitted) in a; the reflected sun's sum, with the cut-off weight's in
+// a; the reflected sky's sum; the sums of squares of the Rec. 709 luminances of the total, the
+// sun, the sky, and of the refracted weight, for each pixel's sample variance; the luminances of
+// the total, the sun, the sky and the refracted weight summed over the half of the strata with
+// i + j even (an estimate independent of the other half's, for the noise of any statistic); and
+// the refracted light's sum. Each dispatch adds one sample (stratum) to every pixel of a tile: a
 // dispatch per sample keeps each invocation's loop iterations bounded (lavapipe 22.3 stops every
 // loop of an invocation after 65535 iterations in total, silently).
 layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
@@ -244,11 +254,18 @@ Sample shade_hit(vec3 r, float t, Surface s) {
         vec3 origin = p + vec3(0.0, 0.0, 2.0 * hit_tolerance(t_hit, length(p)));
         float t_next = intersect(origin, refl, 1e-3 + 1e-5 * length(p), tile.bounce_march, next);
         if (t_next < 0.0) {
-            o.sky += w * fresnel * preetham_sky(refl);
+            SeaPoint at = truth_sea_point(p);
+            o.sky += w * fresnel * (SKY_PHYSICAL ? truth_sky(at, refl) : preetham_sky(refl));
             // The sun's irradiance spread evenly over a cone around it (src/measure/groundtruth.rs,
-            // DEFAULT_SUN_KERNEL_DEG): at the disc's own radius the disc itself.
-            if (frame.sun_irradiance.w > 0.0 && dot(refl, frame.sun_dir.xyz) >= tile.sun_cos_kernel) {
-                o.sun += w * fresnel * tile.sun_kernel_scale * frame.sun_radiance.rgb;
+            // DEFAULT_SUN_KERNEL_DEG): at the disc's own radius the disc itself, limb-darkened for
+            // the physical sun, seen through the air above this sea point.
+            if (dot(refl, frame.sun_dir.xyz) >= tile.sun_cos_kernel) {
+                if (SKY_PHYSICAL) {
+                    float shape = tile.sun_kernel_scale >= 1.0 ? truth_limb_darkening(refl) : tile.sun_kernel_scale;
+                    o.sun += w * fresnel * shape * truth_sun_radiance(at);
+                } else if (frame.sun_irradiance.w > 0.0) {
+                    o.sun += w * fresnel * tile.sun_kernel_scale * frame.sun_radiance.rgb;
+                }
             }
             tracing = false;
         } else if (b == tile.bounces) {
@@ -262,7 +279,11 @@ Sample shade_hit(vec3 r, float t, Surface s) {
             s = next;
         }
     }
-    o.sea = o.transmitted * frame.sea_albedo.rgb * frame.sky_irradiance.rgb / PI;
+    // The light entering the water: the sky's irradiance under the first hit's own sun (the
+    // sphere turns it from point to point; the later hits lie metres away).
+    vec3 irradiance = SKY_PHYSICAL ? truth_sky_irradiance(dot(frame.sun_dir.xyz, truth_sea_point(t * r).up))
+                                   : frame.sky_irradiance.rgb;
+    o.sea = o.transmitted * frame.sea_albedo.rgb * irradiance / PI;
     o.total = o.sun + o.sky + o.sea;
     return o;
 }
@@ -274,16 +295,46 @@ Sample shade_sample(vec3 ray) {
     Sample o;
     if (t >= 0.0) {
         o = shade_hit(r, t, s);
+        // The air between the eye and the sea (the terms apart: each is the sea's own light, as
+        // the renderer's single-term images; the air between two hits, metres, is left out).
+        if (SKY_PHYSICAL) {
+            vec3 transmittance;
+            vec3 inscatter = truth_aerial_from_eye(r, t, transmittance);
+            o.total = o.total * transmittance + inscatter;
+        }
     } else {
         o.sun = o.sky = o.sea = vec3(0.0);
         o.transmitted = 0.0;
         o.cut_off = 0.0;
-        o.total = preetham_sky(r) + sun_disc(r);
+        o.total = (SKY_PHYSICAL ? truth_sky_from_eye(r) : preetham_sky(r)) + sun_disc(r);
     }
     return o;
 }
 
+// Check i of the physical sky against the f64 model (truth_sky::TruthSkyTables::check_arguments:
+// the same arguments): a third the sea's sky, a third the eye's, a third the aerial perspective.
+void check(uint i) {
+    uint j = i % 32u, kind = i / 32u;
+    float azimuth = PI * float(j / 8u) / 3.0;
+    float f = float(j % 8u) / 7.0;
+    float mu = kind == 2u ? -0.001 - 0.3 * f * f : 0.02 + 0.96 * f;
+    float mu_s = frame.sun_dir.z;
+    float nu = sqrt(max(1.0 - mu * mu, 0.0)) * sqrt(max(1.0 - mu_s * mu_s, 0.0)) * cos(azimuth) + mu * mu_s;
+    float h = kind == 0u ? 0.0 : frame.atmosphere[4].z;
+    float len = 50.0 * pow(10.0, float(j % 8u) * 0.5);
+    AirRay a = air_ray_cosines(h, mu, mu_s, nu);
+    vec3 transmittance = vec3(1.0);
+    vec3 L = kind == 2u ? truth_aerial(a, len, transmittance) : sky_radiance_along(a, TRUTH_SKY_STEPS);
+    sky_check[2u * i] = vec4(L, 0.0);
+    sky_check[2u * i + 1u] = vec4(transmittance, 0.0);
+}
+
 void main() {
+    if (tile.stratum == CHECK_STRATUM) {
+        uint i = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+        if (i < tile.samples) check(i);
+        return;
+    }
     uvec2 pixel = tile.origin + gl_GlobalInvocationID.xy;
     uvec2 size = uvec2(frame.viewport.xy);
     if (any(greaterThanEqual(pixel, size))) return;
@@ -294,10 +345,12 @@ void main() {
     Sample o = shade_sample(camera_ray(pixel_to_ndc(vec2(pixel) + (vec2(i, j) + jitter) / float(n))));
     vec3 L = o.total;
     bool in_subset = (i & 1u) == 0u && (j & 1u) == 0u;
-    uint index = 5u * (pixel.y * size.x + pixel.x);
+    bool in_half = ((i + j) & 1u) == 0u;
+    uint index = 7u * (pixel.y * size.x + pixel.x);
     const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
-    vec4 squares = vec4(dot(L, REC709), dot(o.sun, REC709), dot(o.sky, REC709), o.transmitted);
-    squares *= squares;
+    vec4 luminances = vec4(dot(L, REC709), dot(o.sun, REC709), dot(o.sky, REC709), o.transmitted);
+    vec4 squares = luminances * luminances;
+    vec4 half_sums = in_half ? luminances : vec4(0.0);
     if (tile.stratum == 0u) {
         // Does the sub-sample spacing resolve the shortest train (at most half a turn per step)?
         vec3 ray = camera_ray(pixel_to_ndc(vec2(pixel) + 0.5));
@@ -321,6 +374,8 @@ void main() {
         pixels[index + 2u] = vec4(o.sun, o.cut_off);
         pixels[index + 3u] = vec4(o.sky, 0.0);
         pixels[index + 4u] = squares;
+        pixels[index + 5u] = half_sums;
+        pixels[index + 6u] = vec4(o.sea, 0.0);
     } else {
         pixels[index].rgb += L;
         if (in_subset) pixels[index + 1u].rgb += L;
@@ -328,5 +383,7 @@ void main() {
         pixels[index + 2u] += vec4(o.sun, o.cut_off);
         pixels[index + 3u].rgb += o.sky;
         pixels[index + 4u] += squares;
+        pixels[index + 5u] += half_sums;
+        pixels[index + 6u].rgb += o.sea;
     }
 }

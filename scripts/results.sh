@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Regenerates docs/results/: for a calm sea, an agitated sea and grazing light, the ground truth,
-# the full method, the paper's and its constant-BRDF baseline (total, reflected sun, reflected sky
-# as PNGs), the error-against-time and energy-against-distance tables and plots (SVG), and the
-# flicker table. About 80 minutes on two cores with lavapipe (measured last: 78, with other work
-# sharing the cores for part of it), nearly all of it the three ground truths.
+# Regenerates docs/results/: for a calm sea, an agitated sea and grazing light, under Preetham's
+# sky as the paper (scenes/figure/) and under the physical sky, the default (scenes/figure/physical/,
+# in docs/results/physical/), and for the default scene itself (docs/results/default/): the ground
+# truth, the full method, the paper's and its constant-BRDF baseline (total, reflected sun,
+# reflected sky as PNGs), the error-against-time, energy-against-distance and detail tables and
+# plots (SVG), and the flicker table. About 20-25 minutes a ground truth on two cores with
+# lavapipe, nearly all of the time; SCENES="figure/calm ..." runs some of them.
 # Each step says what it does and where the whole stands; the ocean commands draw their own
 # progress (a bar on a terminal, lines otherwise).
 set -euo pipefail
@@ -13,7 +15,7 @@ W=${W:-160}; H=${H:-120}; N=${N:-12}
 # scene and the ground truth's own sources are unchanged: rerunning after a change to the
 # method costs minutes, not an hour.
 REFERENCES=${REFERENCES:-target/reference}
-seas=(calm agitated grazing)
+read -r -a seas <<<"${SCENES:-figure/calm figure/agitated figure/grazing figure/physical/calm figure/physical/agitated figure/physical/grazing default}"
 steps=$((1 + ${#seas[@]} * 5))
 step=0
 started=$SECONDS
@@ -24,12 +26,16 @@ say() {
 say "building the release binary"
 cargo build --release
 bin=target/release/ocean
+# What the ground truth is made of: its scene and its own sources.
+sources=(glsl/groundtruth.comp glsl/groundtruth_sky.glsl glsl/atmosphere.glsl src/measure/groundtruth.rs
+    src/measure/truth_sky.rs src/model/atmosphere.rs)
 for sea in "${seas[@]}"; do
-    out=docs/results/$sea
+    scene=scenes/$sea.toml
+    name=${sea#figure/}
+    out=docs/results/$name
     mkdir -p "$out"
-    scene=scenes/figure/$sea.toml
-    ref=$REFERENCES/$sea
-    stamp="$W $H $N $(cat "$scene" glsl/groundtruth.comp src/measure/groundtruth.rs | sha256sum | cut -c1-16)"
+    ref=$REFERENCES/$name
+    stamp="$W $H $N $(cat "$scene" "${sources[@]}" | sha256sum | cut -c1-16)"
     if [ -f "$ref/reference.exr" ] && [ "$(cat "$ref/stamp" 2>/dev/null)" = "$stamp" ]; then
         say "$sea: ground truth ${W}x${H}, ${N}x${N} samples per pixel: reusing $ref"
     else
@@ -44,9 +50,9 @@ for sea in "${seas[@]}"; do
     say "$sea: the full method, the paper's and its baseline, total and per term (9 renders)"
     for method in full paper constant-brdf; do
         for terms in sun,sky,sea sun sky; do
-            name=$method; [ "$terms" = sun,sky,sea ] || name=$method.$terms
+            image=$method; [ "$terms" = sun,sky,sea ] || image=$method.$terms
             "$bin" render --scene "$scene" --width "$W" --height "$H" --method "$method" --terms "$terms" \
-                --out "$out/$name.png" >/dev/null
+                --out "$out/$image.png" >/dev/null
         done
     done
     say "$sea: error against time, every method and setting"

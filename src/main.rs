@@ -497,8 +497,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
             }
             let r = &truth.report;
             let convergence = r.convergence_rms_relative.map_or("n/a".into(), |c| format!("{:.2}%", 100.0 * c));
+            // The physical sky's own error: its tables, quadrature and f32 against the f64 model.
+            let sky = r.sky_error.map_or(String::new(), |e| {
+                format!("; the physical sky's own error at most {:.1e} of its radiance", e.largest())
+            });
             ocean::say!(
-                "{}: {}x{} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them), in {:.1} s; convergence {convergence}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
+                "{}: {}x{} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them), in {:.1} s; convergence {convergence}{sky}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
                 out.display(),
                 width,
                 height,

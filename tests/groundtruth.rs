@@ -324,3 +324,115 @@ fn the_sun_kernel_keeps_the_reflected_suns_energy_and_cuts_its_noise() {
     let apart = (cone.0 - disc.0).abs();
     assert!(apart < 3.0 * (disc.1 * disc.1 + cone.1 * cone.1).sqrt() + 0.01 * disc.0, "energies {disc:?} and {cone:?}");
 }
+
+/// The default (physical) sky, 10 m up, 12 degrees down, the sun 25 degrees up behind the eye.
+fn physical_view() -> Scene {
+    let mut s = Scene::default();
+    assert_eq!(s.sky.model, ocean::model::scene::SkyKind::Physical, "the default sky is the physical one");
+    s.camera.height_m = 10.0;
+    s.camera.pitch_deg = -12.0;
+    s.sun.elevation_deg = 25.0;
+    s.sun.azimuth_deg = 180.0;
+    s
+}
+
+#[test]
+fn the_physical_sky_is_traced_and_its_own_error_sits_below_the_truths_noise() {
+    let gpu = gpu();
+    let scene = physical_view();
+    let (w, h) = (40, 30);
+    let truth = groundtruth::render(&gpu, &scene, w, h, &Sampling::new(4), |_, _| {}).unwrap();
+    assert_eq!(truth.report.validation_errors, 0);
+    assert_eq!(truth.report.nonfinite_pixels, 0);
+    let e = truth.report.sky_error.expect("the physical sky reports its error");
+    // Measured: 8e-6 (f32 against f64), 3e-4 (128 samples a ray against 4096), 3e-5 (the table
+    // along a 25-degree sun), 4e-8 (a low eye's nodes hold one value).
+    assert!(e.gpu_against_f64 < 1e-4, "{e:?}");
+    assert!(e.quadrature < 2e-3, "{e:?}");
+    assert!(e.sun_transmittance_table < 1e-2, "{e:?}");
+    assert!(e.sea_light_interpolation < 1e-3, "{e:?}");
+    // Below the ground truth's own noise over the sea, as a share of the sea's mean luminance.
+    let camera = ocean::render::frame::CameraFrame::new(&scene, &ocean::model::waves::generate(&scene), w, h);
+    let sea: Vec<usize> =
+        (0..w * h).filter(|&i| camera.pixel_distance(i % w, i / w, w, h).is_some()).map(|i| i as usize).collect();
+    let mean = sea.iter().map(|&i| ocean::output::luminance(truth.radiance[i])).sum::<f64>() / sea.len() as f64;
+    let noise = truth.report.noise_floor_rmse.unwrap() / mean;
+    assert!(e.largest() < noise, "the sky's own error {:.2e} against the truth's noise {noise:.2e}", e.largest());
+    // The top row sees the sky from the eye: the f64 model's, converged, at the pixel's centre
+    // (the sky varies by well under a percent across a pixel there).
+    let atmosphere = ocean::model::atmosphere::shared(&scene.atmosphere());
+    let sun = {
+        let (el, az) = (scene.sun.elevation_deg.to_radians(), scene.sun.azimuth_deg.to_radians());
+        [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
+    };
+    for x in [3, w / 2, w - 4] {
+        let ndc = [(x as f64 + 0.5) / w as f64 * 2.0 - 1.0, 1.0 / h as f64 - 1.0];
+        let dir = camera.ray(ndc).normalize().to_array();
+        let exact = atmosphere.sky_radiance(camera.eye_height, dir, sun, 4096);
+        let traced = truth.radiance[x as usize];
+        for c in 0..3 {
+            assert!(
+                (traced[c] as f64 - exact[c]).abs() <= 0.01 * exact[c],
+                "column {x}: traced {traced:?} against the model's {exact:?}"
+            );
+        }
+    }
+    // Every half estimate's luminance lies near the full one's (each is a mean of half the samples).
+    let half = truth.half.as_ref().expect("4 x 4 samples have halves");
+    let total_lum: f64 = sea.iter().map(|&i| ocean::output::luminance(truth.radiance[i])).sum();
+    let half_lum: f64 = sea.iter().map(|&i| half[i][0] as f64).sum();
+    assert!((half_lum / total_lum - 1.0).abs() < 0.05, "half {half_lum} against full {total_lum}");
+}
+
+#[test]
+fn the_full_method_keeps_the_physical_skys_energy() {
+    // Against the physical ground truth of the view above (40x30, 4x4): measured over the whole
+    // sea, full's sky -6.9% and refracted light -1.6%, the paper's sky +40%. Full's deficit is
+    // its model's, not its lookup's (`bench sky-model` on this view at 80x60: the f64 quadrature of
+    // full's model -11% and -19% at 20-100 m, the GPU within 4 points of it; under Preetham's sky
+    // the same view's model is within 6%): the physical sky brightens faster towards the
+    // horizon, where the facets a pixel sees reflect (docs/results.md).
+    let gpu = gpu();
+    let scene = physical_view();
+    let dir = temp_dir("physical-energy");
+    let reference = dir.join("ref.exr");
+    groundtruth::render(&gpu, &scene, 40, 30, &Sampling::new(4), |_, _| {}).unwrap().save(&scene, &reference).unwrap();
+    let rows = errorbench::run(&gpu, &scene, "physical test scene", &reference, 1, &dir).unwrap();
+    let all = |method: &str| rows.iter().find(|r| r.method == method && r.setting == "default").unwrap().all;
+    let (full, paper) = (all("full"), all("paper"));
+    eprintln!(
+        "full sky {:+.3} sea {:+.3}; paper sky {:+.3}",
+        full.energy_error[2], full.energy_error[3], paper.energy_error[2]
+    );
+    assert!(full.energy_error[2].abs() < PHYSICAL_FULL, "full's sky off by {:+.3}", full.energy_error[2]);
+    assert!(full.energy_error[3].abs() < PHYSICAL_FULL, "full's refracted light off by {:+.3}", full.energy_error[3]);
+    assert!(full.energy_error[2].abs() < paper.energy_error[2].abs(), "full's sky no closer than the paper's");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Full's whole-sea energy bound against the physical ground truth: the measured worst (6.9%)
+/// plus about three of its standard errors (1 point).
+const PHYSICAL_FULL: f64 = 0.10;
+
+#[test]
+fn night_and_orbit_are_traced_and_too_many_trains_are_refused_by_name() {
+    let gpu = gpu();
+    // 30 degrees below every horizon in view: the planet hides the sun from all the air.
+    let mut night = physical_view();
+    night.sun.elevation_deg = -30.0;
+    let truth = groundtruth::render(&gpu, &night, 16, 12, &Sampling::new(1), |_, _| {}).unwrap();
+    assert_eq!((truth.report.validation_errors, truth.report.nonfinite_pixels), (0, 0));
+    assert!(truth.report.mean_radiance.iter().all(|&l| l == 0.0), "night: {:?}", truth.report.mean_radiance);
+    // From orbit: the limb, space and the sea under their own suns.
+    let orbit = Scene::load(std::path::Path::new("scenes/orbit.toml")).unwrap();
+    let truth = groundtruth::render(&gpu, &orbit, 24, 18, &Sampling::new(1), |_, _| {}).unwrap();
+    assert_eq!((truth.report.validation_errors, truth.report.nonfinite_pixels), (0, 0));
+    assert!(truth.report.mean_radiance.iter().all(|&l| l > 0.0));
+    let e = truth.report.sky_error.unwrap();
+    assert!(e.gpu_against_f64 < 1e-4 && e.sea_light_interpolation < 0.03, "{e:?}");
+    // More trains than a sample's loops can march through: named, not cut short.
+    let mut many = physical_view();
+    many.waves.count = 256;
+    let e = groundtruth::render(&gpu, &many, 8, 8, &Sampling::new(1), |_, _| {}).err().expect("refused");
+    assert!(e.to_string().contains("waves.count = 256") && e.to_string().contains("--bounces 3"), "{e}");
+}

@@ -4,7 +4,8 @@
 //! cannot resolve the shortest wave.
 
 use crate::error::{Error, Result};
-use crate::model::scene::Scene;
+use crate::measure::truth_sky::{self, TruthSkyError, TruthSkyTables};
+use crate::model::scene::{Scene, SkyKind};
 use crate::model::waves;
 use crate::render::frame;
 use crate::shaders;
@@ -12,13 +13,14 @@ use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
-use crate::vk::pipeline::{compute_pipeline, Bindings};
+use crate::vk::pipeline::{specialized_compute_pipeline, Bindings, Specialization};
 use ash::vk;
 use std::time::Instant;
 
-/// Floats per pixel in the accumulation buffer: five vec4 (total and mask, subset, sun, sky, the
-/// sums of squares; glsl/groundtruth.comp, Pixels).
-const WORDS_PER_PIXEL: usize = 20;
+/// Floats per pixel in the accumulation buffer: seven vec4 (total and mask, subset, sun, sky, the
+/// sums of squares, the half estimate's luminances, the refracted light; glsl/groundtruth.comp,
+/// Pixels).
+const WORDS_PER_PIXEL: usize = 28;
 const BYTES_PER_PIXEL: u64 = 4 * WORDS_PER_PIXEL as u64;
 /// Pixels per tile side: one dispatch and one fence per tile.
 const TILE: u32 = 32;
@@ -113,15 +115,27 @@ impl Sampling {
 /// every train. The camera ray, which may have to cross a grazing slab kilometres long, gets as
 /// many steps as all the reflected rays together, which mostly leave the slab or meet a wave
 /// within a few steps (a reflected ray that runs out going up counts as leaving: the sky).
-fn march_budget(wave_count: u32, bounces: u32) -> (u32, u32) {
+fn march_budget(wave_count: u32, bounces: u32, physical: bool) -> Result<(u32, u32)> {
     let per_eval = 3 * wave_count + 1;
     let rays = bounces + 2;
-    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * wave_count + 64;
+    // The physical sky's loops: one sky ray and one aerial path per sample at most.
+    let air = if physical { (truth_sky::SKY_STEPS + truth_sky::AERIAL_STEPS) as u32 } else { 0 };
+    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * wave_count + 64 + air;
     let steps = LOOP_BUDGET.saturating_sub(fixed) / per_eval;
-    let primary = (steps / 2).clamp(8, MAX_MARCH);
-    let reflected = ((steps - primary.min(steps)) / (bounces + 1)).clamp(8, MAX_MARCH);
-    (primary, reflected)
+    // Fewer than MIN_MARCH steps a ray cannot cross the slab: refused rather than cut short.
+    if steps < MIN_MARCH * (bounces + 2) {
+        return Err(Error::Argument(format!(
+            "the ground truth cannot trace waves.count = {wave_count} with --bounces {bounces}: a sample's loops \
+             would pass the {LOOP_BUDGET} iterations an invocation may run; use fewer trains or bounces"
+        )));
+    }
+    let primary = (steps / 2).clamp(MIN_MARCH, MAX_MARCH);
+    let reflected = ((steps - primary) / (bounces + 1)).clamp(MIN_MARCH, MAX_MARCH);
+    Ok((primary, reflected))
 }
+
+/// The fewest marching steps a ray gets.
+const MIN_MARCH: u32 = 8;
 
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct GroundTruthReport {
@@ -149,6 +163,9 @@ pub struct GroundTruthReport {
     pub nonfinite_pixels: u64,
     pub mean_radiance: [f64; 3],
     pub validation_errors: u32,
+    /// The physical sky's own error (absent under Preetham's, which is evaluated in closed form):
+    /// what the tables, the quadrature and the GPU's f32 carry of it (truth_sky).
+    pub sky_error: Option<TruthSkyError>,
 }
 
 pub struct GroundTruth {
@@ -165,6 +182,10 @@ pub struct GroundTruth {
     /// The variance of each pixel's mean luminance: total, sun, sky, sea (rgba), for the
     /// uncertainty of the energies compared with it (NAME.var.exr).
     pub variance: Vec<[f32; 4]>,
+    /// The luminance of each pixel's estimate from half its samples (the strata with i + j even):
+    /// total, sun, sky, sea (rgba; NAME.half.exr). Independent of the other half's, so the noise
+    /// of any statistic of the image shows in the halves' difference. None below 2 x 2 samples.
+    pub half: Option<Vec<[f32; 4]>>,
     pub report: GroundTruthReport,
 }
 
@@ -212,11 +233,7 @@ pub fn render(
     };
     let Sampling { samples, bounces, sun_kernel_deg } = sampling;
     let (sun_cos_kernel, sun_kernel_scale) = sampling.sun_kernel();
-    if scene.sky.model != crate::model::scene::SkyKind::Preetham {
-        return Err(Error::Argument(
-            "the ground truth evaluates sky.model = \"preetham\" only: the physical sky is not traced yet".into(),
-        ));
-    }
+    let physical = scene.sky.model == SkyKind::Physical;
     let device = &gpu.device;
     let pixels = width as u64 * height as u64;
     let limits = &device.properties.limits;
@@ -259,28 +276,60 @@ pub fn render(
 
     use vk::DescriptorType as D;
     let stages = vk::ShaderStageFlags::COMPUTE;
+    // The physical sky's tables (a word in their place under Preetham's), and its check's results.
+    let camera = frame::CameraFrame::new(scene, &wave_set, width, height);
+    let sky_tables = physical.then(|| TruthSkyTables::new(scene, camera.eye_height, data.sky.sun_dir));
+    let table_words = sky_tables.as_ref().map_or(vec![[0.0f32; 4]], |t| t.words.clone());
+    let tables = Buffer::new(
+        gpu,
+        "ground truth sky tables",
+        (16 * table_words.len()) as u64,
+        B::STORAGE_BUFFER,
+        Location::Upload,
+    )?;
+    tables.write(&table_words)?;
+    let check_words = 2 * truth_sky::CHECKS as usize;
+    let check =
+        Buffer::new(gpu, "ground truth sky check", (16 * check_words) as u64, B::STORAGE_BUFFER, Location::Readback)?;
     let bindings = Bindings::with_push_constants(
         device,
         "ground truth",
-        &[(0, D::UNIFORM_BUFFER, stages), (1, D::STORAGE_BUFFER, stages), (8, D::STORAGE_BUFFER, stages)],
+        &[
+            (0, D::UNIFORM_BUFFER, stages),
+            (1, D::STORAGE_BUFFER, stages),
+            (2, D::STORAGE_BUFFER, stages),
+            (3, D::STORAGE_BUFFER, stages),
+            (8, D::STORAGE_BUFFER, stages),
+        ],
         std::mem::size_of::<TilePush>() as u32,
     )?;
     bindings.write_buffer(0, D::UNIFORM_BUFFER, uniforms.raw);
     bindings.write_buffer(1, D::STORAGE_BUFFER, waves_buffer.raw);
+    bindings.write_buffer(2, D::STORAGE_BUFFER, tables.raw);
+    bindings.write_buffer(3, D::STORAGE_BUFFER, check.raw);
     bindings.write_buffer(8, D::STORAGE_BUFFER, output.raw);
-    let pipeline = compute_pipeline(device, bindings.layout(), shaders::GROUNDTRUTH_COMP, "ground truth")?;
+    // Specialization constant 8 (glsl/sky.glsl SKY_PHYSICAL): which sky the samples see.
+    let specialization = Specialization::constants(&[(8, physical as u32)]);
+    let pipeline = specialized_compute_pipeline(
+        device,
+        bindings.layout(),
+        shaders::GROUNDTRUTH_COMP,
+        Some(&specialization),
+        "ground truth",
+    )?;
 
     let commands = Commands::new(device, "ground truth")?;
     let cmd = commands.cmd;
 
+    let (max_march, bounce_march) = march_budget(exact.len() as u32, bounces, physical)?;
     let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
     let push = TilePush {
         origin: [0, 0],
         samples,
         stratum: 0,
-        max_march: march_budget(exact.len() as u32, bounces).0,
+        max_march,
         bounces,
-        bounce_march: march_budget(exact.len() as u32, bounces).1,
+        bounce_march,
         wave_count: exact.len() as u32,
         slab: wave_set.highest_crest() as f32,
         // Height slope of the displaced surface: sum k h over 1 - sum k h where the trains cannot
@@ -293,7 +342,13 @@ pub fn render(
     };
     let tiles_x = width.div_ceil(TILE);
     let tiles_y = height.div_ceil(TILE);
-    let camera = frame::CameraFrame::new(scene, &wave_set, width, height);
+    let sky_error = match &sky_tables {
+        Some(t) => {
+            let results = check_sky(device, &commands, &bindings, pipeline.raw, &check, push, stages)?;
+            Some(t.errors(&results, camera.eye_height, data.sky.sun_dir))
+        }
+        None => None,
+    };
     // Which pixels see the sea: for the tiles' costs and the noise floor.
     let sees_sea: Vec<bool> = (0..height)
         .flat_map(|y| (0..width).map(move |x| (x, y)))
@@ -328,11 +383,7 @@ pub fn render(
                         );
                     }
                     let push = TilePush { origin, stratum, ..push };
-                    let bytes = std::slice::from_raw_parts(
-                        &push as *const TilePush as *const u8,
-                        std::mem::size_of::<TilePush>(),
-                    );
-                    raw.cmd_push_constants(cmd, bindings.layout(), stages, 0, bytes);
+                    raw.cmd_push_constants(cmd, bindings.layout(), stages, 0, push_bytes(&push));
                     raw.cmd_dispatch(cmd, TILE.div_ceil(8), TILE.div_ceil(8), 1);
                 }
                 // The host reads the pixels after the last tile's fence.
@@ -361,16 +412,11 @@ pub fn render(
     let subset: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[4..8], even, 0.0)).collect();
     let sun: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[8..12], all, 1.0)).collect();
     let sky: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[12..16], all, 1.0)).collect();
-    // The refracted light: the mean of 1 - F times the deep water's (constant) radiance.
-    let u = &data.uniforms;
-    let sea_radiance: [f32; 3] = std::array::from_fn(|c| u.sea_albedo[c] * u.sky_irradiance[c] / std::f32::consts::PI);
-    let sea: Vec<[f32; 4]> = words
-        .chunks_exact(WORDS_PER_PIXEL)
-        .map(|p| {
-            let weight = p[7] / all;
-            [weight * sea_radiance[0], weight * sea_radiance[1], weight * sea_radiance[2], 1.0]
-        })
-        .collect();
+    // The refracted light: the weight 1 - F times the light entering the water at each sample's
+    // sea point (the sky's irradiance there), summed by the shader.
+    let sea: Vec<[f32; 4]> = words.chunks_exact(WORDS_PER_PIXEL).map(|p| mean(&p[24..28], all, 1.0)).collect();
+    // The sea's luminance per unit of refracted weight in a pixel (the light entering there).
+    let sea_per_weight = |p: &[f32]| if p[7] > 0.0 { luminance3(&p[24..27]) / p[7] } else { 0.0 };
     // The cut-off weight (sun's sums, a) over the sea's pixels, against their reflected weight:
     // the mean of F summed over the hits traced, i.e. the samples less the refracted weight.
     let (cut, reflected): (f64, f64) = sees_sea
@@ -381,7 +427,6 @@ pub fn render(
     let cut_off_fraction = if reflected > 0.0 { cut / reflected } else { 0.0 };
     // The variance of each pixel's mean (luminance, per term): the samples' variance over their
     // count, strata taken as independent samples (stratification only lowers it: an upper bound).
-    let sea_luminance = crate::output::luminance([sea_radiance[0], sea_radiance[1], sea_radiance[2], 0.0]) as f32;
     let variance: Vec<[f32; 4]> = words
         .chunks_exact(WORDS_PER_PIXEL)
         .map(|p| {
@@ -398,13 +443,24 @@ pub fn render(
                 let mean = sums[t] / all;
                 let var = ((p[16 + t] - all * mean * mean) / (all - 1.0)).max(0.0) / all;
                 if t == 3 {
-                    var * sea_luminance * sea_luminance
+                    var * sea_per_weight(p).powi(2)
                 } else {
                     var
                 }
             })
         })
         .collect();
+    // The half estimate: the strata with i + j even, ceil(N^2 / 2) of them.
+    let half_count = (samples * samples).div_ceil(2) as f32;
+    let half = (samples >= 2).then(|| {
+        words
+            .chunks_exact(WORDS_PER_PIXEL)
+            .map(|p| {
+                let h = &p[20..24];
+                [h[0] / half_count, h[1] / half_count, h[2] / half_count, h[3] / half_count * sea_per_weight(p)]
+            })
+            .collect()
+    });
     let stats = crate::output::stats(&radiance);
     let unresolved_pixels = radiance.iter().filter(|p| p[3] == 0.0).count() as u64;
     let convergence_rms_relative = (samples >= 2).then(|| convergence(&radiance, &subset, stats.mean_radiance));
@@ -425,8 +481,51 @@ pub fn render(
         nonfinite_pixels: stats.nonfinite_pixels,
         mean_radiance: stats.mean_radiance,
         validation_errors: gpu.validation_counts().error_total() - before,
+        sky_error,
     };
-    Ok(GroundTruth { width, height, radiance, subset, sun, sky, sea, variance, report })
+    Ok(GroundTruth { width, height, radiance, subset, sun, sky, sea, variance, half, report })
+}
+
+/// Runs the physical sky's check (glsl/groundtruth.comp `check`: truth_sky::CHECKS evaluations at
+/// arguments the CPU repeats in f64) and reads its results back.
+fn check_sky(
+    device: &crate::vk::device::Device,
+    commands: &Commands,
+    bindings: &Bindings,
+    pipeline: vk::Pipeline,
+    results: &Buffer,
+    push: TilePush,
+    stages: vk::ShaderStageFlags,
+) -> Result<Vec<[f32; 4]>> {
+    let cmd = commands.cmd;
+    commands.begin()?;
+    let push = TilePush { stratum: CHECK_STRATUM, samples: truth_sky::CHECKS, ..push };
+    // SAFETY: `cmd` is recording; the bindings refer to live buffers; the push range matches the
+    // layout.
+    unsafe {
+        let raw = &device.raw;
+        raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+        bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &[]);
+        raw.cmd_push_constants(cmd, bindings.layout(), stages, 0, push_bytes(&push));
+        raw.cmd_dispatch(cmd, truth_sky::CHECKS.div_ceil(64), 1, 1);
+        let barrier = vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ);
+        raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&barrier)));
+    }
+    commands.submit_and_wait()?;
+    let words: Vec<f32> = results.read(8 * truth_sky::CHECKS as usize)?;
+    Ok(words.chunks_exact(4).map(|w| [w[0], w[1], w[2], w[3]]).collect())
+}
+
+/// The stratum that asks glsl/groundtruth.comp for the sky's check instead of samples.
+const CHECK_STRATUM: u32 = u32::MAX;
+
+fn push_bytes(push: &TilePush) -> &[u8] {
+    // SAFETY: TilePush is repr(C) plain data without padding (u32 and f32 fields only).
+    unsafe { std::slice::from_raw_parts(push as *const TilePush as *const u8, std::mem::size_of::<TilePush>()) }
 }
 
 fn luminance3(c: &[f32]) -> f32 {
@@ -480,6 +579,9 @@ pub struct GroundTruthMeta {
     /// `GroundTruthReport::bounces` (absent in files from before bounces were traced: none).
     #[serde(default)]
     pub bounces: u32,
+    /// `GroundTruthReport::sky_error` (absent under Preetham's sky and in older files).
+    #[serde(default)]
+    pub sky_error: Option<TruthSkyError>,
 }
 
 impl GroundTruthMeta {
@@ -505,8 +607,9 @@ fn sun_disc_deg() -> f64 {
     crate::model::sky::SUN_ANGULAR_RADIUS.to_degrees()
 }
 
-/// The four images of a ground truth on disk: `ref.exr` (total, alpha = resolved), and
-/// `ref.sun.exr`, `ref.sky.exr`, `ref.sea.exr` beside it, plus `ref.exr.json` (GroundTruthMeta).
+/// The images of a ground truth on disk: `ref.exr` (total, alpha = resolved), and `ref.sun.exr`,
+/// `ref.sky.exr`, `ref.sea.exr`, `ref.var.exr` and `ref.half.exr` (where it has halves) beside it,
+/// plus `ref.exr.json` (GroundTruthMeta).
 pub struct GroundTruthFiles {
     pub meta: GroundTruthMeta,
     pub total: Vec<[f32; 4]>,
@@ -515,6 +618,9 @@ pub struct GroundTruthFiles {
     pub sea: Vec<[f32; 4]>,
     /// Variance of each pixel's mean luminance: total, sun, sky, sea.
     pub variance: Vec<[f32; 4]>,
+    /// The half estimate's luminances: total, sun, sky, sea (GroundTruth::half); None in files
+    /// from before halves were kept, or below 2 x 2 samples.
+    pub half: Option<Vec<[f32; 4]>>,
 }
 
 fn sibling(path: &std::path::Path, suffix: &str) -> std::path::PathBuf {
@@ -536,6 +642,15 @@ impl GroundTruth {
         write_exr_rgba(&sibling(path, "sky.exr"), self.width, self.height, &self.sky)?;
         write_exr_rgba(&sibling(path, "sea.exr"), self.width, self.height, &self.sea)?;
         write_exr_rgba(&sibling(path, "var.exr"), self.width, self.height, &self.variance)?;
+        let half_path = sibling(path, "half.exr");
+        match &self.half {
+            Some(half) => write_exr_rgba(&half_path, self.width, self.height, half)?,
+            // A stale file of an earlier ground truth must not pass for this one's halves.
+            None => match std::fs::remove_file(&half_path) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(Error::io(&half_path, e)),
+                _ => {}
+            },
+        }
         let meta = GroundTruthMeta {
             scene: scene.clone(),
             width: self.width,
@@ -544,6 +659,7 @@ impl GroundTruth {
             noise_floor_rmse: self.report.noise_floor_rmse,
             sun_kernel_deg: self.report.sun_kernel_deg,
             bounces: self.report.bounces,
+            sky_error: self.report.sky_error,
         };
         write_text(&meta_path(path), &serde_json::to_string_pretty(&meta).expect("serializes"))
     }
@@ -572,6 +688,14 @@ impl GroundTruthFiles {
             sky: read(&sibling(path, "sky.exr"))?,
             sea: read(&sibling(path, "sea.exr"))?,
             variance: read(&sibling(path, "var.exr"))?,
+            half: {
+                let half_path = sibling(path, "half.exr");
+                if half_path.exists() {
+                    Some(read(&half_path)?)
+                } else {
+                    None
+                }
+            },
             meta,
         })
     }
@@ -591,6 +715,7 @@ mod tests {
             noise_floor_rmse: None,
             sun_kernel_deg: 2.0,
             bounces: 3,
+            sky_error: None,
         }
     }
 

@@ -4,8 +4,10 @@
 //! write (`samples`).
 
 pub mod bench;
+pub mod detail;
 pub mod floor;
 pub mod groundtruth;
 pub mod numerics;
 pub mod reference;
 pub mod samples;
+pub mod truth_sky;

@@ -7,7 +7,7 @@
 //! visible point is then the ray's intersection with the rest plane.
 
 use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
-use crate::model::sky::SkyModel;
+use crate::model::sky::{SkyLight, SkyModel};
 use crate::render::footprint::{normal_weight, Footprint};
 use crate::render::frame::{GEOMETRY_STEPS, SEA_ALBEDO};
 use glam::{DVec2, DVec3};
@@ -37,7 +37,8 @@ pub struct PixelRadiance {
 /// the sky.
 pub struct ReferenceScene<'a> {
     pub footprint: Footprint<'a>,
-    pub sky: &'a SkyModel,
+    /// Preetham's sky, or the physical one seen from sea level (model::sky_table).
+    pub sky: &'a dyn SkyLight,
     /// The full method's sky (Method::Full) instead of the paper's: each facet weighted by its
     /// projected area towards the eye, and a reflection below the horizon meeting the sea.
     pub full: bool,
@@ -95,8 +96,8 @@ impl ReferenceScene<'_> {
         let vl = local(v);
         let cos_v = vl.z.clamp(0.0, 1.0);
 
-        let sun_dir = DVec3::from(self.sky.sun_dir);
-        let sun = if self.sky.sun_radiance.iter().any(|&l| l > 0.0) {
+        let sun_dir = DVec3::from(self.sky.sun_dir());
+        let sun = if self.sky.sun_irradiance().iter().any(|&l| l > 0.0) {
             let sun_sigma2 = SkyModel::sun_slope_variance();
             let value = reflected_sun_with(vl, local(sun_dir), sigma2, sun_sigma2, self.facet_fresnel());
             self.sky.sun_irradiance().map(|e| e * value)

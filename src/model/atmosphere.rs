@@ -268,6 +268,36 @@ fn march(d: f64, n: usize) -> impl Iterator<Item = (f64, f64)> {
     })
 }
 
+/// A ray from altitude `h` as the air sees it (glsl/atmosphere.glsl `air_ray`): from where it
+/// enters the air, since nothing happens in space before; its radius, zenith cosine and the
+/// sun's zenith cosine there, and the distance skipped to get there.
+struct AirRay {
+    r: f64,
+    mu: f64,
+    mu_s: f64,
+    skipped: f64,
+}
+
+impl AirRay {
+    /// None where the ray passes the air by.
+    fn new(p: &AtmosphereParams, h: f64, mu: f64, mu_s: f64, nu: f64) -> Option<AirRay> {
+        let r = p.bottom_radius_m + h.max(0.0);
+        let top = p.top_radius_m;
+        if r <= top {
+            return Some(AirRay { r, mu, mu_s, skipped: 0.0 });
+        }
+        // The top sphere's near root, r^2 - R_top^2 as a product of the altitudes' difference.
+        let c = (r - top) * (r + top);
+        let disc = r * r * mu * mu - c;
+        if mu >= 0.0 || disc <= 0.0 {
+            return None;
+        }
+        let t = c / (-r * mu + disc.sqrt());
+        let clamp = |x: f64| x.clamp(-1.0, 1.0);
+        Some(AirRay { r: top, mu: clamp((r * mu + t) / top), mu_s: clamp((r * mu_s + t * nu) / top), skipped: t })
+    }
+}
+
 /// Samples per sky ray: the GPU's sky map uses the same (glsl/atmosphere.glsl, SKY_STEPS).
 pub const SKY_STEPS: usize = 40;
 /// Directions (in each of two angles) and samples per direction of the multiple-scattering table.
@@ -297,6 +327,16 @@ impl Atmosphere {
             })
             .collect();
         atmosphere
+    }
+
+    /// The transmittance table, row-major (TRANSMITTANCE_SIZE; texel centres as `transmittance_uv`).
+    pub fn transmittance_table(&self) -> &[[f64; 3]] {
+        &self.transmittance
+    }
+
+    /// The multiple-scattering table, row-major (MULTIPLE_SCATTERING_SIZE squared; mu_s across).
+    pub fn multiple_scattering_table(&self) -> &[[f64; 3]] {
+        &self.multiple_scattering
     }
 
     /// Transmittance to the top of the atmosphere, from the table (what a shader samples).
@@ -404,13 +444,22 @@ impl Atmosphere {
     }
 
     /// Sky radiance (kcd/m^2) seen from altitude `eye_m` towards unit `dir` (z up) with the sun
-    /// towards unit `sun`: single scattering plus psi_ms along the ray, `steps` samples; the sun
-    /// disc itself not included. Directions below the horizon end at the ground.
+    /// towards unit `sun`: `sky_radiance_cosines` with the ray's cosines.
     pub fn sky_radiance(&self, eye_m: f64, dir: [f64; 3], sun: [f64; 3], steps: usize) -> [f64; 3] {
-        let p = &self.params;
-        let r = p.bottom_radius_m + eye_m.max(0.0);
-        let mu = dir[2];
         let nu = dir[0] * sun[0] + dir[1] * sun[1] + dir[2] * sun[2];
+        self.sky_radiance_cosines(eye_m, dir[2], sun[2], nu, steps)
+    }
+
+    /// Sky radiance (kcd/m^2) from altitude `h` along the ray of zenith cosine `mu`, under the
+    /// sun of zenith cosine `mu_s`, `nu` the cosine between ray and sun: single scattering plus
+    /// psi_ms along the ray, `steps` quadratically spaced samples from where the ray enters the
+    /// air (black where it never does); the sun disc itself not included. A ray below the
+    /// horizon ends at the ground. Only the three cosines matter (the air is spherically
+    /// symmetric), so a sea point's sky is this in its own zenith's frame.
+    pub fn sky_radiance_cosines(&self, h: f64, mu: f64, mu_s: f64, nu: f64, steps: usize) -> [f64; 3] {
+        let p = &self.params;
+        let Some(a) = AirRay::new(p, h, mu, mu_s, nu) else { return [0.0; 3] };
+        let (r, mu) = (a.r, a.mu);
         let d = distance_to_ground(p, r, mu).unwrap_or_else(|| distance_to_top(p, r, mu));
         let (phase_r, phase_m) = (rayleigh_phase(nu), mie_phase(p.mie_g, nu));
         let mut l = [0.0; 3];
@@ -418,7 +467,7 @@ impl Atmosphere {
             let r_t = (r * r + t * t + 2.0 * r * mu * t).sqrt();
             let c = p.coefficients(r_t - p.bottom_radius_m);
             let tr = self.transmittance_between(r, mu, t);
-            let mu_s_t = (r * sun[2] + t * nu) / r_t;
+            let mu_s_t = (r * a.mu_s + t * nu) / r_t;
             let ts = self.sun_transmittance(r_t, mu_s_t);
             let ms = self.multiple_scattering(r_t, mu_s_t);
             let s = c.scattering();
@@ -428,6 +477,45 @@ impl Atmosphere {
             }
         }
         l.map(|v| v * SOLAR_ILLUMINANCE_KLUX)
+    }
+
+    /// The aerial perspective over the first `d` metres of a ray from altitude `h` (cosines as
+    /// `sky_radiance_cosines`): the light the air scatters towards the ray's origin (kcd/m^2) and
+    /// the transmittance over the path, by `steps` equal midpoint samples from where the ray
+    /// enters the air, the optical depth integrated along the same samples (not a ratio of
+    /// table values, which loses digits on paths that meet the ground). Altitudes below the
+    /// ground (a path to a wave's trough) are held at the ground's air. The ground truth's
+    /// (glsl/groundtruth_sky.glsl, truth_aerial) twin.
+    pub fn aerial_perspective(
+        &self,
+        h: f64,
+        (mu, mu_s, nu): (f64, f64, f64),
+        d: f64,
+        steps: usize,
+    ) -> ([f64; 3], [f64; 3]) {
+        let p = &self.params;
+        let Some(a) = AirRay::new(p, h, mu, mu_s, nu) else { return ([0.0; 3], [1.0; 3]) };
+        let length = (d - a.skipped).max(0.0);
+        let (phase_r, phase_m) = (rayleigh_phase(nu), mie_phase(p.mie_g, nu));
+        let dt = length / steps as f64;
+        let (mut l, mut depth) = ([0.0; 3], [0.0; 3]);
+        for i in 0..steps {
+            let t = (i as f64 + 0.5) * dt;
+            let r_t = (a.r * a.r + t * t + 2.0 * a.r * a.mu * t).sqrt().max(p.bottom_radius_m);
+            let c = p.coefficients(r_t - p.bottom_radius_m);
+            let mu_s_t = ((a.r * a.mu_s + t * nu) / r_t).clamp(-1.0, 1.0);
+            let ts = self.sun_transmittance(r_t, mu_s_t);
+            let ms = self.multiple_scattering(r_t, mu_s_t);
+            let s = c.scattering();
+            for k in 0..3 {
+                // The transmittance to the sample's midpoint: the depth so far and half its own.
+                let tr = (-(depth[k] + 0.5 * c.extinction[k] * dt)).exp();
+                let single = ts[k] * (c.rayleigh[k] * phase_r + c.mie * phase_m);
+                l[k] += tr * (single + s[k] * ms[k]) * dt;
+                depth[k] += c.extinction[k] * dt;
+            }
+        }
+        (l.map(|v| v * SOLAR_ILLUMINANCE_KLUX), depth.map(|tau| (-tau).exp()))
     }
 
     /// Radiance of the sun disc's centre at altitude `eye_m` (kcd/m^2) for a sun at zenith cosine

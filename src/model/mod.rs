@@ -6,4 +6,5 @@ pub mod fresnel;
 pub mod masking;
 pub mod scene;
 pub mod sky;
+pub mod sky_table;
 pub mod waves;

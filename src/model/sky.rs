@@ -106,6 +106,34 @@ impl SkyModel {
     }
 }
 
+/// What a sea point is lit by, as the CPU's evaluation of the methods' models reads it: Preetham's
+/// sky (SkyModel) or the physical one seen from sea level (sky_table::SeaLevelSky).
+pub trait SkyLight {
+    /// Unit vector towards the sun (z up).
+    fn sun_dir(&self) -> [f64; 3];
+    /// Irradiance normal to the sun at the sea (klux).
+    fn sun_irradiance(&self) -> [f64; 3];
+    /// The sky's irradiance on the level sea (klux).
+    fn sky_irradiance(&self) -> [f64; 3];
+    /// Sky radiance towards unit `dir` (kcd/m^2), the sun disc apart.
+    fn radiance(&self, dir: [f64; 3]) -> [f64; 3];
+}
+
+impl SkyLight for SkyModel {
+    fn sun_dir(&self) -> [f64; 3] {
+        self.sun_dir
+    }
+    fn sun_irradiance(&self) -> [f64; 3] {
+        SkyModel::sun_irradiance(self)
+    }
+    fn sky_irradiance(&self) -> [f64; 3] {
+        SkyModel::sky_irradiance(self)
+    }
+    fn radiance(&self, dir: [f64; 3]) -> [f64; 3] {
+        SkyModel::radiance(self, dir)
+    }
+}
+
 /// Irradiance on a horizontal plane from the radiance of the upper hemisphere, by midpoint
 /// quadrature over `nu` cells in cos theta and `nphi` in phi (cos theta dOmega = mu dmu dphi).
 pub fn horizontal_irradiance(nu: usize, nphi: usize, radiance: impl Fn([f64; 3]) -> [f64; 3]) -> [f64; 3] {

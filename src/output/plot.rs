@@ -4,6 +4,7 @@
 
 use crate::error::{Error, Result};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -41,7 +42,7 @@ fn legend<'a, CT: CoordTranslate>(
 }
 
 /// A value with three significant digits (plain notation from 0.001 up).
-fn three_digits(v: f64) -> String {
+pub fn three_digits(v: f64) -> String {
     let decimals = (2 - v.abs().max(1e-3).log10().floor() as i32).max(0) as usize;
     format!("{v:.decimals$}")
 }
@@ -215,23 +216,7 @@ fn draw_energy(
                 .y_label_area_size(60)
                 .build_cartesian_2d(-0.3..(bands as f64 - 0.7), (lo - pad)..(hi + pad))
                 .map_err(e)?;
-            chart
-                .configure_mesh()
-                .x_labels(bands)
-                .x_label_formatter(&|x| {
-                    let i = x.round();
-                    if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < bands {
-                        band_labels[i as usize].clone()
-                    } else {
-                        String::new()
-                    }
-                })
-                .x_desc("distance from the eye (m)")
-                .y_desc("energy error against the ground truth (%)")
-                .axis_desc_style((FONT, 13))
-                .label_style((FONT, 11))
-                .draw()
-                .map_err(e)?;
+            band_mesh(&mut chart, band_labels, "energy error against the ground truth (%)")?;
             chart
                 .draw_series([Rectangle::new(
                     [(-0.3, -5.0), (bands as f64 - 0.7, 5.0)],
@@ -242,29 +227,115 @@ fn draw_energy(
                 .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], RGBColor(0, 160, 0).mix(0.3).filled()));
             chart.draw_series(LineSeries::new([(-0.3, 0.0), (bands as f64 - 0.7, 0.0)], BLACK.mix(0.5))).map_err(e)?;
             for (method, values) in series {
-                let c = colour(method);
-                // Split at missing bands so that a gap is not bridged by a line.
-                let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-                for (b, v) in values.iter().enumerate() {
-                    if v[term].is_finite() {
-                        runs.last_mut().expect("never empty").push((b as f64, percent(v[term])));
-                    } else if !runs.last().expect("never empty").is_empty() {
-                        runs.push(Vec::new());
-                    }
-                }
-                for (i, run) in runs.iter().enumerate() {
-                    let line = chart
-                        .draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)).point_size(4))
-                        .map_err(e)?;
-                    if i == 0 {
-                        line.label(*method)
-                            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
-                    }
-                }
+                band_line(&mut chart, method, values.iter().map(|v| percent(v[term])))?;
             }
             legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)?;
         }
         root.present().map_err(e)?;
     }
     Ok(())
+}
+
+/// The band axis (x, named by `band_labels`) and the value axis (`y_desc`) of a plot by distance.
+fn band_mesh<'a>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    band_labels: &[String],
+    y_desc: &str,
+) -> Result<(), String> {
+    let bands = band_labels.len();
+    chart
+        .configure_mesh()
+        .x_labels(bands)
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < bands {
+                band_labels[i as usize].clone()
+            } else {
+                String::new()
+            }
+        })
+        .x_desc("distance from the eye (m)")
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 11))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
+/// One method's values by band as a line in its colour, split at missing (non-finite) values so
+/// that a gap is not bridged.
+fn band_line<'a>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    method: &str,
+    values: impl Iterator<Item = f64>,
+) -> Result<(), String> {
+    let c = colour(method);
+    let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    for (b, v) in values.enumerate() {
+        if v.is_finite() {
+            runs.last_mut().expect("never empty").push((b as f64, v));
+        } else if !runs.last().expect("never empty").is_empty() {
+            runs.push(Vec::new());
+        }
+    }
+    // The first run carries the legend even where empty: every method is named.
+    for (i, run) in runs.iter().enumerate() {
+        let line = chart
+            .draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)).point_size(4))
+            .map_err(|e| e.to_string())?;
+        if i == 0 {
+            line.label(method.to_owned())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
+        }
+    }
+    Ok(())
+}
+
+/// A ratio to the ground truth per distance band (named by `band_labels`), one line per method,
+/// with 1 (the ground truth's own) marked; `what` names the ratio on its axis. Bands without a
+/// value are gaps.
+pub fn ratio_by_distance(
+    path: &Path,
+    title: &str,
+    what: &str,
+    band_labels: &[String],
+    series: &[(&str, Vec<f64>)],
+) -> Result<()> {
+    let mut svg = String::new();
+    let area = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+    draw_ratio(area, title, what, band_labels, series).map_err(plot_error(path))?;
+    super::write_text(path, &svg)
+}
+
+fn draw_ratio(
+    root: DrawingArea<SVGBackend, Shift>,
+    title: &str,
+    what: &str,
+    band_labels: &[String],
+    series: &[(&str, Vec<f64>)],
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let right = band_labels.len() as f64 - 0.7;
+    root.fill(&WHITE).map_err(e)?;
+    // From 0 (no detail) to above both 1 and the largest ratio.
+    let hi = series.iter().flat_map(|(_, v)| v.iter().copied()).filter(|v| v.is_finite()).fold(1.0f64, f64::max);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 20))
+        .margin(16)
+        .x_label_area_size(60)
+        .y_label_area_size(60)
+        .build_cartesian_2d(-0.3..right, 0.0..hi * 1.1)
+        .map_err(e)?;
+    band_mesh(&mut chart, band_labels, what)?;
+    let grey = BLACK.mix(0.6);
+    chart
+        .draw_series(DashedLineSeries::new([(-0.3, 1.0), (right, 1.0)], 8, 5, grey.stroke_width(1)))
+        .map_err(e)?
+        .label("as the ground truth (1)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], grey));
+    for (method, values) in series {
+        band_line(&mut chart, method, values.iter().copied())?;
+    }
+    legend(&mut chart, SeriesLabelPosition::UpperRight, 12)?;
+    root.present().map_err(e)
 }

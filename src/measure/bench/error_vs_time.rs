@@ -1,9 +1,12 @@
 //! Error against run time: every method at several quality settings, timed on the GPU and compared
 //! with a ground truth, in total and per term (reflected sun, reflected sky, refracted sea) and
-//! per distance band. Writes CSVs, a markdown table and a plot with the Pareto front.
+//! per distance band, with the detail a pixel can see (local contrast and the sun's glitter,
+//! error_detail). Writes CSVs, markdown tables and plots: the Pareto front, energy and contrast by
+//! distance.
 
 use crate::app::median;
 use crate::error::{Error, Result};
+use crate::measure::bench::error_detail::{self, Detail, TruthDetail, TruthImages};
 use crate::measure::groundtruth::GroundTruthFiles;
 use crate::model::scene::Scene;
 use crate::model::waves;
@@ -19,7 +22,7 @@ use std::path::Path;
 
 /// Distance bands (m) for the per-distance table: the near field to the horizon.
 pub const BANDS_M: [f64; 9] = [0.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, f64::INFINITY];
-const TERMS: [&str; 4] = ["total", "sun", "sky", "sea"];
+pub const TERMS: [&str; 4] = ["total", "sun", "sky", "sea"];
 
 /// One configuration of the renderer.
 #[derive(Debug, Clone)]
@@ -57,6 +60,10 @@ pub struct Row {
     pub bands: Vec<(usize, f64, TermErrors)>,
     /// On BLOCK_PX x BLOCK_PX block means over the sea.
     pub blocks: BlockErrors,
+    /// Local contrast and glitter against the ground truth's, over the whole sea.
+    pub detail: Detail,
+    /// The same per distance band.
+    pub detail_bands: Vec<Detail>,
 }
 
 /// RMSE of the mean luminance of BLOCK_PX x BLOCK_PX blocks wholly on the sea, per term, and its
@@ -208,6 +215,7 @@ pub fn run(
     }
     let sea: Vec<usize> = (0..on_sea.len()).filter(|&i| on_sea[i]).collect();
     let blocks = sea_blocks(w, h, &on_sea);
+    let truth_detail = TruthDetail::new(&TruthImages::of(&truth), &on_sea, &sea, &bands)?;
     let truth_images = [truth.total.as_slice(), truth.sun.as_slice(), truth.sky.as_slice(), truth.sea.as_slice()];
     let mut rows = Vec::new();
     let settings = settings(scene);
@@ -241,6 +249,7 @@ pub fn run(
                 (b.len(), unresolved, errors(&images, &truth_images, &truth.variance, b))
             })
             .collect();
+        let (detail, detail_bands) = truth_detail.of(&images);
         let row = Row {
             method: setting.method.name().into(),
             setting: setting.label.clone(),
@@ -248,6 +257,8 @@ pub fn run(
             all: errors(&images, &truth_images, &truth.variance, &sea),
             bands: band_rows,
             blocks: block_errors(&images, &truth_images, &truth.variance, &blocks),
+            detail,
+            detail_bands,
         };
         progress.println(&format!(
             "{:<14} {:<18} {:7.1} ms  rmse {:8.4}  block rmse {:8.4}  energy {:+7.3}",
@@ -265,6 +276,7 @@ pub fn run(
             truth.meta.sun_kernel_deg,
             n = truth.meta.samples_per_axis
         ),
+        detail: &truth_detail,
     };
     write_outputs(&rows, out_dir, scene_name, truth_info, (w, h), frames)?;
     Ok(rows)
@@ -311,6 +323,8 @@ struct Truth<'a> {
     noise_floor: Option<f64>,
     /// How it was sampled, in words.
     sampling: String,
+    /// Its side of the detail statistics.
+    detail: &'a TruthDetail,
 }
 
 fn write_outputs(
@@ -321,26 +335,31 @@ fn write_outputs(
     (w, h): (u32, u32),
     frames: u32,
 ) -> Result<()> {
-    let Truth { path: reference, noise_floor, sampling } = truth;
+    let Truth { path: reference, noise_floor, sampling, detail } = truth;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let mut csv = format!("method,setting,gpu_ms{},blocks{}\n", term_columns(), block_columns());
+    let detail_columns = error_detail::detail_columns();
+    let mut csv = format!("method,setting,gpu_ms{},blocks{}{detail_columns}\n", term_columns(), block_columns());
     for r in rows {
-        let (all, blocks) = (term_values(&r.all), block_values(&r.blocks));
-        writeln!(csv, "{},{},{:.3}{all},{}{blocks}", r.method, r.setting, r.gpu_ms, r.blocks.count).unwrap();
+        let (all, blocks, details) =
+            (term_values(&r.all), block_values(&r.blocks), error_detail::detail_values(&r.detail));
+        writeln!(csv, "{},{},{:.3}{all},{}{blocks}{details}", r.method, r.setting, r.gpu_ms, r.blocks.count).unwrap();
     }
     write_text(&dir.join("error_vs_time.csv"), &csv)?;
-    let mut by_distance =
-        format!("method,setting,band,distance_min_m,distance_max_m,pixels,unresolved_fraction{}\n", term_columns());
+    let mut by_distance = format!(
+        "method,setting,band,distance_min_m,distance_max_m,pixels,unresolved_fraction{}{detail_columns}\n",
+        term_columns()
+    );
     for r in rows {
-        for (b, (n, unresolved, e)) in r.bands.iter().enumerate() {
+        for (b, ((n, unresolved, e), d)) in r.bands.iter().zip(&r.detail_bands).enumerate() {
             writeln!(
                 by_distance,
-                "{},{},{b},{},{},{n},{unresolved:.4}{}",
+                "{},{},{b},{},{},{n},{unresolved:.4}{}{}",
                 r.method,
                 r.setting,
                 BANDS_M[b],
                 BANDS_M[b + 1],
-                term_values(e)
+                term_values(e),
+                error_detail::detail_values(d)
             )
             .unwrap();
         }
@@ -392,6 +411,7 @@ fn write_outputs(
         )
         .unwrap();
     }
+    md.push_str(&error_detail::markdown(rows, detail));
     write_text(&dir.join("error_vs_time.md"), &md)?;
     let title = format!("Error against GPU time: {scene_name}, {w}x{h}");
     let points: Vec<Point> = rows
@@ -409,7 +429,16 @@ fn write_outputs(
         .collect();
     let title = format!("Energy error by distance, default settings: {scene_name}, {w}x{h}");
     let bands: Vec<String> = (0..BANDS_M.len() - 1).map(band_label).collect();
-    plot::energy_by_distance(&dir.join("energy_by_distance.svg"), &title, &bands, &series)
+    plot::energy_by_distance(&dir.join("energy_by_distance.svg"), &title, &bands, &series)?;
+    // The reflected sky's local contrast against the truth's, by distance: where detail is lost.
+    let series: Vec<(&str, Vec<f64>)> = rows
+        .iter()
+        .filter(|r| r.setting == "default")
+        .map(|r| (r.method.as_str(), r.detail_bands.iter().map(|d| d.contrast[2].ratio).collect()))
+        .collect();
+    let title = format!("Local contrast of the reflected sky by distance, default settings: {scene_name}, {w}x{h}");
+    let what = "3x3 high-pass std / the ground truth's without its noise";
+    plot::ratio_by_distance(&dir.join("contrast_by_distance.svg"), &title, what, &bands, &series)
 }
 
 /// "0–10", ..., "≥1000" (metres) for band `i` of BANDS_M.
@@ -443,4 +472,93 @@ pub fn pareto_front(rows: &[Row]) -> Vec<usize> {
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const W: usize = 24;
+    const H: usize = 20;
+
+    /// A synthetic truth: sky in the top two rows, a checkered sky term, a column of glints.
+    fn truth_terms() -> [Vec<[f32; 4]>; 4] {
+        let grey = |v: f32| [v, v, v, 1.0];
+        let pattern = |f: fn(usize, usize) -> f32| (0..W * H).map(|i| grey(f(i % W, i / W))).collect::<Vec<_>>();
+        let sun = pattern(|x, y| if x == 12 && y % 2 == 0 { 9.0 } else { 0.5 });
+        let sky = pattern(|x, y| if (x + y) % 2 == 0 { 2.0 } else { 1.0 });
+        let sea = pattern(|x, _| 0.1 * x as f32);
+        let total = (0..W * H).map(|i| grey(sun[i][0] + sky[i][0] + sea[i][0])).collect();
+        [total, sun, sky, sea]
+    }
+
+    fn row(method: &str, images: &[Vec<[f32; 4]>; 4], truth: &TruthDetail) -> Row {
+        let (detail, detail_bands) = truth.of(images);
+        let bands = detail_bands.iter().map(|_| (1, 0.0, TermErrors::default())).collect();
+        let (all, blocks) = (TermErrors::default(), BlockErrors::default());
+        Row { method: method.into(), setting: "default".into(), gpu_ms: 1.0, all, bands, blocks, detail, detail_bands }
+    }
+
+    #[test]
+    fn the_detail_columns_and_tables_are_written_for_every_row() {
+        let terms = truth_terms();
+        let variance = vec![[0.0f32; 4]; W * H];
+        let images = TruthImages {
+            width: W,
+            height: H,
+            terms: terms.each_ref().map(|t| t.as_slice()),
+            variance: &variance,
+            half: None,
+        };
+        let on_sea: Vec<bool> = (0..W * H).map(|i| i >= 2 * W).collect();
+        let sea: Vec<usize> = (2 * W..W * H).collect();
+        // Two sea rows a band (the last band empty): a band's pixels need not be its own neighbours.
+        let bands: Vec<Vec<usize>> = (0..BANDS_M.len() - 1)
+            .map(|b| sea.iter().copied().filter(|&i| (i / W - 2) / 2 == b && b < BANDS_M.len() - 2).collect())
+            .collect();
+        let truth = TruthDetail::new(&images, &on_sea, &sea, &bands).unwrap();
+        // One method is the truth, the other has its sky flattened and no glints.
+        let mut flat = terms.clone();
+        flat[2].iter_mut().for_each(|p| *p = [1.5, 1.5, 1.5, 1.0]);
+        flat[1].iter_mut().for_each(|p| *p = [1.0, 1.0, 1.0, 1.0]);
+        let rows = [row("full", &terms, &truth), row("paper", &flat, &truth)];
+        assert!((rows[0].detail.contrast[2].ratio - 1.0).abs() < 1e-12, "the truth's own contrast ratio is 1");
+        assert!((rows[0].detail.glitter.var_ratio - 1.0).abs() < 1e-12, "and its glitter ratios");
+        assert_eq!(rows[1].detail.contrast[2].ratio, 0.0, "a flat sky has no contrast");
+        assert_eq!(rows[1].detail.glitter.bright_share_ratio, 0.0, "and a flat sun no glints");
+
+        let dir = std::env::temp_dir().join(format!("ocean-detail-test-{}", std::process::id()));
+        let info =
+            Truth { path: Path::new("ref.exr"), noise_floor: None, sampling: "synthetic".into(), detail: &truth };
+        write_outputs(&rows, &dir, "synthetic", info, (W as u32, H as u32), 1).unwrap();
+        let read = |file: &str| std::fs::read_to_string(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        for (file, old_head) in [
+            ("error_vs_time.csv", format!("method,setting,gpu_ms{},blocks{}", term_columns(), block_columns())),
+            (
+                "error_by_distance.csv",
+                format!(
+                    "method,setting,band,distance_min_m,distance_max_m,pixels,unresolved_fraction{}",
+                    term_columns()
+                ),
+            ),
+        ] {
+            let csv = read(file);
+            let header = csv.lines().next().unwrap();
+            assert!(header.starts_with(&old_head), "{file}: the old columns first, in order: {header}");
+            for column in ["contrast_ratio_sky", "contrast_truth_signal_sea", "glitter_var_ratio", "glitter_truth_var"]
+            {
+                assert!(header.split(',').any(|c| c == column), "{file} lacks {column}");
+            }
+            let width = header.split(',').count();
+            for line in csv.lines().skip(1) {
+                assert_eq!(line.split(',').count(), width, "{file}: {line}");
+            }
+        }
+        let md = read("error_vs_time.md");
+        assert!(md.contains("## Detail a pixel can see") && md.contains("### Glitter"), "{md}");
+        assert!(md.contains("pixels assumed independent"), "says which noise estimate: {md}");
+        let svg = read("contrast_by_distance.svg");
+        assert!(svg.contains("Local contrast of the reflected sky by distance"), "{svg}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

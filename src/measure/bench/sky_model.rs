@@ -9,7 +9,7 @@ use crate::measure::bench::error_vs_time::{band_label, sea_pixels_by_band};
 use crate::measure::groundtruth::GroundTruthFiles;
 use crate::measure::reference::ReferenceScene;
 use crate::model::masking::{self, Masking};
-use crate::model::scene::Scene;
+use crate::model::scene::{Scene, SkyKind};
 use crate::model::sky::SkyModel;
 use crate::model::waves::{self, WaveSet};
 use crate::output::{luminance, luminance_rgb, write_text};
@@ -54,9 +54,15 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
     let (w, h) = (truth.meta.width, truth.meta.height);
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, w, h);
-    let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
+    let preetham = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
+    let physical = (scene.sky.model == SkyKind::Physical)
+        .then(|| crate::model::sky_table::SeaLevelSky::new(&scene.atmosphere(), preetham.sun_dir));
+    let sky: &dyn crate::model::sky::SkyLight = match &physical {
+        Some(p) => p,
+        None => &preetham,
+    };
     let footprint = Footprint { camera: &camera, waves: &wave_set, time_s: scene.render.time_s, width: w, height: h };
-    let model = |full| ReferenceScene { footprint: Footprint { ..footprint }, sky: &sky, full };
+    let model = |full| ReferenceScene { footprint: Footprint { ..footprint }, sky, full };
     let (full_model, paper_model) = (model(true), model(false));
     let lookup = |method| -> Result<Vec<[f32; 4]>> {
         let shader = ShaderConfig::terms_only(Terms { sun: false, sky: true, sea: false }, method);
