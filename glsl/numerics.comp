@@ -33,14 +33,10 @@ void main() {
     case 3u: r.x = trochoid_slope_variance(a.x); break;                    // k h
     case 4u: r.xyz = reflected_sun(identity, a.xyz, b.xyz, vec2(a.w, b.w), frame.sun_irradiance.rgb); break;  // v, l, sigma^2
     case 5u: r.xy = reflected_u(identity, a.xyz, b.xy); break;             // v, zeta
-    case 6u: {                                                             // (ndc, k turns), (k h)
+    case 6u: {                                                             // (ndc, k turns)
         // A train's weight for the per-pixel normal, as shade.comp computes it.
-        vec3 ray = camera_ray(a.xy);
-        vec3 v = -normalize(ray);
-        SampleScale s = sample_scale(ray, 1.0, frame.filter_steps.zw);
-        vec2 steps = frame.filter_steps.zw;
-        float nonlinearity = v.z > 0.0 ? max(1.0, b.x * 2.0 * PI / v.z) : 1.0;
-        r.x = s.any ? resolution_weight(s, a.zw, steps, 1.0 / (steps.y - steps.x), nonlinearity) : 0.0;
+        SampleScale s = sample_scale(camera_ray(a.xy), 1.0, frame.filter_steps.zw);
+        r.x = s.any ? normal_weight(s, a.zw) : 0.0;
         break;
     }
     case 7u: r.xy = visible_slopes(a.xyz, b.xy).mean; break;              // v (local), sigma^2

@@ -142,12 +142,11 @@ void main() {
     // v . up <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
     // FAR_LIMIT (a rest position gone wrong) nothing is resolvable either.
     bool resolves = NORMALS && ANY_TERM && is_sea && pixel.any && v_up > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)));
-    float grazing = resolves ? 2.0 * PI / v_up : 0.0;
     vec2 at = resolves ? x : vec2(0.0);
 #ifdef TRAIN_BLOCKS
-    SurfaceSample s = surface_sample_blocked(at, pixel, frame.filter_steps.zw, grazing, resolves);
+    SurfaceSample s = surface_sample_blocked(at, pixel, frame.filter_steps.zw, resolves);
 #else
-    SurfaceSample s = resolves ? surface_sample(at, pixel, frame.filter_steps.zw, grazing) : flat_surface();
+    SurfaceSample s = resolves ? surface_sample(at, pixel, frame.filter_steps.zw) : flat_surface();
 #endif
     vec3 n = up;
     // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror).

@@ -37,18 +37,16 @@ Wave block_train(uvec2 slot, uint j) {
 // with trains another pixel of the subgroup resolves enters with weight 0, i.e. its whole
 // variance in the loop rather than in the prefix. `resolves`: whether this lane's pixel resolves
 // anything (others pass along, adding nothing to the loops' extent, and get the flat surface).
-SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float grazing, bool resolves) {
-    float inv_ramp = 1.0 / (steps.y - steps.x);
+SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, bool resolves) {
     SurfaceSample r = flat_surface();
-    // Over the subgroup's resolving pixels: the largest step and grazing factor (for the test of
-    // full resolution, done once per train for them all) and the smallest cut.
+    // Over the subgroup's resolving pixels: the largest step (for the test of full resolution,
+    // done once per train for them all) and the smallest cut.
     float reach2 = subgroupMax(resolves ? largest_step2(s) : 0.0);
-    float grazing_max = subgroupMax(resolves ? grazing : 0.0);
     float cut2_min = subgroupMin(resolves ? s.lambda_cut2 : 3.0e38);
     int first = subgroupAny(resolves) ? int(frame.grid_dims.z) - 1 : -1;
     uvec2 slot = load_block_slot(first);
     // Blocks whose every train is resolved fully at every resolving pixel of the subgroup.
-    while (first >= 0 && subgroupAll(fully_resolved(unpack_wave(slot), reach2, grazing_max, steps))) {
+    while (first >= 0 && subgroupAll(fully_resolved(unpack_wave(slot), reach2, steps))) {
 #define RESOLVED(j) { Wave t = block_train(slot, j); add_resolved_train(r, t, wave_direction(t), x); }
         FOR_EACH_BLOCK_TRAIN(RESOLVED)
 #undef RESOLVED
@@ -60,7 +58,7 @@ SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float gr
     while (first >= 0) {
         vec2 shortest = block_train(slot, uint(TRAIN_BLOCK - 1)).k;
         if (!(dot(shortest, shortest) * cut2_min < 1.0)) break;
-#define WEIGHTED(j) add_train(r, block_train(slot, j), x, s, steps, inv_ramp, grazing);
+#define WEIGHTED(j) add_train(r, block_train(slot, j), x, s);
         FOR_EACH_BLOCK_TRAIN(WEIGHTED)
 #undef WEIGHTED
         first -= TRAIN_BLOCK;
@@ -68,7 +66,7 @@ SurfaceSample surface_sample_blocked(vec2 x, SampleScale s, vec2 steps, float gr
     }
     // ...and the rest train by train, each pixel to its own cut (at most a block's worth: a
     // view that resolves few trains would otherwise evaluate a whole block of them).
-    add_trains_from(r, first, x, s, steps, grazing);
+    add_trains_from(r, first, x, s);
     return resolves ? r : flat_surface();
 }
 

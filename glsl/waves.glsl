@@ -65,14 +65,38 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     return s;
 }
 
-// Weight of a train at this scale from its step per sample: 1 up to steps.x (resolved), 0 from
-// steps.y on, a smoothstep between. The step is the phase advance per sample (turns), times
-// `nonlinearity` >= 1 where the shading is steeper than the phase (see surface_sample).
+// Weight of a train at the grid's scale from its step per sample: 1 up to steps.x (resolved), 0
+// from steps.y on, a smoothstep between. The step is the phase advance per sample (turns), times
+// `nonlinearity` >= 1 where the displacement is steeper than the phase.
 float resolution_weight(SampleScale s, vec2 k_turns, vec2 steps, float inv_ramp, float nonlinearity) {
     if (METHOD == METHOD_NO_FILTER) return 1.0;
     float step = max(abs(dot(k_turns, s.a_u)), abs(dot(k_turns, s.a_v))) * nonlinearity;
     float t = clamp((step - steps.x) * inv_ramp, 0.0, 1.0);
     return 1.0 - t * t * (3.0 - 2.0 * t);
+}
+
+// A pixel's box filter's transfer of a sinusoid that advances s turns across it: sinc(pi s) =
+// sin(pi s) / (pi s), held at 0 past its first zero (s = 1; the side lobes go to the BRDF), as
+// (1 - s^2)(1 + a s^2 + b s^4): a = 1 - pi^2 / 6 matches sinc's curvature at 0 and b = -1/2 - a
+// its slope at the zero (the factor's value there, 1/2). Within 1.4e-3 of sinc (at s = 0.75),
+// with no sine (src/render/footprint.rs box_transfer is its twin).
+const float BOX_A = 1.0 - PI * PI / 6.0;
+const float BOX_B = -0.5 - BOX_A;
+
+float box_transfer(float s) {
+    float s2 = min(s * s, 1.0);
+    return (1.0 - s2) * (1.0 + s2 * (BOX_A + s2 * BOX_B));
+}
+
+// Weight of a train in the per-pixel normal: what the pixel's box filter keeps of it. Over the
+// pixel the rest position moves by a_u and a_v (its footprint, a parallelogram), and a sinusoid's
+// mean over a parallelogram is the product of its means along the two sides: the ground truth's
+// pixel, box-filtering the exact surface, keeps sinc(k.a_u) sinc(k.a_v) of a train's slopes,
+// and so does this point sample of the slopes at the pixel's centre. The rest of its variance,
+// (1 - w^2), goes to the BRDF.
+float normal_weight(SampleScale s, vec2 k_turns) {
+    if (METHOD == METHOD_NO_FILTER) return 1.0;
+    return box_transfer(abs(dot(k_turns, s.a_u))) * box_transfer(abs(dot(k_turns, s.a_v)));
 }
 
 // Trains are sorted by increasing wavelength, so loops run from the longest down and stop
@@ -145,14 +169,15 @@ void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
     count_train(true);
 }
 
-// Adds the resolved part wn of a train's amplitude to the slopes; the unresolved part (1 - wn)
-// stays in the BRDF's slope variance (0 when wn = 1). `wind2`: wind_axes2 of its direction.
+// Adds the resolved part wn of a train's amplitude to the slopes; the rest of its slope variance,
+// that of the amplitude sqrt(1 - wn^2) k h, stays in the BRDF's (0 when wn = 1), so that the
+// pixel's slope variance is the train's whatever its weight. `wind2`: wind_axes2 of its direction.
 void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, vec2 x, float wn) {
     vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
     float c = wn * wave.kh * sc.y, sn = wn * wave.kh * sc.x;
     r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
     r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
-    r.sigma2 += wind2 * trochoid_slope_variance((1.0 - wn) * wave.kh);
+    r.sigma2 += wind2 * trochoid_slope_variance(sqrt(max(1.0 - wn * wn, 0.0)) * wave.kh);
     count_train(wn > 0.0);
 }
 
@@ -160,43 +185,29 @@ SurfaceSample flat_surface() {
     return SurfaceSample(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec2(0.0));
 }
 
-// A pixel's shading is a point sample of the BRDF at the resolved normal. At grazing view the BRDF
-// turns steep in the normal: a train whose slope (amplitude k h) advances by 2 pi k h per turn of
-// phase changes cos(theta_v) ~ v_z by that much, i.e. by 2 pi k h / v_z of itself per turn. A
-// train therefore counts as resolved only while both its phase and that relative change in
-// v_z stay within the per-pixel steps; otherwise it goes to the BRDF's slope variance, whose
-// Smith masking is built for grazing statistics. `grazing` = 2 pi / v_z (v_z > 0).
-float grazing_factor(Wave wave, float grazing) {
-    return max(1.0, wave.kh * grazing);
-}
-
-// A train at its resolution weight at this pixel: the weight from its phase step and grazing
-// factor, then add_weighted_train.
-void add_train(inout SurfaceSample r, Wave wave, vec2 x, SampleScale s, vec2 steps, float inv_ramp, float grazing) {
+// A train at its weight in this pixel's normal (normal_weight), then add_weighted_train.
+void add_train(inout SurfaceSample r, Wave wave, vec2 x, SampleScale s) {
     vec2 dir = wave_direction(wave);
-    float wn = resolution_weight(s, wave.k, steps, inv_ramp, grazing_factor(wave, grazing));
-    add_weighted_train(r, wave, dir, wind_axes2(dir, frame.wind.xy), x, wn);
+    add_weighted_train(r, wave, dir, wind_axes2(dir, frame.wind.xy), x, normal_weight(s, wave.k));
 }
 
 // Trains i, i-1, ... down to the first that no direction resolves at this pixel, each at its
 // weight; then the whole variance of the rest (summed on the CPU) goes to the BRDF.
-void add_trains_from(inout SurfaceSample r, int i, vec2 x, SampleScale s, vec2 steps, float grazing) {
-    float inv_ramp = 1.0 / (steps.y - steps.x);
+void add_trains_from(inout SurfaceSample r, int i, vec2 x, SampleScale s) {
     for (; i >= 0; --i) {
         Wave wave = unpack_wave(wave_data[i].xy);
         if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
-        add_train(r, wave, x, s, steps, inv_ramp, grazing);
+        add_train(r, wave, x, s);
     }
     if (i >= 0) r.sigma2 += wave_prefix[i].xy;
 }
 
-// Whether a train is resolved fully (weight 1) in every direction at a pixel whose largest
-// rest-position step per sample is sqrt(reach2): |k| sqrt(reach2) times its grazing factor is
-// within the resolved step. A product, never a division: reach2 = 0 (no filtering) keeps every
-// train.
-bool fully_resolved(Wave wave, float reach2, float grazing, vec2 steps) {
-    float nonlinearity = grazing_factor(wave, grazing);
-    return dot(wave.k, wave.k) * nonlinearity * nonlinearity * reach2 <= steps.x * steps.x;
+// Whether a train is resolved fully in every direction at a pixel whose largest rest-position
+// step per sample is sqrt(reach2): |k| sqrt(reach2) within steps.x (frame::NORMAL_STEPS: the
+// box filter's loss there is below binary16's resolution). A product, never a division:
+// reach2 = 0 (no filtering) keeps every train.
+bool fully_resolved(Wave wave, float reach2, vec2 steps) {
+    return dot(wave.k, wave.k) * reach2 <= steps.x * steps.x;
 }
 
 float largest_step2(SampleScale s) {
@@ -204,7 +215,7 @@ float largest_step2(SampleScale s) {
 }
 
 // Resolved slopes and the slope variance left for the BRDF, at one pixel.
-SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
+SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps) {
     SurfaceSample r = flat_surface();
     int i = int(frame.grid_dims.z) - 1;
     // The longest trains are resolved fully here in every direction: no weight, no residual.
@@ -213,10 +224,10 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps, float grazing) {
     float reach2 = largest_step2(s);
     for (; i >= 0; --i) {
         Wave wave = unpack_wave(wave_data[i].xy);
-        if (!fully_resolved(wave, reach2, grazing, steps)) break;
+        if (!fully_resolved(wave, reach2, steps)) break;
         add_resolved_train(r, wave, wave_direction(wave), x);
     }
-    add_trains_from(r, i, x, s, steps, grazing);
+    add_trains_from(r, i, x, s);
     return r;
 }
 

@@ -25,7 +25,9 @@ say() {
 }
 say "building the release binary"
 cargo build --release
-bin=target/release/ocean
+# A copy of the binary: a rebuild while this runs (an hour and more) must not change it half way.
+bin=$(mktemp -d)/ocean
+cp target/release/ocean "$bin"
 # What the ground truth is made of: its scene and its own sources.
 sources=(glsl/groundtruth.comp glsl/groundtruth_sky.glsl glsl/atmosphere.glsl src/measure/groundtruth.rs
     src/measure/truth_sky.rs src/model/atmosphere.rs)

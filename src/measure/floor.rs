@@ -54,13 +54,12 @@ pub fn shade_work(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> Sh
             let ray = footprint.pixel_ray(px as f64, py as f64);
             let Some((_, a_u, a_v)) = footprint.rest_hit(ray) else { continue };
             sea += 1;
-            let v_z = -ray.normalize().z;
             trains += waves
                 .trains
                 .iter()
                 .filter(|t| {
                     let k_turns = DVec2::from(t.direction) / t.wavelength;
-                    normal_weight(k_turns, t.k * t.amplitude, a_u, a_v, v_z) > 0.0
+                    normal_weight(k_turns, a_u, a_v) > 0.0
                 })
                 .count() as u64;
         }

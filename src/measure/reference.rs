@@ -69,8 +69,8 @@ impl ReferenceScene<'_> {
     }
 
     /// Weight of a train resolved by the per-pixel normal (see glsl/waves.glsl).
-    pub fn normal_weight(&self, k_turns: DVec2, kh: f64, a_u: DVec2, a_v: DVec2, v_z: f64) -> f64 {
-        normal_weight(k_turns, kh, a_u, a_v, v_z)
+    pub fn normal_weight(&self, k_turns: DVec2, a_u: DVec2, a_v: DVec2) -> f64 {
+        normal_weight(k_turns, a_u, a_v)
     }
 
     pub fn shade(&self, px: f64, py: f64) -> Option<PixelRadiance> {

@@ -8,23 +8,27 @@
 //! the rest sphere. The normal is in the tangent frame of the point below the eye, as the
 //! waves; `resolved_surface` tilts it by the sphere's normal there, as glsl/shade.glsl.
 
-use super::frame::{CameraFrame, NORMAL_STEPS};
+use super::frame::CameraFrame;
 use crate::model::waves::{trochoid_slope_variance, WaveSet};
 use glam::{DVec2, DVec3};
-use std::f64::consts::TAU;
+use std::f64::consts::PI;
 
-fn smoothstep01(t: f64) -> f64 {
-    let t = t.clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
+/// A pixel's box filter's transfer of a sinusoid advancing `s` turns across it: sinc(pi s), 0 past
+/// its first zero, as the polynomial (1 - s^2)(1 + a s^2 + b s^4) with a = 1 - pi^2 / 6 (sinc's
+/// curvature at 0) and b = -1/2 - a (its slope at the zero): within 1.4e-3 of sinc, with no sine
+/// (glsl/waves.glsl box_transfer, the same).
+pub fn box_transfer(s: f64) -> f64 {
+    let a = 1.0 - PI * PI / 6.0;
+    let b = -0.5 - a;
+    let s2 = (s * s).min(1.0);
+    (1.0 - s2) * (1.0 + s2 * (a + s2 * b))
 }
 
-/// Weight of a train resolved by the per-pixel normal: 1 while its phase steps less than
-/// NORMAL_STEPS[0] turns per pixel (times its nonlinearity kh 2 pi / v_z), 0 from NORMAL_STEPS[1].
-pub fn normal_weight(k_turns: DVec2, kh: f64, a_u: DVec2, a_v: DVec2, v_z: f64) -> f64 {
-    let [resolved, unresolved] = NORMAL_STEPS.map(|s| s as f64);
-    let nonlinearity = (kh * TAU / v_z).max(1.0);
-    let step = k_turns.dot(a_u).abs().max(k_turns.dot(a_v).abs()) * nonlinearity;
-    1.0 - smoothstep01((step - resolved) / (unresolved - resolved))
+/// Weight of a train in the per-pixel normal: what the pixel's box filter keeps of it, the
+/// product of the transfers along the footprint's sides a_u and a_v (rest-position change per
+/// pixel), as the ground truth's pixel keeps it (glsl/waves.glsl normal_weight).
+pub fn normal_weight(k_turns: DVec2, a_u: DVec2, a_v: DVec2) -> f64 {
+    box_transfer(k_turns.dot(a_u).abs()) * box_transfer(k_turns.dot(a_v).abs())
 }
 
 /// A frame's camera and waves at one time, on an image of `width` x `height` pixels.
@@ -69,18 +73,40 @@ impl Footprint<'_> {
             let dir = DVec2::from(t.direction);
             let k_turns = dir / t.wavelength;
             let kh = t.k * t.amplitude;
-            let wn = if v_up > 0.0 { normal_weight(k_turns, kh, a_u, a_v, v_up) } else { 0.0 };
+            let wn = if v_up > 0.0 { normal_weight(k_turns, a_u, a_v) } else { 0.0 };
             let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
             let (s, c) = theta.sin_cos();
             let (c, s) = (wn * kh * c, wn * kh * s);
             tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
             ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
             let (along, across) = (dir.dot(wind), dir.perp_dot(wind));
-            let residual = trochoid_slope_variance((1.0 - wn) * kh);
+            // The variance the normal does not hold: of the amplitude sqrt(1 - wn^2) k h.
+            let residual = trochoid_slope_variance((1.0 - wn * wn).max(0.0).sqrt() * kh);
             sigma2[0] += along * along * residual;
             sigma2[1] += across * across * residual;
         }
         let n = tx.cross(ty).try_normalize().unwrap_or(DVec3::Z);
         Some((super::frame::tilt_to(n, up), v, sigma2))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_box_transfer_is_sinc_to_its_first_zero() {
+        let mut worst: f64 = 0.0;
+        for i in 0..=1000 {
+            let s = i as f64 / 1000.0;
+            let x = PI * s;
+            let sinc = if x > 0.0 { x.sin() / x } else { 1.0 };
+            worst = worst.max((box_transfer(s) - sinc).abs());
+        }
+        assert!(worst < 1.4e-3, "{worst}");
+        assert_eq!(box_transfer(1.0), 0.0);
+        assert_eq!(box_transfer(3.7), 0.0, "past the first zero: nothing");
+        // A quarter turn across the pixel keeps 90%, half a turn 64% (sinc(pi/4), sinc(pi/2)).
+        assert!((box_transfer(0.25) - 0.9003).abs() < 1e-3 && (box_transfer(0.5) - 0.6366).abs() < 1e-3);
     }
 }

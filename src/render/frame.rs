@@ -7,12 +7,19 @@ use crate::model::waves::WaveSet;
 use glam::{DMat4, DVec2, DVec3, Mat4};
 
 /// Phase step per sample (turns) up to which a train is fully resolved, and from which it is not
-/// resolved at all, by the grid (geometry) and by the per-pixel normal. Half a turn per sample is
-/// Nyquist's limit; a sinusoid sampled that coarsely still beats against the sample grid (moire,
-/// shimmer as the camera moves), so a train counts fully from 8 samples per wavelength and is
-/// dropped to the next scale below 4. (The authors' demo ramps over 1 to 1.5 cells per wavelength.)
+/// resolved at all, by the grid (geometry) and by the per-pixel normal.
+///
+/// The grid: half a turn per vertex is Nyquist's limit, and a mesh displaced that coarsely beats
+/// against its vertices (moire, swimming as the camera moves), so a train is displaced fully from 8
+/// cells per wavelength and not below 4. (The authors' demo ramps over 1 to 1.5 cells.)
+///
+/// The normal: a train's weight is what the pixel's box filter keeps of it (glsl/waves.glsl
+/// normal_weight, footprint::box_transfer: sinc of its step along each side of the footprint), as
+/// the ground truth's pixel keeps it; full below 1/64 turn (the filter's loss under binary16's
+/// resolution, 2^-11), none from a whole turn (sinc's first zero). A smoothstep from 1/8 to 1/4
+/// turn kept 3-30% of the truth's local contrast (docs/results.md, "The detail a pixel can see").
 pub const GEOMETRY_STEPS: [f32; 2] = [0.125, 0.25];
-pub const NORMAL_STEPS: [f32; 2] = [0.125, 0.25];
+pub const NORMAL_STEPS: [f32; 2] = [1.0 / 64.0, 1.0];
 /// Stereographic sky-map extent of the full method: u in [-R, R]^2 covers the horizon circle
 /// |u| = 1 and directions below it, to 22.6 degrees down along the axes (|u| = tan(45 + 22.6 / 2)
 /// = 1.5) and 39.6 in the corners, where its reflections that meet the sea read what they meet.
