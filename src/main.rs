@@ -467,6 +467,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 }
             }
             claim_stdout(&[("--report", report.as_deref(), false)])?;
+            // A ground truth takes minutes to hours: a folder that is missing or not writable
+            // fails now, not after the trace.
+            for path in [Some(&out), png.as_ref(), report.as_ref()].into_iter().flatten() {
+                ocean::output::target::check_writable(path)?;
+            }
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
             let label = format!("ground truth {width}x{height}, {samples}x{samples} samples per pixel");

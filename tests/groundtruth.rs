@@ -414,7 +414,10 @@ fn the_full_method_keeps_the_physical_skys_energy() {
     for (t, name) in [(2, "sky"), (3, "refracted light")] {
         let ratio = detail.contrast[t].ratio;
         eprintln!("full's {name} contrast over the truth's: {ratio:.3}");
-        assert!((CONTRAST_LOW..CONTRAST_HIGH).contains(&ratio), "full's {name} keeps {ratio:.3} of the truth's contrast");
+        assert!(
+            (CONTRAST_LOW..CONTRAST_HIGH).contains(&ratio),
+            "full's {name} keeps {ratio:.3} of the truth's contrast"
+        );
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -163,6 +163,25 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
         assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
         assert!(out.stdout.is_empty(), "{args:?}: nothing on standard output");
     }
+    // A ground truth into a folder that does not exist fails before it traces anything: in one
+    // line naming the path, and at once (a 512 x 512 trace at 64 x 64 samples takes hours).
+    let missing = dir.join("no/such/folder/ref.exr");
+    let started = std::time::Instant::now();
+    let out = ocean(&[
+        "reference",
+        "--width",
+        "512",
+        "--height",
+        "512",
+        "--samples",
+        "64",
+        "--out",
+        missing.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("no/such/folder"), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(started.elapsed().as_secs() < 30, "refused only after {:?}", started.elapsed());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
