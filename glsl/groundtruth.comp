@@ -36,7 +36,7 @@ layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_wav
 layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
 
 layout(push_constant) uniform Tile {
-    uvec2 origin;       // first pixel of this tile
+    uvec2 origin;       // first pixel of this tile, within the region
     uint samples;       // N per axis
     uint stratum;       // which of the N x N samples this dispatch adds
     uint wave_count;
@@ -49,6 +49,8 @@ layout(push_constant) uniform Tile {
     uint bounce_march;  // marching steps of each reflected ray
     float sun_cos_kernel;    // cos of the cone the reflected sun's energy is spread over (its estimate)
     float sun_kernel_scale;  // the sun disc's solid angle over the cone's (<= 1)
+    uvec2 region_origin;     // the pixels traced: the first and how many (the buffer holds these);
+    uvec2 region_size;       // two uvec2, not a uvec4, to keep TilePush's 4-byte alignment
 } tile;
 
 const int NEWTON_STEPS = 2;
@@ -335,9 +337,9 @@ void main() {
         if (i < tile.samples) check(i);
         return;
     }
-    uvec2 pixel = tile.origin + gl_GlobalInvocationID.xy;
-    uvec2 size = uvec2(frame.viewport.xy);
-    if (any(greaterThanEqual(pixel, size))) return;
+    uvec2 local = tile.origin + gl_GlobalInvocationID.xy;   // within the region
+    if (any(greaterThanEqual(local, tile.region_size))) return;
+    uvec2 pixel = tile.region_origin + local;
     uint n = tile.samples;
     uint i = tile.stratum % n, j = tile.stratum / n;
     uint h = hash(tile.seed ^ hash(pixel.x + 65536u * pixel.y) ^ hash(i + 4096u * j));
@@ -346,7 +348,7 @@ void main() {
     vec3 L = o.total;
     bool in_subset = (i & 1u) == 0u && (j & 1u) == 0u;
     bool in_half = ((i + j) & 1u) == 0u;
-    uint index = 7u * (pixel.y * size.x + pixel.x);
+    uint index = 7u * (local.y * tile.region_size.x + local.x);
     const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
     vec4 luminances = vec4(dot(L, REC709), dot(o.sun, REC709), dot(o.sky, REC709), o.transmitted);
     vec4 squares = luminances * luminances;

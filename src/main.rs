@@ -130,6 +130,10 @@ enum Command {
         /// estimate, from the sun's own radius (0.2666: the disc, a scatter of rare glints) to 10.
         #[arg(long, default_value_t = ocean::measure::groundtruth::DEFAULT_SUN_KERNEL_DEG)]
         sun_kernel_deg: f64,
+        /// X,Y,WIDTH,HEIGHT: trace only these pixels of the --width x --height view (the images
+        /// written are the region's size; `bench error-vs-time` compares the same pixels).
+        #[arg(long, value_parser = ocean::measure::region::Region::parse)]
+        region: Option<ocean::measure::region::Region>,
         #[arg(long, default_value = "reference.exr")]
         out: PathBuf,
         /// Also write tone-mapped PNGs (the scene's exposure): the total, and NAME.sun.png,
@@ -454,6 +458,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             samples,
             bounces,
             sun_kernel_deg,
+            region,
             out,
             png,
             report,
@@ -474,9 +479,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
             }
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
-            let label = format!("ground truth {width}x{height}, {samples}x{samples} samples per pixel");
+            let part = region.map_or(String::new(), |r| {
+                format!(" (pixels {},{} to {},{})", r.x, r.y, r.x + r.width, r.y + r.height)
+            });
+            let label = format!("ground truth {width}x{height}{part}, {samples}x{samples} samples per pixel");
             let mut progress: Option<Progress> = None;
-            let sampling = ocean::measure::groundtruth::Sampling { samples, bounces, sun_kernel_deg };
+            let sampling = ocean::measure::groundtruth::Sampling { samples, bounces, sun_kernel_deg, region };
             let truth = ocean::measure::groundtruth::render(&gpu, &scene, width, height, &sampling, |done, total| {
                 // Work units are weighted by what a tile costs, so the time left holds.
                 progress.get_or_insert_with(|| Progress::new(&label, total, "", true)).set(done, None)
@@ -487,11 +495,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 let stem = path.file_stem().unwrap_or_default().to_string_lossy().into_owned();
                 let images = [("", &truth.radiance), (".sun", &truth.sun), (".sky", &truth.sky), (".sea", &truth.sea)];
                 for (suffix, pixels) in images {
-                    let rgba = ocean::output::tonemap(pixels, width, &scene.render);
+                    let rgba = ocean::output::tonemap(pixels, truth.width, &scene.render);
                     ocean::output::write_png(
                         &path.with_file_name(format!("{stem}{suffix}.png")),
-                        width,
-                        height,
+                        truth.width,
+                        truth.height,
                         &rgba,
                     )?;
                 }
@@ -507,7 +515,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 format!("; the physical sky's own error at most {:.1e} of its radiance", e.largest())
             });
             ocean::say!(
-                "{}: {}x{} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them), in {:.1} s; convergence {convergence}{sky}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
+                "{}: {}x{}{part} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them), in {:.1} s; convergence {convergence}{sky}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
                 out.display(),
                 width,
                 height,

@@ -454,3 +454,34 @@ fn night_and_orbit_are_traced_and_too_many_trains_are_refused_by_name() {
     let e = groundtruth::render(&gpu, &many, 8, 8, &Sampling::new(1), |_, _| {}).err().expect("refused");
     assert!(e.to_string().contains("waves.count = 256") && e.to_string().contains("--bounces 3"), "{e}");
 }
+
+#[test]
+fn a_region_of_the_view_is_traced_as_in_the_whole_and_benched_on_its_pixels() {
+    let gpu = gpu();
+    let scene = physical_view();
+    let (w, h) = (32, 24);
+    let whole = groundtruth::render(&gpu, &scene, w, h, &Sampling::new(2), |_, _| {}).unwrap();
+    let region = ocean::measure::region::Region { x: 9, y: 13, width: 12, height: 7 };
+    let part =
+        groundtruth::render(&gpu, &scene, w, h, &Sampling { region: Some(region), ..Sampling::new(2) }, |_, _| {})
+            .unwrap();
+    assert_eq!((part.width, part.height), (12, 7));
+    assert_eq!((part.report.validation_errors, part.report.nonfinite_pixels), (0, 0));
+    // The same samples (each pixel's strata hash its place in the view): the same values.
+    assert_eq!(part.radiance, region.crop(&whole.radiance, w));
+    assert_eq!(part.sky, region.crop(&whole.sky, w));
+    // The bench compares the methods' pixels there, the view rendered whole.
+    let dir = temp_dir("region");
+    let reference = dir.join("ref.exr");
+    part.save(&scene, &reference).unwrap();
+    let rows = errorbench::run(&gpu, &scene, "region", &reference, 1, &dir).unwrap();
+    let full = rows.iter().find(|r| r.method == "full" && r.setting == "default").unwrap();
+    let pixels: usize = full.bands.iter().map(|b| b.0).sum();
+    assert!(pixels > 0 && pixels <= region.pixels(), "{pixels} sea pixels in a region of {}", region.pixels());
+    assert!(full.all.energy_error[2].abs() < 0.3, "full's sky in the region: {:+.3}", full.all.energy_error[2]);
+    // Out of the view: refused by name.
+    let outside = Sampling { region: Some(ocean::measure::region::Region { x: 30, ..region }), ..Sampling::new(1) };
+    let e = groundtruth::render(&gpu, &scene, w, h, &outside, |_, _| {}).err().expect("refused").to_string();
+    assert!(e.contains("--region 30,13,12,7") && e.contains("32x24"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,6 +4,7 @@
 //! cannot resolve the shortest wave.
 
 use crate::error::{Error, Result};
+use crate::measure::region::Region;
 use crate::measure::truth_sky::{self, TruthSkyError, TruthSkyTables};
 use crate::model::scene::{Scene, SkyKind};
 use crate::model::waves;
@@ -43,6 +44,8 @@ struct TilePush {
     bounce_march: u32,
     sun_cos_kernel: f32,
     sun_kernel_scale: f32,
+    /// The region traced: its first pixel and size (the image's pixels; the buffer holds these).
+    region: [u32; 4],
 }
 
 /// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
@@ -68,22 +71,24 @@ pub const MAX_BOUNCES: u32 = 16;
 pub const DEFAULT_SUN_KERNEL_DEG: f64 = 2.0;
 pub const MAX_SUN_KERNEL_DEG: f64 = 10.0;
 
-/// How the ground truth samples: N x N strata per pixel, the bounces traced, the sun's kernel.
+/// How and where the ground truth samples: N x N strata per pixel, the bounces traced, the sun's
+/// kernel, and the region of the image it traces (the whole image where None).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sampling {
     pub samples: u32,
     pub bounces: u32,
     pub sun_kernel_deg: f64,
+    pub region: Option<Region>,
 }
 
 impl Sampling {
     /// `samples` per axis with the default bounces and sun kernel.
     pub fn new(samples: u32) -> Sampling {
-        Sampling { samples, bounces: DEFAULT_BOUNCES, sun_kernel_deg: DEFAULT_SUN_KERNEL_DEG }
+        Sampling { samples, bounces: DEFAULT_BOUNCES, sun_kernel_deg: DEFAULT_SUN_KERNEL_DEG, region: None }
     }
 
     fn check(&self) -> Result<()> {
-        let Sampling { samples, bounces, sun_kernel_deg } = *self;
+        let Sampling { samples, bounces, sun_kernel_deg, .. } = *self;
         if samples == 0 || samples > MAX_SAMPLES {
             return Err(Error::Argument(format!("--samples {samples} is out of range [1, {MAX_SAMPLES}] per axis")));
         }
@@ -140,8 +145,11 @@ const MIN_MARCH: u32 = 8;
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct GroundTruthReport {
     pub device: String,
+    /// The image's size; the region traced where only part of it was (`--region`).
     pub width: u32,
     pub height: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub region: Option<Region>,
     pub samples_per_axis: u32,
     pub gpu_seconds: f64,
     /// RMS over all pixels of |L_N - L_(N/2)| / mean L: the N x N estimate against its
@@ -169,6 +177,7 @@ pub struct GroundTruthReport {
 }
 
 pub struct GroundTruth {
+    /// The size of the images below: the region traced (the whole image by default).
     pub width: u32,
     pub height: u32,
     /// Mean radiance per pixel (rgb) and 1 where resolved, 0 where not (a).
@@ -231,15 +240,22 @@ pub fn render(
         sun_kernel_deg: sampling.sun_kernel_deg.min(scene.sun.elevation_deg.max(sun_disc_deg())),
         ..*sampling
     };
-    let Sampling { samples, bounces, sun_kernel_deg } = sampling;
+    let Sampling { samples, bounces, sun_kernel_deg, region } = sampling;
     let (sun_cos_kernel, sun_kernel_scale) = sampling.sun_kernel();
     let physical = scene.sky.model == SkyKind::Physical;
     let device = &gpu.device;
-    let pixels = width as u64 * height as u64;
+    if width == 0 || height == 0 {
+        return Err(Error::Argument(format!("ground-truth size {width}x{height} is out of range: at least 1x1")));
+    }
+    let region = region.unwrap_or(Region::whole(width, height));
+    region.check(width, height)?;
+    let pixels = region.pixels() as u64;
     let limits = &device.properties.limits;
-    if width == 0 || height == 0 || BYTES_PER_PIXEL * pixels > limits.max_storage_buffer_range as u64 {
+    if BYTES_PER_PIXEL * pixels > limits.max_storage_buffer_range as u64 {
         return Err(Error::Argument(format!(
-            "ground-truth size {width}x{height} is out of range on {} (at most {} pixels)",
+            "ground-truth size {}x{} is out of range on {} (at most {} pixels; --region traces part of it)",
+            region.width,
+            region.height,
             device.name,
             limits.max_storage_buffer_range as u64 / BYTES_PER_PIXEL
         )));
@@ -339,9 +355,10 @@ pub fn render(
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
         sun_kernel_scale,
+        region: [region.x, region.y, region.width, region.height],
     };
-    let tiles_x = width.div_ceil(TILE);
-    let tiles_y = height.div_ceil(TILE);
+    let tiles_x = region.width.div_ceil(TILE);
+    let tiles_y = region.height.div_ceil(TILE);
     let sky_error = match &sky_tables {
         Some(t) => {
             let results = check_sky(device, &commands, &bindings, pipeline.raw, &check, push, stages)?;
@@ -349,12 +366,12 @@ pub fn render(
         }
         None => None,
     };
-    // Which pixels see the sea: for the tiles' costs and the noise floor.
-    let sees_sea: Vec<bool> = (0..height)
-        .flat_map(|y| (0..width).map(move |x| (x, y)))
+    // Which of the region's pixels see the sea: for the tiles' costs and the noise floor.
+    let sees_sea: Vec<bool> = (0..region.pixels())
+        .map(|i| region.image_pixel(i))
         .map(|(x, y)| camera.pixel_distance(x, y, width, height).is_some())
         .collect();
-    let costs = tile_costs(&sees_sea, width, height);
+    let costs = tile_costs(&sees_sea, region.width, region.height);
     let total: u64 = costs.iter().sum();
     let mut done = 0;
     progress(0, total);
@@ -470,6 +487,7 @@ pub fn render(
         device: device.name.clone(),
         width,
         height,
+        region: (region != Region::whole(width, height)).then_some(region),
         samples_per_axis: samples,
         gpu_seconds,
         convergence_rms_relative,
@@ -483,7 +501,18 @@ pub fn render(
         validation_errors: gpu.validation_counts().error_total() - before,
         sky_error,
     };
-    Ok(GroundTruth { width, height, radiance, subset, sun, sky, sea, variance, half, report })
+    Ok(GroundTruth {
+        width: region.width,
+        height: region.height,
+        radiance,
+        subset,
+        sun,
+        sky,
+        sea,
+        variance,
+        half,
+        report,
+    })
 }
 
 /// Runs the physical sky's check (glsl/groundtruth.comp `check`: truth_sky::CHECKS evaluations at
@@ -582,6 +611,17 @@ pub struct GroundTruthMeta {
     /// `GroundTruthReport::sky_error` (absent under Preetham's sky and in older files).
     #[serde(default)]
     pub sky_error: Option<TruthSkyError>,
+    /// The part of the width x height image traced (`--region`; the images are its size), or
+    /// None for the whole image.
+    #[serde(default)]
+    pub region: Option<Region>,
+}
+
+impl GroundTruthMeta {
+    /// The region traced: the whole image unless `--region` said otherwise.
+    pub fn region(&self) -> Region {
+        self.region.unwrap_or(Region::whole(self.width, self.height))
+    }
 }
 
 impl GroundTruthMeta {
@@ -653,13 +693,14 @@ impl GroundTruth {
         }
         let meta = GroundTruthMeta {
             scene: scene.clone(),
-            width: self.width,
-            height: self.height,
+            width: self.report.width,
+            height: self.report.height,
             samples_per_axis: self.report.samples_per_axis,
             noise_floor_rmse: self.report.noise_floor_rmse,
             sun_kernel_deg: self.report.sun_kernel_deg,
             bounces: self.report.bounces,
             sky_error: self.report.sky_error,
+            region: self.report.region,
         };
         write_text(&meta_path(path), &serde_json::to_string_pretty(&meta).expect("serializes"))
     }
@@ -674,10 +715,11 @@ impl GroundTruthFiles {
             .map_err(|e| Error::Io { path: meta_file.clone(), message: format!("not ground truth metadata: {e}") })?;
         let read = |p: &std::path::Path| -> Result<Vec<[f32; 4]>> {
             let (w, h, pixels) = crate::output::read_exr(p)?;
-            if (w, h) != (meta.width, meta.height) {
+            let region = meta.region();
+            if (w, h) != (region.width, region.height) {
                 return Err(Error::Io {
                     path: p.to_owned(),
-                    message: format!("is {w}x{h}, its metadata says {}x{}", meta.width, meta.height),
+                    message: format!("is {w}x{h}, its metadata says {}x{}", region.width, region.height),
                 });
             }
             Ok(pixels)
@@ -716,6 +758,7 @@ mod tests {
             sun_kernel_deg: 2.0,
             bounces: 3,
             sky_error: None,
+            region: None,
         }
     }
 

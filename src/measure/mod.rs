@@ -9,5 +9,6 @@ pub mod floor;
 pub mod groundtruth;
 pub mod numerics;
 pub mod reference;
+pub mod region;
 pub mod samples;
 pub mod truth_sky;

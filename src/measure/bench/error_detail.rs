@@ -47,9 +47,11 @@ pub struct TruthImages<'a> {
 
 impl<'a> TruthImages<'a> {
     pub fn of(files: &'a GroundTruthFiles) -> Self {
+        // The images are the region the truth traced (the whole view by default).
+        let region = files.meta.region();
         TruthImages {
-            width: files.meta.width as usize,
-            height: files.meta.height as usize,
+            width: region.width as usize,
+            height: region.height as usize,
             terms: [&files.total, &files.sun, &files.sky, &files.sea],
             variance: &files.variance,
             half: files.half.as_deref(),

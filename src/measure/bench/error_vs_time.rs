@@ -198,7 +198,11 @@ pub fn run(
     out_dir: &Path,
 ) -> Result<Vec<Row>> {
     let truth = GroundTruthFiles::load(reference)?;
-    let (w, h) = (truth.meta.width, truth.meta.height);
+    // The view's size, and the region of it the ground truth traced: the methods render the
+    // whole view, and every statistic is taken over the region's pixels.
+    let (view_w, view_h) = (truth.meta.width, truth.meta.height);
+    let region = truth.meta.region();
+    let (w, h) = (region.width, region.height);
     if !truth.meta.is_of(scene) {
         return Err(Error::Argument(format!(
             "reference {} was made for another scene than {scene_name}: make it with `ocean reference --scene {scene_name}`",
@@ -206,9 +210,15 @@ pub fn run(
         )));
     }
     let wave_set = waves::generate(scene);
-    let camera = CameraFrame::new(scene, &wave_set, w, h);
-    // Sea pixels by distance band; the whole sea for the overall numbers.
-    let bands = sea_pixels_by_band(&camera, w, h);
+    let camera = CameraFrame::new(scene, &wave_set, view_w, view_h);
+    // Sea pixels by distance band (the region's indices); the whole sea for the overall numbers.
+    let bands: Vec<Vec<usize>> = sea_pixels_by_band(&camera, view_w, view_h)
+        .iter()
+        .map(|band| {
+            let in_region = |&i: &usize| region.index_of(i as u32 % view_w, i as u32 / view_w);
+            band.iter().filter_map(in_region).collect()
+        })
+        .collect();
     let mut on_sea = vec![false; (w * h) as usize];
     for &i in bands.iter().flatten() {
         on_sea[i] = true;
@@ -226,8 +236,13 @@ pub fn run(
             Some(&format!("{} {}, {} frames and 3 term renders", setting.method.name(), setting.label, frames + 1)),
         );
         let shader = ShaderConfig { method: setting.method, ..ShaderConfig::default() };
-        let mut renderer =
-            Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, ..Options::default() })?;
+        let mut renderer = Renderer::new(
+            gpu,
+            &setting.scene,
+            view_w,
+            view_h,
+            Options { shader, ssaa: setting.ssaa, ..Options::default() },
+        )?;
         let total = renderer.render(&setting.scene)?; // warm-up, and the image
         let mut times = Vec::new();
         for _ in 0..frames {
@@ -237,11 +252,17 @@ pub fn run(
         times.sort_by(f64::total_cmp);
         let only = |sun, sky, sea| -> Result<Vec<[f32; 4]>> {
             let shader = ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method);
-            let mut r =
-                Renderer::new(gpu, &setting.scene, w, h, Options { shader, ssaa: setting.ssaa, ..Options::default() })?;
+            let mut r = Renderer::new(
+                gpu,
+                &setting.scene,
+                view_w,
+                view_h,
+                Options { shader, ssaa: setting.ssaa, ..Options::default() },
+            )?;
             Ok(r.render(&setting.scene)?.hdr)
         };
-        let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?];
+        let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?]
+            .map(|image| region.crop(&image, view_w));
         let band_rows = bands
             .iter()
             .map(|b| {
@@ -271,9 +292,16 @@ pub fn run(
         path: reference,
         noise_floor: truth.meta.noise_floor_rmse,
         sampling: format!(
-            "{n}x{n} samples per pixel, {} bounces, the reflected sun over a {:.2}-degree cone",
+            "{n}x{n} samples per pixel, {} bounces, the reflected sun over a {:.2}-degree cone{}",
             truth.meta.bounces,
             truth.meta.sun_kernel_deg,
+            truth.meta.region.map_or(String::new(), |r| format!(
+                "; pixels {},{} to {},{} of the {view_w}x{view_h} view",
+                r.x,
+                r.y,
+                r.x + r.width,
+                r.y + r.height
+            )),
             n = truth.meta.samples_per_axis
         ),
         detail: &truth_detail,

@@ -51,6 +51,12 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
             reference.display()
         )));
     }
+    if truth.meta.region.is_some() {
+        return Err(Error::Argument(format!(
+            "reference {} traces a region of its view (--region): bench sky-model takes a ground truth of the whole view",
+            reference.display()
+        )));
+    }
     let (w, h) = (truth.meta.width, truth.meta.height);
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, w, h);
