@@ -264,6 +264,13 @@ enum Bench {
         frames: u32,
         #[arg(long, default_value_t = 30.0)]
         fps: f64,
+        /// Also trace the ground truth's own frames at N x N samples (2 to 64) and measure every
+        /// method against its change (hours for a whole view: see --region).
+        #[arg(long)]
+        truth_samples: Option<u32>,
+        /// X,Y,WIDTH,HEIGHT: measure only these pixels of the view (the truth traces only them).
+        #[arg(long, value_parser = ocean::measure::region::Region::parse)]
+        region: Option<ocean::measure::region::Region>,
         #[arg(long, default_value = "docs/bench")]
         out: PathBuf,
         #[arg(long)]
@@ -639,10 +646,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
             ocean::say!("wrote {}/sky_model.md", out.display());
             Ok(())
         }
-        Command::Bench { bench: Bench::Flicker { scene, width, height, frames, fps, out, device } } => {
+        Command::Bench {
+            bench: Bench::Flicker { scene, width, height, frames, fps, truth_samples, region, out, device },
+        } => {
             let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            let run = ocean::measure::bench::flicker::FlickerRun { width, height, frames, fps };
+            let run = ocean::measure::bench::flicker::FlickerRun { width, height, frames, fps, truth_samples, region };
             ocean::measure::bench::flicker::run(&gpu, &scene, &name, run, &out)?;
             ocean::say!("wrote {}/flicker.csv and flicker.md", out.display());
             Ok(())

@@ -106,7 +106,9 @@ mod tests {
         assert!(worst < 1.4e-3, "{worst}");
         assert_eq!(box_transfer(1.0), 0.0);
         assert_eq!(box_transfer(3.7), 0.0, "past the first zero: nothing");
-        // A quarter turn across the pixel keeps 90%, half a turn 64% (sinc(pi/4), sinc(pi/2)).
-        assert!((box_transfer(0.25) - 0.9003).abs() < 1e-3 && (box_transfer(0.5) - 0.6366).abs() < 1e-3);
+        // A quarter turn across the pixel keeps 90%, half a turn 64% (sinc(pi/4), sinc(pi/2) = 2/pi).
+        let quarter = (PI / 4.0).sin() / (PI / 4.0);
+        assert!((box_transfer(0.25) - quarter).abs() < 1e-3);
+        assert!((box_transfer(0.5) - std::f64::consts::FRAC_2_PI).abs() < 1e-3);
     }
 }
