@@ -235,14 +235,12 @@ pub fn run(
             i as u64,
             Some(&format!("{} {}, {} frames and 3 term renders", setting.method.name(), setting.label, frames + 1)),
         );
-        let shader = ShaderConfig { method: setting.method, ..ShaderConfig::default() };
-        let mut renderer = Renderer::new(
-            gpu,
-            &setting.scene,
-            view_w,
-            view_h,
-            Options { shader, ssaa: setting.ssaa, ..Options::default() },
-        )?;
+        // The whole view, whatever region the truth traced.
+        let renderer_with = |shader: ShaderConfig| {
+            let options = Options { shader, ssaa: setting.ssaa, ..Options::default() };
+            Renderer::new(gpu, &setting.scene, view_w, view_h, options)
+        };
+        let mut renderer = renderer_with(ShaderConfig { method: setting.method, ..ShaderConfig::default() })?;
         let total = renderer.render(&setting.scene)?; // warm-up, and the image
         let mut times = Vec::new();
         for _ in 0..frames {
@@ -251,14 +249,7 @@ pub fn run(
         drop(renderer);
         times.sort_by(f64::total_cmp);
         let only = |sun, sky, sea| -> Result<Vec<[f32; 4]>> {
-            let shader = ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method);
-            let mut r = Renderer::new(
-                gpu,
-                &setting.scene,
-                view_w,
-                view_h,
-                Options { shader, ssaa: setting.ssaa, ..Options::default() },
-            )?;
+            let mut r = renderer_with(ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method))?;
             Ok(r.render(&setting.scene)?.hdr)
         };
         let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?]
