@@ -263,7 +263,7 @@ Sample shade_hit(vec3 r, float t, Surface s) {
             // the physical sun, seen through the air above this sea point.
             if (dot(refl, frame.sun_dir.xyz) >= tile.sun_cos_kernel) {
                 if (SKY_PHYSICAL) {
-                    float shape = tile.sun_kernel_scale >= 1.0 ? truth_limb_darkening(refl) : tile.sun_kernel_scale;
+                    float shape = tile.sun_kernel_scale >= 1.0 ? limb_darkening(refl) : tile.sun_kernel_scale;
                     o.sun += w * fresnel * shape * truth_sun_radiance(at);
                 } else if (frame.sun_irradiance.w > 0.0) {
                     o.sun += w * fresnel * tile.sun_kernel_scale * frame.sun_radiance.rgb;

@@ -79,14 +79,6 @@ vec3 truth_sun_radiance(SeaPoint at) {
     return truth_sun_mean_radiance() * sun_transmittance(at.h, dot(frame.sun_dir.xyz, at.up));
 }
 
-// Limb darkening at the direction dir within the disc (sky.glsl sun_disc's law), 0 outside.
-float truth_limb_darkening(vec3 dir) {
-    vec3 chord = dir - frame.sun_dir.xyz;
-    float x2 = dot(chord, chord) / frame.atmosphere[4].y;
-    float m = sqrt(max(1.0 - x2, 0.0));
-    return x2 <= 1.0 ? (1.0 - LIMB_DARKENING_U * (1.0 - m)) / (1.0 - LIMB_DARKENING_U / 3.0) : 0.0;
-}
-
 // The aerial perspective over the first d metres of the air ray `a` (atmosphere::Atmosphere::
 // aerial_perspective): in-scattered light (kcd/m^2), and the transmittance in `transmittance`, by
 // TRUTH_AERIAL_STEPS equal midpoint samples from where the ray enters the air, the optical depth

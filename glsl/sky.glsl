@@ -48,15 +48,20 @@ vec3 preetham_sky(vec3 dir) {
 // chord^2: exact near the centre, where an angle from acos would lose half its digits.
 const float LIMB_DARKENING_U = 0.6;
 
+// The limb-darkened disc's radiance towards unit dir over its mean (0 outside the disc).
+float limb_darkening(vec3 dir) {
+    vec3 chord = dir - frame.sun_dir.xyz;
+    float x2 = dot(chord, chord) / frame.atmosphere[4].y;
+    float m = sqrt(max(1.0 - x2, 0.0));
+    return x2 <= 1.0 ? (1.0 - LIMB_DARKENING_U * (1.0 - m)) / (1.0 - LIMB_DARKENING_U / 3.0) : 0.0;
+}
+
 vec3 sun_disc(vec3 dir) {
     // The physical sun's radiance is the eye's own (zero where the planet hides it from the eye,
     // which from high up sees it below the sea's horizon); Preetham's goes with the sea's horizon.
     vec3 disc = frame.sun_radiance.rgb * (SKY_PHYSICAL ? 1.0 : frame.sun_irradiance.w);
     if (!SKY_PHYSICAL) return dot(dir, frame.sun_dir.xyz) >= frame.sun_dir.w ? disc : vec3(0.0);
-    vec3 chord = dir - frame.sun_dir.xyz;
-    float x2 = dot(chord, chord) / frame.atmosphere[4].y;
-    float m = sqrt(max(1.0 - x2, 0.0));
-    return x2 <= 1.0 ? disc * ((1.0 - LIMB_DARKENING_U * (1.0 - m)) / (1.0 - LIMB_DARKENING_U / 3.0)) : vec3(0.0);
+    return disc * limb_darkening(dir);
 }
 
 // Stereographic map of the upper hemisphere: u = r.xy / (1 + |r.z|). Directions below the

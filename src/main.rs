@@ -486,9 +486,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             }
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
-            let part = region.map_or(String::new(), |r| {
-                format!(" (pixels {},{} to {},{})", r.x, r.y, r.x + r.width, r.y + r.height)
-            });
+            let part = region.map_or(String::new(), |r| format!(" ({r})"));
             let label = format!("ground truth {width}x{height}{part}, {samples}x{samples} samples per pixel");
             let mut progress: Option<Progress> = None;
             let sampling = ocean::measure::groundtruth::Sampling { samples, bounces, sun_kernel_deg, region };

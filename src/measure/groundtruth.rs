@@ -10,6 +10,7 @@ use crate::model::scene::{Scene, SkyKind};
 use crate::model::waves;
 use crate::render::frame;
 use crate::shaders;
+use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
@@ -295,7 +296,7 @@ pub fn render(
     // The physical sky's tables (a word in their place under Preetham's), and its check's results.
     let camera = frame::CameraFrame::new(scene, &wave_set, width, height);
     let sky_tables = physical.then(|| TruthSkyTables::new(scene, camera.eye_height, data.sky.sun_dir));
-    let table_words = sky_tables.as_ref().map_or(vec![[0.0f32; 4]], |t| t.words.clone());
+    let table_words: &[[f32; 4]] = sky_tables.as_ref().map_or(&[[0.0; 4]], |t| &t.words);
     let tables = Buffer::new(
         gpu,
         "ground truth sky tables",
@@ -303,7 +304,7 @@ pub fn render(
         B::STORAGE_BUFFER,
         Location::Upload,
     )?;
-    tables.write(&table_words)?;
+    tables.write(table_words)?;
     let check_words = 2 * truth_sky::CHECKS as usize;
     let check =
         Buffer::new(gpu, "ground truth sky check", (16 * check_words) as u64, B::STORAGE_BUFFER, Location::Readback)?;
@@ -380,6 +381,8 @@ pub fn render(
         for tx in 0..tiles_x {
             let origin = [tx * TILE, ty * TILE];
             commands.begin()?;
+            // Each tile's submission is waited for before the next: its barriers start afresh.
+            let mut barriers = Tracker::default();
             // SAFETY: `cmd` is recording; every binding refers to live buffers; the push range
             // matches the layout.
             unsafe {
@@ -387,32 +390,16 @@ pub fn render(
                 raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
                 bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &[]);
                 // One dispatch per stratum, each adding to the pixels the previous one wrote.
-                let accumulate = vk::MemoryBarrier2::default()
-                    .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                    .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                    .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                    .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE);
                 for stratum in 0..samples * samples {
-                    if stratum > 0 {
-                        raw.cmd_pipeline_barrier2(
-                            cmd,
-                            &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&accumulate)),
-                        );
-                    }
+                    barriers.buffer(&output, Access::ComputeStorageReadWrite);
+                    barriers.flush(raw, cmd);
                     let push = TilePush { origin, stratum, ..push };
                     raw.cmd_push_constants(cmd, bindings.layout(), stages, 0, push_bytes(&push));
                     raw.cmd_dispatch(cmd, TILE.div_ceil(8), TILE.div_ceil(8), 1);
                 }
                 // The host reads the pixels after the last tile's fence.
-                let barrier = vk::MemoryBarrier2::default()
-                    .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                    .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                    .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                    .dst_access_mask(vk::AccessFlags2::HOST_READ);
-                raw.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&barrier)),
-                );
+                barriers.buffer(&output, Access::HostRead);
+                barriers.flush(raw, cmd);
             }
             commands.submit_and_wait()?;
             done += costs[(ty * tiles_x + tx) as usize];
@@ -529,6 +516,8 @@ fn check_sky(
     let cmd = commands.cmd;
     commands.begin()?;
     let push = TilePush { stratum: CHECK_STRATUM, samples: truth_sky::CHECKS, ..push };
+    let mut barriers = Tracker::default();
+    barriers.buffer(results, Access::ComputeStorageWrite);
     // SAFETY: `cmd` is recording; the bindings refer to live buffers; the push range matches the
     // layout.
     unsafe {
@@ -537,12 +526,8 @@ fn check_sky(
         bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &[]);
         raw.cmd_push_constants(cmd, bindings.layout(), stages, 0, push_bytes(&push));
         raw.cmd_dispatch(cmd, truth_sky::CHECKS.div_ceil(64), 1, 1);
-        let barrier = vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ);
-        raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(std::slice::from_ref(&barrier)));
+        barriers.buffer(results, Access::HostRead);
+        barriers.flush(raw, cmd);
     }
     commands.submit_and_wait()?;
     let words: Vec<f32> = results.read(8 * truth_sky::CHECKS as usize)?;

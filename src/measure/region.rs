@@ -59,12 +59,6 @@ impl Region {
         (self.x + (i % self.width as usize) as u32, self.y + (i / self.width as usize) as u32)
     }
 
-    /// The region's index of the image's pixel (x, y), where it lies inside.
-    pub fn index_of(&self, x: u32, y: u32) -> Option<usize> {
-        let (dx, dy) = (x.checked_sub(self.x)?, y.checked_sub(self.y)?);
-        (dx < self.width && dy < self.height).then_some(dy as usize * self.width as usize + dx as usize)
-    }
-
     /// The region's pixels of a row-major image `image_width` wide.
     pub fn crop<T: Copy>(&self, image: &[T], image_width: u32) -> Vec<T> {
         (0..self.pixels())
@@ -73,6 +67,13 @@ impl Region {
                 image[y as usize * image_width as usize + x as usize]
             })
             .collect()
+    }
+}
+
+/// "pixels X,Y to X2,Y2" (the first pixel and the one past the last), as the outputs name it.
+impl std::fmt::Display for Region {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "pixels {},{} to {},{}", self.x, self.y, self.x + self.width, self.y + self.height)
     }
 }
 
@@ -95,8 +96,7 @@ mod tests {
         assert!(Region { width: 0, ..r }.check(5, 3).is_err());
         let image: Vec<u32> = (0..15).collect(); // 5 x 3
         assert_eq!(r.crop(&image, 5), vec![7, 8, 9, 12, 13, 14]);
-        assert_eq!(r.index_of(3, 2), Some(4));
-        assert_eq!(r.index_of(1, 2), None);
+        assert_eq!(r.to_string(), "pixels 2,1 to 5,3");
         assert_eq!(r.image_pixel(4), (3, 2));
     }
 }

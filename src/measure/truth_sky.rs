@@ -6,9 +6,7 @@
 //! - the transmittance table's bilinear lookup along the scene's sun against its integral;
 //! - the sea-level sky irradiance's linear interpolation between its nodes against the model.
 
-use crate::model::atmosphere::{
-    self, transmittance_to_top, Atmosphere, AtmosphereParams, MULTIPLE_SCATTERING_SIZE, TRANSMITTANCE_SIZE,
-};
+use crate::model::atmosphere::{self, transmittance_to_top, Atmosphere, MULTIPLE_SCATTERING_SIZE, TRANSMITTANCE_SIZE};
 use crate::model::scene::Scene;
 
 /// Nodes of the sea-level sky irradiance over the sun's zenith cosines the visible sea has
@@ -54,7 +52,6 @@ pub struct TruthSkyTables {
     /// The sea-level irradiance's zenith cosines: lowest, highest.
     pub sea_light_range: (f64, f64),
     atmosphere: std::sync::Arc<Atmosphere>,
-    params: AtmosphereParams,
 }
 
 /// The sun's zenith cosines at the sea points the eye can see: the sun's below the eye, turned
@@ -97,7 +94,7 @@ impl TruthSkyTables {
                 + TRANSMITTANCE_SIZE.0 * TRANSMITTANCE_SIZE.1
                 + MULTIPLE_SCATTERING_SIZE * MULTIPLE_SCATTERING_SIZE
         );
-        TruthSkyTables { words, sea_light_range: (lo, hi), atmosphere, params }
+        TruthSkyTables { words, sea_light_range: (lo, hi), atmosphere }
     }
 
     /// The sea-level irradiance's largest relative error between nodes: the linear lookup at each
@@ -159,11 +156,10 @@ impl TruthSkyTables {
         let sun_z = sun_dir[2];
         let mut gpu_against_f64: f64 = 0.0;
         let mut quadrature: f64 = 0.0;
-        let brightest = (0..CHECKS)
-            .map(|i| self.check_value(i, eye_height, sun_z, SKY_STEPS).0.into_iter().fold(0.0, f64::max))
-            .fold(0.0, f64::max);
-        for i in 0..CHECKS {
-            let (l, t) = self.check_value(i, eye_height, sun_z, SKY_STEPS);
+        let values: Vec<([f64; 3], [f64; 3])> =
+            (0..CHECKS).map(|i| self.check_value(i, eye_height, sun_z, SKY_STEPS)).collect();
+        let brightest = values.iter().map(|(l, _)| l.iter().copied().fold(0.0, f64::max)).fold(0.0, f64::max);
+        for (i, &(l, t)) in (0..CHECKS).zip(&values) {
             if l.into_iter().fold(0.0, f64::max) <= 1e-6 * brightest {
                 continue;
             }
@@ -175,10 +171,11 @@ impl TruthSkyTables {
             }
         }
         // The sun's transmittance at sea level through the table against its own integral.
-        let r = self.params.bottom_radius_m;
+        let params = &self.atmosphere.params;
+        let r = params.bottom_radius_m;
         let mu_s = sun_z.max(0.0);
         let sun_transmittance_table = if sun_z > 0.0 {
-            relative(self.atmosphere.transmittance(r, mu_s), transmittance_to_top(&self.params, r, mu_s, 2000))
+            relative(self.atmosphere.transmittance(r, mu_s), transmittance_to_top(params, r, mu_s, 2000))
         } else {
             0.0
         };

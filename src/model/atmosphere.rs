@@ -279,9 +279,13 @@ struct AirRay {
 }
 
 impl AirRay {
-    /// None where the ray passes the air by.
+    /// From altitude `h` (the ground's air below it); None where the ray passes the air by.
     fn new(p: &AtmosphereParams, h: f64, mu: f64, mu_s: f64, nu: f64) -> Option<AirRay> {
-        let r = p.bottom_radius_m + h.max(0.0);
+        AirRay::at_radius(p, p.bottom_radius_m + h.max(0.0), mu, mu_s, nu)
+    }
+
+    /// From radius `r`; None where the ray passes the air by.
+    fn at_radius(p: &AtmosphereParams, r: f64, mu: f64, mu_s: f64, nu: f64) -> Option<AirRay> {
         let top = p.top_radius_m;
         if r <= top {
             return Some(AirRay { r, mu, mu_s, skipped: 0.0 });
@@ -352,18 +356,10 @@ impl Atmosphere {
         if distance_to_ground(&self.params, r, mu_s).is_some() {
             return [0.0; 3];
         }
-        let top = self.params.top_radius_m;
-        if r <= top {
-            return self.transmittance(r, mu_s);
+        match AirRay::at_radius(&self.params, r, mu_s, mu_s, 1.0) {
+            Some(a) => self.transmittance(a.r, a.mu),
+            None => [1.0; 3],
         }
-        // The top sphere's near root, r^2 - R_top^2 as a product of the altitudes' difference.
-        let c = (r - top) * (r + top);
-        let disc = r * r * mu_s * mu_s - c;
-        if mu_s >= 0.0 || disc <= 0.0 {
-            return [1.0; 3];
-        }
-        let t = c / (-r * mu_s + disc.sqrt());
-        self.transmittance(top, ((r * mu_s + t) / top).clamp(-1.0, 1.0))
     }
 
     /// Transmittance between the ray's origin (r, mu) and the point at distance d along it, as a

@@ -8,6 +8,7 @@ use crate::app::median;
 use crate::error::{Error, Result};
 use crate::measure::bench::error_detail::{self, Detail, TruthDetail, TruthImages};
 use crate::measure::groundtruth::GroundTruthFiles;
+use crate::measure::region::Region;
 use crate::model::scene::Scene;
 use crate::model::waves;
 use crate::output::plot::{self, Point};
@@ -79,13 +80,17 @@ pub struct BlockErrors {
 /// The indices of the pixels of a `w` x `h` image of `camera` that see the sea, by distance band
 /// (BANDS_M), each band in row-major order.
 pub fn sea_pixels_by_band(camera: &CameraFrame, w: u32, h: u32) -> Vec<Vec<usize>> {
+    sea_pixels_by_band_in(camera, w, h, Region::whole(w, h))
+}
+
+/// The same over `region` of the image, as the region's indices (row-major in it).
+pub fn sea_pixels_by_band_in(camera: &CameraFrame, w: u32, h: u32, region: Region) -> Vec<Vec<usize>> {
     let mut bands: Vec<Vec<usize>> = vec![Vec::new(); BANDS_M.len() - 1];
-    for y in 0..h {
-        for x in 0..w {
-            if let Some(d) = camera.pixel_distance(x, y, w, h) {
-                let band = BANDS_M.windows(2).position(|b| d >= b[0] && d < b[1]).expect("bands cover [0, inf)");
-                bands[band].push((y * w + x) as usize);
-            }
+    for i in 0..region.pixels() {
+        let (x, y) = region.image_pixel(i);
+        if let Some(d) = camera.pixel_distance(x, y, w, h) {
+            let band = BANDS_M.windows(2).position(|b| d >= b[0] && d < b[1]).expect("bands cover [0, inf)");
+            bands[band].push(i);
         }
     }
     bands
@@ -212,13 +217,7 @@ pub fn run(
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, view_w, view_h);
     // Sea pixels by distance band (the region's indices); the whole sea for the overall numbers.
-    let bands: Vec<Vec<usize>> = sea_pixels_by_band(&camera, view_w, view_h)
-        .iter()
-        .map(|band| {
-            let in_region = |&i: &usize| region.index_of(i as u32 % view_w, i as u32 / view_w);
-            band.iter().filter_map(in_region).collect()
-        })
-        .collect();
+    let bands = sea_pixels_by_band_in(&camera, view_w, view_h, region);
     let mut on_sea = vec![false; (w * h) as usize];
     for &i in bands.iter().flatten() {
         on_sea[i] = true;
@@ -286,13 +285,7 @@ pub fn run(
             "{n}x{n} samples per pixel, {} bounces, the reflected sun over a {:.2}-degree cone{}",
             truth.meta.bounces,
             truth.meta.sun_kernel_deg,
-            truth.meta.region.map_or(String::new(), |r| format!(
-                "; pixels {},{} to {},{} of the {view_w}x{view_h} view",
-                r.x,
-                r.y,
-                r.x + r.width,
-                r.y + r.height
-            )),
+            truth.meta.region.map_or(String::new(), |r| format!("; {r} of the {view_w}x{view_h} view")),
             n = truth.meta.samples_per_axis
         ),
         detail: &truth_detail,

@@ -8,7 +8,7 @@
 //! truth, no more and no less.
 
 use crate::error::{Error, Result};
-use crate::measure::bench::error_vs_time::{band_label, csv_value, sea_pixels_by_band, BANDS_M};
+use crate::measure::bench::error_vs_time::{band_label, csv_value, sea_pixels_by_band_in, BANDS_M};
 use crate::measure::groundtruth::{self, Sampling};
 use crate::measure::region::Region;
 use crate::model::scene::Scene;
@@ -83,10 +83,7 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, run: FlickerRun, out_dir:
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, width, height);
     // The bands' pixels, as the region's indices.
-    let bands: Vec<Vec<usize>> = sea_pixels_by_band(&camera, width, height)
-        .iter()
-        .map(|band| band.iter().filter_map(|&i| region.index_of(i as u32 % width, i as u32 / width)).collect())
-        .collect();
+    let bands = sea_pixels_by_band_in(&camera, width, height, region);
     let mut configs: Vec<(Method, u32)> = vec![(Method::Full, REFERENCE_SSAA)];
     configs.extend(Method::ALL.iter().map(|&m| (m, 1)));
     let mut progress = Progress::new("bench flicker", configs.len() as u64, "renders", true);
@@ -210,9 +207,7 @@ fn write_outputs(rows: &[FlickerRow], dir: &Path, scene_name: &str, run: Flicker
             "the full method at {REFERENCE_SSAA}x{REFERENCE_SSAA} samples per pixel, whose change is the waves' own motion"
         ),
     };
-    let part = run
-        .region
-        .map_or(String::new(), |r| format!(", pixels {},{} to {},{}", r.x, r.y, r.x + r.width, r.y + r.height));
+    let part = run.region.map_or(String::new(), |r| format!(", {r}"));
     let mut md = format!(
         "Flicker: scene `{scene_name}` at {}x{}{part}, {} frames at {} frames per second. Per distance band (m), the RMS \
          change of a pixel's luminance from one frame to the next over its mean (percent), and in brackets its ratio \
