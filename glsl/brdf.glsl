@@ -11,6 +11,7 @@
 #define BRDF_GLSL
 
 #include "slopes.glsl"
+#include "glints.glsl"
 
 // Local frame at a pixel: n the resolved normal, t_x/t_y the wind axes in its tangent plane.
 struct Frame3 { vec3 t_x; vec3 t_y; vec3 n; };
@@ -36,19 +37,29 @@ SeaLight frame_sea_light() {
     return SeaLight(frame.sun_irradiance.rgb, frame.sky_irradiance.rgb, vec3(1.0));
 }
 
-// Radiance of the sun reflected towards v under the sun's irradiance `sun` (normal to it).
-// sigma2: slope variance for shadowing; sigma2_sun adds the sun disc's own slope spread (the
-// Gaussian convolved with the disc) to the slope density.
-vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
+// The sun reflected towards v under the sun's irradiance `sun` (normal to it). sigma2: slope
+// variance for shadowing; sigma2_sun adds the sun disc's own slope spread (the Gaussian convolved
+// with the disc) to the slope density. radiance = sun F share_per_sr: share_per_sr (times the
+// disc's solid angle) is the share of the pixel's visible facets that mirror the eye into the
+// disc, p(zeta_h) G / (4 h_z^4 cos_v) (G Smith's); glints_per_curvature = 4 share_per_sr h_z^4
+// cos_v = p(zeta_h) G is the lit specular points per m^2 of sea per unit of E|det H| (glints.glsl).
+struct SunReflection {
+    vec3 radiance;
+    float share_per_sr;
+    float glints_per_curvature;
+};
+
+SunReflection reflect_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
+    SunReflection none = SunReflection(vec3(0.0), 0.0, 0.0);
     vec3 vl = to_local(f, v), ll = to_local(f, l);
     float cv = max(vl.z, 0.0), cl = ll.z;
-    if (cl <= 0.0) return vec3(0.0);              // sun below the tangent plane
+    if (cl <= 0.0) return none;                   // sun below the tangent plane
     vec3 h = vl + ll;                             // h.z = cv + cl > 0, so |h| > 0
     h = normalize(h);
     float hz2 = h.z * h.z;
     vec2 s2 = sigma2 + vec2(frame.sun_radiance.w);
     float q = h.x * h.x / s2.x + h.y * h.y / s2.y;
-    if (q >= 2.0 * EXP_UNDERFLOW * hz2) return vec3(0.0);   // p(zeta_h) / h_z^4 below FLT_MIN
+    if (q >= 2.0 * EXP_UNDERFLOW * hz2) return none;   // p(zeta_h) / h_z^4 below FLT_MIN
     float p_over_hz4 = exp(-0.5 * q / hz2) / (2.0 * PI * sqrt(s2.x * s2.y) * hz2 * hz2);
     // The facets' Fresnel at the half vector: Schlick's as the paper, exact for METHOD_FULL
     // (Schlick is 8-14% high for cos 0.17-0.3, the sun ahead and the view grazing).
@@ -57,8 +68,13 @@ vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
     // 1 / (cos_v (1 + Lambda_v + Lambda_l)), multiplied through by cos_l so cos_v = 0 stays finite.
     float denom = cv * cl + cl * cos_times_lambda(cv, slope_spread(vl, sigma2))
                 + cv * cos_times_lambda(cl, slope_spread(ll, sigma2));
-    if (denom <= 0.0) return vec3(0.0);
-    return sun * (fresnel * p_over_hz4 * cl / (4.0 * denom));
+    if (denom <= 0.0) return none;
+    float share = p_over_hz4 * cl / (4.0 * denom);
+    return SunReflection(sun * (fresnel * share), share, 4.0 * share * hz2 * hz2 * cv);
+}
+
+vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
+    return reflect_sun(f, v, l, sigma2, sun).radiance;
 }
 
 // Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
@@ -119,8 +135,9 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
 
 // Everything the sea sends towards v at one pixel, under `light`. sun_visible: the share of the
 // sun that the displaced grid leaves the point (its shadow map); the unresolved slopes' own
-// shadowing is Smith's, inside reflected_sun, over the slopes the grid does not hold.
-vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible, SeaLight light) {
+// shadowing is Smith's, inside reflected_sun, over the slopes the grid does not hold. glint: where
+// the reflected sun's glints are drawn from (glints.glsl; unused without GLINTS).
+vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint) {
     // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
     // where cos_v = 0 is the formulas' own finite limit.
     float vn = dot(v, n);
@@ -134,7 +151,12 @@ vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible, SeaLight light
     float cos_v = clamp(vl.z, 0.0, 1.0);
     vec3 color = vec3(0.0);
     if (TERM_SUN && sun_visible > 0.0 && max(light.sun.r, max(light.sun.g, light.sun.b)) > 0.0) {
-        color += sun_visible * reflected_sun(f, v, frame.sun_dir.xyz, sigma2, light.sun);
+        SunReflection sun = reflect_sun(f, v, frame.sun_dir.xyz, sigma2, light.sun);
+        vec3 expected = sun_visible * sun.radiance;
+        float peak = max(expected.r, max(expected.g, expected.b));
+        float glints = GLINTS && METHOD == METHOD_FULL
+                     ? glint_factor(glint, sun.share_per_sr * frame.glints.y, sun.glints_per_curvature, peak) : 1.0;
+        color += glints * expected;
     }
     float fresnel = sea_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next

@@ -39,7 +39,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 eye_sky;          // the eye's sky-view table's elevations (glsl/sky_view.glsl): x lowest, y highest (rad)
     vec4 sea_light[3];     // the sea-level light table's calibration below the eye (frame::sea_light_calibration):
                            // rgb sun, rgb sky irradiance, rgb 1 / the table's sky irradiance
+    vec4 glints;           // x: the scene's time (s) modulo frame::GLINT_TIME_PERIOD; y: the sun disc's solid angle (sr)
 } frame;
+
+// Whether the full method draws the reflected sun's glints (glsl/glints.glsl) instead of its
+// expected value, and its train loop sums the unresolved curvature they need.
+layout(constant_id = 13) const bool GLINTS = false;
 
 // The wave trains, sorted by increasing wavelength. Two words per train keep the per-pixel loop
 // to two reads (drivers that cannot prove a loop index uniform, lavapipe among them, gather
@@ -50,7 +55,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 //   y:  phase at time t in turns, reduced to [0, 1) in f64 on the CPU, as 16-bit fixed point
 //       (1.5e-5 turns), in the low half; k h in [0, 1] as unorm16 in the high half
 //   zw: unused (std140 strides arrays by 16 bytes anyway)
-// prefix[i].xy: slope variance (wind frame) of train i and all shorter ones.
+// prefix[i].xy: slope variance (wind frame) of train i and all shorter ones; z: their curvature
+// power (1/m^2, glsl/glints.glsl); w: unused.
 const uint MAX_WAVES = 256u;
 #define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
 

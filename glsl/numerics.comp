@@ -50,6 +50,12 @@ void main() {
     case 10u: r.x = visible_fresnel(a.x, a.y); break;                      // (cos_v, sigma_v)
     case 11u: r.x = fresnel_exact(a.x); break;                             // cos of incidence
     case 12u: r.x = sphere_distance(a.xyz, b.x, b.y); break;               // ray, (H, R)
+    case 13u: {                                                            // (n, p, n p, u0), (u1, u2)
+        // Uniforms k / 2^24 as the hash's words (their top 24 bits).
+        uvec3 w = uvec3(vec3(a.w, b.x, b.y) * 16777216.0) << 8u;
+        r.x = binomial_count(a.x, a.y, a.z, w.x, w.y, w.z);
+        break;
+    }
     default: break;
     }
     results[i] = r;

@@ -17,6 +17,9 @@ struct SampleScale {
     float lambda_cut;    // trains with wavelength <= this are unresolved in every direction
     float lambda_cut2;   // its square: the loop compares |k|^2 lambda_cut^2 >= 1 (lambda <= cut)
     bool any;            // whether the longest train can be resolved at all
+    vec2 a_u_w;      // a_u and a_v times w, finite at the limb (the glints' footprint)
+    vec2 a_v_w;
+    float w;             // -n . ray: 0 at the limb and beyond
 };
 
 SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
@@ -41,6 +44,9 @@ SampleScale sample_scale(vec3 ray, float cells, vec2 steps) {
     float reach = t * cells;
     float longest = frame.wave_extent.x;
     SampleScale s;
+    s.a_u_w = q_u * reach;
+    s.a_v_w = q_v * reach;
+    s.w = w;
     if (METHOD == METHOD_NO_FILTER) {
         // Every train at full weight wherever the ray meets the sea: no loop exit.
         s.any = meets;
@@ -140,6 +146,7 @@ struct SurfaceSample {
     vec3 tangent_x;     // d p / d x (unnormalized)
     vec3 tangent_y;     // d p / d y
     vec2 sigma2;        // residual slope variance (wind frame)
+    float curvature;    // residual curvature power (1/m^2), for the glints only
 };
 
 // 1 - sqrt(1 - a^2) without cancellation: a^2 / (1 + sqrt(1 - a^2)). a = k h <= 1 by construction.
@@ -178,11 +185,14 @@ void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, 
     r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
     r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
     r.sigma2 += wind2 * trochoid_slope_variance(sqrt(max(1.0 - wn * wn, 0.0)) * wave.kh);
+    // A sinusoid of slope k h has curvature k (k h) along the train: its variance (k^2 h)^2 / 2
+    // (Train::curvature_power is its twin), the part of the amplitude left unresolved.
+    if (GLINTS) r.curvature += (1.0 - wn * wn) * 2.0 * PI * PI * dot(wave.k, wave.k) * wave.kh * wave.kh;
     count_train(wn > 0.0);
 }
 
 SurfaceSample flat_surface() {
-    return SurfaceSample(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec2(0.0));
+    return SurfaceSample(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec2(0.0), 0.0);
 }
 
 // A train at its weight in this pixel's normal (normal_weight), then add_weighted_train.
@@ -199,7 +209,10 @@ void add_trains_from(inout SurfaceSample r, int i, vec2 x, SampleScale s) {
         if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) break;
         add_train(r, wave, x, s);
     }
-    if (i >= 0) r.sigma2 += wave_prefix[i].xy;
+    if (i >= 0) {
+        r.sigma2 += wave_prefix[i].xy;
+        r.curvature += wave_prefix[i].z;
+    }
 }
 
 // Whether a train is resolved fully in every direction at a pixel whose largest rest-position

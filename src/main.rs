@@ -44,6 +44,43 @@ struct ViewArgs {
     device: Option<String>,
 }
 
+/// Glints on or off (--glints).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Switch {
+    On,
+    Off,
+}
+
+/// The method and its glints, for the commands that render with one.
+#[derive(clap::Args)]
+struct MethodArgs {
+    /// How waves are split between geometry, normals and BRDF.
+    #[arg(long, value_enum, default_value_t = Method::Full)]
+    method: Method,
+    /// The reflected sun as glints, a count of lit facets per pixel (the full method's default),
+    /// or as its expected value (every other method's, and the only one they have).
+    #[arg(long, value_enum)]
+    glints: Option<Switch>,
+}
+
+impl MethodArgs {
+    /// The shader's method and glints; glints asked of a method without them is an error.
+    fn shader(&self) -> ocean::Result<ShaderConfig> {
+        let glints = match self.glints {
+            Some(Switch::On) if self.method != Method::Full => {
+                return Err(ocean::Error::Argument(format!(
+                    "--glints on: only --method full draws glints (not {})",
+                    self.method.name()
+                )))
+            }
+            Some(Switch::On) => true,
+            Some(Switch::Off) => false,
+            None => self.method == Method::Full,
+        };
+        Ok(ShaderConfig { method: self.method, glints, ..ShaderConfig::default() })
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a PNG (and optionally a linear EXR and a JSON report).
@@ -60,9 +97,8 @@ enum Command {
         /// standard output.
         #[arg(long)]
         report: Option<PathBuf>,
-        /// How waves are split between geometry, normals and BRDF.
-        #[arg(long, value_enum, default_value_t = Method::Full)]
-        method: Method,
+        #[command(flatten)]
+        method: MethodArgs,
         /// Supersampling: K x K samples per pixel, box-filtered in linear radiance.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
         ssaa: u32,
@@ -105,8 +141,8 @@ enum Command {
         /// Also write the last frame's image (its encoding and writing are spans of the trace).
         #[arg(long)]
         png: Option<PathBuf>,
-        #[arg(long, value_enum, default_value_t = Method::Full)]
-        method: Method,
+        #[command(flatten)]
+        method: MethodArgs,
         /// Profile the general pipeline: leave nothing out.
         #[arg(long)]
         no_specialize: bool,
@@ -162,8 +198,8 @@ enum Command {
         /// Render every frame, also those already written.
         #[arg(long)]
         force: bool,
-        #[arg(long, value_enum, default_value_t = Method::Full)]
-        method: Method,
+        #[command(flatten)]
+        method: MethodArgs,
     },
     /// A window on the sea: animated with the wall clock, interactive (press H for the controls),
     /// presented through our own swapchain; the automation flags script a session for tests.
@@ -184,8 +220,8 @@ enum Command {
         /// Use the first device whose name contains this text.
         #[arg(long)]
         device: Option<String>,
-        #[arg(long, value_enum, default_value_t = Method::Full)]
-        method: Method,
+        #[command(flatten)]
+        method: MethodArgs,
         /// Frames the CPU may prepare while the GPU runs earlier ones.
         #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=4))]
         frames_in_flight: u32,
@@ -423,11 +459,8 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 sky: terms.contains(&Term::Sky),
                 sea: terms.contains(&Term::Sea),
             };
-            let shader = if terms == Terms::ALL {
-                ShaderConfig { method, ..ShaderConfig::default() }
-            } else {
-                ShaderConfig::terms_only(terms, method)
-            };
+            let base = method.shader()?;
+            let shader = if terms == Terms::ALL { base } else { ShaderConfig { terms, background: false, ..base } };
             let shader = ShaderConfig { train_reads, ..shader };
             let options = Options { shader, ssaa, statistics: stats, ..Options::default() };
             let request = RenderRequest {
@@ -547,7 +580,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             ocean::app::animate::frame_count(seconds, fps)?; // bad arguments before the GPU starts
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
-            let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ..Options::default() };
+            let options = Options { shader: method.shader()?, ..Options::default() };
             let request = ocean::app::animate::AnimateRequest {
                 scene,
                 seconds,
@@ -600,7 +633,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 present,
                 validation,
                 device,
-                method,
+                shader: method.shader()?,
                 frames_in_flight,
                 time_scale,
                 frames,
@@ -762,7 +795,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 ("--png", png.as_deref(), true),
             ])?;
             let (scene, scene_name) = load_scene(scene)?;
-            let shader = ShaderConfig { method, train_reads, ..ShaderConfig::default() };
+            let shader = ShaderConfig { train_reads, ..method.shader()? };
             let request = ocean::app::profile::ProfileRequest {
                 scene,
                 scene_name,

@@ -405,3 +405,64 @@ fn the_spheres_distance_keeps_its_precision_at_planetary_scale() {
         assert!(e < 1e-6, "dip at {h} m off by {e}");
     }
 }
+
+/// The binomial law's quantile at u in f64: the smallest k whose cumulative probability reaches u.
+fn binomial_quantile(n: f64, p: f64, u: f64) -> (f64, f64) {
+    let (mut k, mut pk) = (0.0, (1.0 - p).powf(n));
+    let mut cdf = pk;
+    // The distance from u to the nearest step of the law, where f32 rounding (of 1 - p to 5e-5
+    // relative near p = 1, carried over a few terms) may pick its neighbour.
+    let mut margin = (u - cdf).abs();
+    while u > cdf && k < n {
+        pk *= (n - k) / (k + 1.0) * p / (1.0 - p);
+        k += 1.0;
+        cdf += pk;
+        margin = margin.min((u - cdf).abs());
+    }
+    (k, margin)
+}
+
+#[test]
+fn the_glints_binomial_count_is_the_laws_quantile_and_keeps_its_mean() {
+    // Small means by inversion: the f64 quantile of the same uniform, except within f32's rounding
+    // of a step; over a stratified sweep of u the mean is n p.
+    let cases = [(1.0, 0.3), (3.0, 0.5), (12.0, 0.25), (400.0, 0.01), (1.0e6, 5.0e-6), (7.0, 0.999)];
+    let strata = 4096u32;
+    let mut args = Vec::new();
+    for &(n, p) in &cases {
+        for i in 0..strata {
+            let u = ((i as f64 + 0.5) / strata as f64 * 16_777_216.0).floor() / 16_777_216.0;
+            args.push([[n as f32, p as f32, (n * p) as f32, u as f32], [0.5, 0.0, 0.0, 0.0]]);
+        }
+    }
+    let out = run(Function::BinomialCount, &args, 0.0);
+    for (c, &(n, p)) in cases.iter().enumerate() {
+        let mut sum = 0.0;
+        for i in 0..strata as usize {
+            let a = args[c * strata as usize + i];
+            let got = out[c * strata as usize + i][0] as f64;
+            let (want, margin) = binomial_quantile(a[0][0] as f64, a[0][1] as f64, a[0][3] as f64);
+            if margin > 1e-3 {
+                assert_eq!(got, want, "n {n}, p {p}, u {}: count {got} against the quantile {want}", a[0][3]);
+            }
+            sum += got;
+        }
+        let mean = sum / strata as f64;
+        // A stratified sweep's mean is within the law's largest step over the strata of n p.
+        assert!((mean / (n * p) - 1.0).abs() < 0.01, "n {n}, p {p}: mean count {mean} against {}", n * p);
+    }
+    // Large means by the normal law: mean + sqrt(n p (1 - p)) z, z by Box-Muller from (u1, u2).
+    let (n, p) = (1.0e5f64, 0.02f64);
+    let mut args = Vec::new();
+    for i in 0..64u32 {
+        let (u1, u2) = ((i as f64 + 0.5) / 64.0, (i % 7) as f64 / 7.0);
+        let q = |u: f64| ((u * 16_777_216.0).floor() / 16_777_216.0) as f32;
+        args.push([[n as f32, p as f32, (n * p) as f32, 0.0], [q(u1), q(u2), 0.0, 0.0]]);
+    }
+    for (a, got) in args.iter().zip(run(Function::BinomialCount, &args, 0.0)) {
+        let (u1, u2) = ((a[1][0] as f64 * 16_777_216.0 + 0.5) / 16_777_216.0, a[1][1] as f64);
+        let z = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
+        let want = n * p + (n * p * (1.0 - p)).sqrt() * z;
+        assert!((got[0] as f64 - want).abs() < 1e-3 * want, "u1 {u1}, u2 {u2}: {} against {want}", got[0]);
+    }
+}

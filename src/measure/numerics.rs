@@ -46,6 +46,9 @@ pub enum Function {
     ExactFresnel = 11,
     /// (unit ray), (eye height H, planet radius R) -> distance to the sphere, -1 where it misses
     SphereDistance = 12,
+    /// (n, p, n p, u0), (u1, u2) -> the glints' binomial count drawn from uniforms in [0, 1)
+    /// (multiples of 2^-24)
+    BinomialCount = 13,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's

@@ -38,6 +38,13 @@ impl Train {
         let (s, c) = self.angle_from_wind.sin_cos();
         [c * c * v, s * s * v]
     }
+
+    /// This train's curvature power (1/m^2), as a sinusoid's: its curvature k (k h) along the
+    /// train has variance (k^2 h)^2 / 2 (the glints' facet scale, glsl/glints.glsl;
+    /// glsl/waves.glsl adds the same in its loop).
+    pub fn curvature_power(&self) -> f64 {
+        0.5 * (self.k * self.k * self.amplitude).powi(2)
+    }
 }
 
 /// 1 - sqrt(1 - a^2) in the cancellation-free form a^2 / (1 + sqrt(1 - a^2)), for 0 <= a <= 1.

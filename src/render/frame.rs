@@ -35,6 +35,9 @@ pub fn sky_map_extent(method: crate::render::passes::ocean::Method) -> f32 {
         _ => SKY_MAP_EXTENT_FOLDED,
     }
 }
+/// The glints' clock wraps after this many seconds (glsl/glints.glsl: a facet's draws change
+/// with time over its lifetime): single precision keeps 0.25 ms at an hour, under a frame.
+pub const GLINT_TIME_PERIOD_S: f64 = 3600.0;
 /// Deep-water colour of the refracted term: the authors' demo (10, 40, 120) / 255 x 0.1.
 pub const SEA_ALBEDO: [f64; 3] = [10.0 / 255.0 * 0.1, 40.0 / 255.0 * 0.1, 120.0 / 255.0 * 0.1];
 /// Near plane of the reversed-Z infinite projection (m).
@@ -70,6 +73,7 @@ pub struct FrameUniforms {
     pub planet: [f32; 4],
     pub eye_sky: [f32; 4],
     pub sea_light: [[f32; 4]; 3],
+    pub glints: [f32; 4],
 }
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
@@ -391,10 +395,10 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
     let view_proj = camera.view_proj(width as f64 / height as f64).as_mat4();
 
     let mut gpu_waves = Box::<GpuWaves>::default();
-    let mut prefix = [0.0f64; 2];
+    let mut prefix = [0.0f64; 4];
     for (i, t) in waves.trains.iter().enumerate() {
         let v = t.slope_variance();
-        prefix = [prefix[0] + v[0], prefix[1] + v[1]];
+        prefix = [prefix[0] + v[0], prefix[1] + v[1], prefix[2] + t.curvature_power(), 0.0];
         let unorm16 = |v: f64| (v.clamp(0.0, 1.0) * 65535.0).round() as u32;
         // Turns in [0, 1) as 16-bit fixed point; 65536 wraps to 0, the same phase.
         let phase = ((t.phase_at(scene.render.time_s) / std::f64::consts::TAU) * 65536.0).round() as u32 & 0xffff;
@@ -407,7 +411,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             0,
             0,
         ];
-        gpu_waves.prefix[i] = [prefix[0] as f32, prefix[1] as f32, 0.0, 0.0];
+        gpu_waves.prefix[i] = prefix.map(|x| x as f32);
     }
 
     let physical = scene.sky.model == crate::model::scene::SkyKind::Physical;
@@ -514,6 +518,12 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         } else {
             [[1.0; 4]; 3]
         },
+        glints: [
+            scene.render.time_s.rem_euclid(GLINT_TIME_PERIOD_S) as f32,
+            SkyModel::sun_solid_angle() as f32,
+            0.0,
+            0.0,
+        ],
     };
     // No grid row: no sea anywhere in view.
     let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, height) };

@@ -182,20 +182,25 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     if options.shader.draws_nothing() {
         names.push("black (cleared)".to_owned());
     } else {
-        names.push(format!(
-            "ocean ({}; terms: {}; {}; {})",
-            options.shader.method.name(),
-            if terms.is_empty() { "none".to_owned() } else { terms.join(", ") },
+        let mut parts = vec![
+            options.shader.method.name().to_owned(),
+            format!("terms: {}", if terms.is_empty() { "none".to_owned() } else { terms.join(", ") }),
             match (options.shader.geometry, options.shader.normals) {
                 (true, _) => "displaced",
                 (false, true) => "flat grid",
                 (false, false) => "flat grid, no per-pixel normals",
-            },
+            }
+            .to_owned(),
             match options.shader.train_reads {
                 TrainReads::Blocks => "wave table read in blocks",
                 TrainReads::PerTrain => "wave table read per train",
             }
-        ));
+            .to_owned(),
+        ];
+        if options.shader.draws_glints() {
+            parts.push("sun glints".to_owned());
+        }
+        names.push(format!("ocean ({})", parts.join("; ")));
     }
     if options.shader.background {
         names.push("sky".to_owned());

@@ -65,7 +65,8 @@ pub struct ViewOptions {
     pub present: PresentMode,
     pub validation: bool,
     pub device: Option<String>,
-    pub method: Method,
+    /// The method and its glints at the start (keys 1-4 switch the method, the glints kept).
+    pub shader: ShaderConfig,
     /// Frames the CPU may prepare while the GPU runs earlier ones (2 by default).
     pub frames_in_flight: u32,
     /// Scene seconds per wall-clock second (0: a still frame at the scene's time).
@@ -154,7 +155,7 @@ pub fn run(options: &ViewOptions) -> Result<ViewReport> {
     };
     let gpu = Gpu::for_window(options.validation, options.device.as_deref(), handles.0, handles.1)?;
     say!("ocean view on {}: press H for the controls", gpu.device.name);
-    let shader = ShaderConfig { method: options.method, ..ShaderConfig::default() };
+    let shader = options.shader;
     let mut presenter = Presenter::new(&gpu, options.present.vk(), shader, options.frames_in_flight);
     let mut session = Session::new(options);
     let result = session.run(&mut event_loop, &mut events, &mut presenter);
@@ -258,7 +259,7 @@ impl<'o> Session<'o> {
         Session {
             options,
             scene: options.scene.clone(),
-            method: options.method,
+            method: options.shader.method,
             controls: Controls::default(),
             script: Script::new(options.resize_at.clone(), options.minimize_at.clone()),
             stats: FrameStats::default(),
@@ -441,7 +442,7 @@ impl<'o> Session<'o> {
             }
             Action::Method(method) => {
                 self.method = method;
-                presenter.set_shader(ShaderConfig { method, ..ShaderConfig::default() }, &self.scene)?;
+                presenter.set_shader(ShaderConfig { method, ..self.options.shader }, &self.scene)?;
                 say!("method: {}", method.name());
             }
             Action::SceneChanged => {

@@ -32,6 +32,9 @@ pub struct Setting {
     pub label: String,
     pub scene: Scene,
     pub ssaa: u32,
+    /// Whether the reflected sun is drawn as glints (the full method's default; its "glints=off"
+    /// setting keeps the expected value).
+    pub glints: bool,
 }
 
 /// Side of the blocks whose mean luminance the block RMSE compares (pixels).
@@ -140,8 +143,12 @@ fn block_errors(
 pub fn settings(scene: &Scene) -> Vec<Setting> {
     let mut out = Vec::new();
     for method in Method::ALL {
-        let with = |label: String, scene: Scene, ssaa: u32| Setting { method, label, scene, ssaa };
+        let glints = method == Method::Full;
+        let with = |label: String, scene: Scene, ssaa: u32| Setting { method, label, scene, ssaa, glints };
         out.push(with("default".into(), scene.clone(), 1));
+        if glints {
+            out.push(Setting { glints: false, ..with("glints=off".into(), scene.clone(), 1) });
+        }
         for cell in [4.0, 16.0] {
             let mut s = scene.clone();
             s.render.grid_cell_px = cell;
@@ -239,7 +246,8 @@ pub fn run(
             let options = Options { shader, ssaa: setting.ssaa, ..Options::default() };
             Renderer::new(gpu, &setting.scene, view_w, view_h, options)
         };
-        let mut renderer = renderer_with(ShaderConfig { method: setting.method, ..ShaderConfig::default() })?;
+        let mut renderer =
+            renderer_with(ShaderConfig { method: setting.method, glints: setting.glints, ..ShaderConfig::default() })?;
         let total = renderer.render(&setting.scene)?; // warm-up, and the image
         let mut times = Vec::new();
         for _ in 0..frames {
@@ -248,7 +256,8 @@ pub fn run(
         drop(renderer);
         times.sort_by(f64::total_cmp);
         let only = |sun, sky, sea| -> Result<Vec<[f32; 4]>> {
-            let mut r = renderer_with(ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method))?;
+            let terms = ShaderConfig::terms_only(Terms { sun, sky, sea }, setting.method);
+            let mut r = renderer_with(ShaderConfig { glints: setting.glints, ..terms })?;
             Ok(r.render(&setting.scene)?.hdr)
         };
         let images = [total.hdr, only(true, false, false)?, only(false, true, false)?, only(false, false, true)?]

@@ -97,6 +97,10 @@ pub struct ShaderConfig {
     /// Whether the shading pass applies the physical sky's aerial perspective (constant 12), whose
     /// atlases passes/atmosphere.rs builds. Left out where the farthest visible sea is close.
     pub aerial: bool,
+    /// Whether the full method draws the reflected sun as glints, a count of lit facets per pixel
+    /// (constant 13, glsl/glints.glsl), instead of its expected value. Only the full method has
+    /// them; the renderer keeps them only with the sun term.
+    pub glints: bool,
 }
 
 impl Default for ShaderConfig {
@@ -112,6 +116,7 @@ impl Default for ShaderConfig {
             shadow: true,
             normals: true,
             aerial: true,
+            glints: true,
         }
     }
 }
@@ -120,6 +125,11 @@ impl ShaderConfig {
     /// Whether a frame draws nothing but black: no term to shade and no sky behind the sea.
     pub fn draws_nothing(&self) -> bool {
         !(self.terms.sun || self.terms.sky || self.terms.sea || self.background)
+    }
+
+    /// Whether the shading pass draws glints: asked for, the full method's, and with a sun term.
+    pub fn draws_glints(&self) -> bool {
+        self.glints && self.method == Method::Full && self.terms.sun
     }
 
     /// Why a frame with this configuration has no use for the sun's shadow map (None: it has);
@@ -142,7 +152,7 @@ impl ShaderConfig {
     /// shading pass also whether its rows see only sea (6) and whether it counts trains (7); the
     /// sky's model (8) and the sun's shadows (9) for all; whether the grid is drawn from the sun
     /// (10, the shadow pass's vertex stage only); the shading pass's normals (11) and aerial
-    /// perspective (12).
+    /// perspective (12); the glints (13).
     pub fn specialization(&self) -> Specialization {
         self.shade_specialization(false)
     }
@@ -171,6 +181,7 @@ impl ShaderConfig {
             sun_view as u32,
             self.normals as u32,
             self.aerial as u32,
+            self.draws_glints() as u32,
         ])
     }
 
