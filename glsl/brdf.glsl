@@ -41,8 +41,10 @@ SeaLight frame_sea_light() {
 // variance for shadowing; sigma2_sun adds the sun disc's own slope spread (the Gaussian convolved
 // with the disc) to the slope density. radiance = sun F share_per_sr: share_per_sr (times the
 // disc's solid angle) is the share of the pixel's visible facets that mirror the eye into the
-// disc, p(zeta_h) G / (4 h_z^4 cos_v) (G Smith's); glints_per_curvature = 4 share_per_sr h_z^4
-// cos_v = p(zeta_h) G is the lit specular points per m^2 of sea per unit of E|det H| (glints.glsl).
+// disc, p(zeta_h) G / (4 h_z^4 cos_v) (G Smith's); glints_per_curvature = 4 share_per_sr h_z^4 =
+// p(zeta_h) G / cos_v is the lit specular points per unit of E|det H| per m^2 of the footprint
+// seen end-on (its area times cos_v on the resolved facet's plane, the same on any plane: the
+// count stays finite where the resolved facet turns edge-on, cos_v -> 0; glints.glsl).
 struct SunReflection {
     vec3 radiance;
     float share_per_sr;
@@ -70,7 +72,7 @@ SunReflection reflect_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
                 + cv * cos_times_lambda(cl, slope_spread(ll, sigma2));
     if (denom <= 0.0) return none;
     float share = p_over_hz4 * cl / (4.0 * denom);
-    return SunReflection(sun * (fresnel * share), share, 4.0 * share * hz2 * hz2 * cv);
+    return SunReflection(sun * (fresnel * share), share, 4.0 * share * hz2 * hz2);
 }
 
 vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {

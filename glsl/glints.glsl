@@ -44,6 +44,7 @@ struct GlintSite {
     vec2 a_u_w;         // a_u w (m)
     vec2 a_v_w;         // a_v w
     float w;            // -n . ray (0 at the limb)
+    float v_up;         // cos of the view to the sea's mean normal: the footprint's end-on share
     float curvature;    // unresolved curvature power (1/m^2), the sum of the trains' (k^2 h)^2 / 2
     vec2 slope2;        // unresolved slope variance (wind frame)
 };
@@ -99,15 +100,15 @@ const float GLINT_PEAK = 0.9 * HDR_MAX;
 
 // The factor K / (N p) on a pixel's expected reflected sun, whose brightest channel is `expected`.
 // disc_share: p, the share of the pixel's visible facets that mirror the eye into the disc;
-// rate_per_curvature: the expected lit facets per m^2 of footprint per unit of E|det H|
-// (brdf.glsl, SunReflection). A pixel wholly lit, at expected / p, cannot exceed GLINT_PEAK: p
+// rate_per_curvature: the expected lit facets per unit of E|det H| per m^2 of the footprint seen
+// end-on (brdf.glsl, SunReflection). A pixel wholly lit, at expected / p, cannot exceed GLINT_PEAK: p
 // is raised to at least expected / GLINT_PEAK (fewer facets, each lit more often, at the same
 // expected count), which keeps the mean where clamping would lose it, and narrows the glitter
 // only where the target could not hold it.
 float glint_factor(GlintSite site, float disc_share, float rate_per_curvature, float expected_peak) {
     float p = max(disc_share, expected_peak * (1.0 / GLINT_PEAK));
     float abs_det_h = ABS_DET_H_PER_POWER * site.curvature;
-    float rate = rate_per_curvature * abs_det_h;   // expected lit facets per m^2
+    float rate = rate_per_curvature * abs_det_h * site.v_up;   // expected lit facets per m^2 of rest plane
     if (!(p > 0.0 && p < 1.0 && rate > 0.0)) return 1.0;
     // The expected count N p = rate A, A = |a_u x a_v| = |a_u w x a_v w| / w^2: exact past
     // GLINT_COUNT_EXACT, decided before dividing by w^2 (0 at the limb).
