@@ -98,7 +98,8 @@ float binomial_count(float n, float p, float mean, uint u0, uint u1, uint u2) {
 // of it).
 const float GLINT_PEAK = 0.9 * HDR_MAX;
 
-// The factor K / (N p) on a pixel's expected reflected sun, whose brightest channel is `expected`.
+// The factor K / (N p) on a pixel's expected reflected sun, whose brightest channel is
+// `expected_peak`.
 // disc_share: p, the share of the pixel's visible facets that mirror the eye into the disc;
 // rate_per_curvature: the expected lit facets per unit of E|det H| per m^2 of the footprint seen
 // end-on (brdf.glsl, SunReflection). A pixel wholly lit, at expected / p, cannot exceed GLINT_PEAK: p
@@ -136,7 +137,7 @@ float glint_factor(GlintSite site, float disc_share, float rate_per_curvature, f
     vec2 cell = clamp(floor(vec2(dot(site.x, across), dot(site.x, along)) * exp2(-level)), vec2(-1.0e9), vec2(1.0e9));
     uvec4 key = uvec4(uvec2(ivec2(cell)), uint(int(level.x) + 64) | uint(int(level.y) + 64) << 8u, 0u);
     // A facet keeps its glint while the unresolved waves move it by its own side: at their phase
-    // speed sqrt(g / k_c), k_c^2 = curvature variance / slope variance. Each cell's draws change
+    // speed sqrt(g / k_c), k_c^2 = curvature power / slope variance. Each cell's draws change
     // at its own times (a hashed offset), never all at once.
     float k_c = sqrt(site.curvature / max(site.slope2.x + site.slope2.y, FLT_MIN_NORMAL));
     float lifetime = sqrt(facet_area) / sqrt(GRAVITY / k_c);
