@@ -39,7 +39,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 eye_sky;          // the eye's sky-view table's elevations (glsl/sky_view.glsl): x lowest, y highest (rad)
     vec4 sea_light[3];     // the sea-level light table's calibration below the eye (frame::sea_light_calibration):
                            // rgb sun, rgb sky irradiance, rgb 1 / the table's sky irradiance
-    vec4 glints;           // x: the scene's time (s) modulo frame::GLINT_TIME_PERIOD; y: the sun disc's solid angle (sr)
+    vec4 glints;           // x: the scene's time (s) modulo frame::GLINT_TIME_PERIOD_S; y: the sun disc's solid angle (sr)
 } frame;
 
 // Whether the full method draws the reflected sun's glints (glsl/glints.glsl) instead of its

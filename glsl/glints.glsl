@@ -99,8 +99,7 @@ float binomial_count(float n, float p, float mean, uint u0, uint u1, uint u2) {
 const float GLINT_PEAK = 0.9 * HDR_MAX;
 
 // The factor K / (N p) on a pixel's expected reflected sun, whose brightest channel is
-// `expected_peak`.
-// disc_share: p, the share of the pixel's visible facets that mirror the eye into the disc;
+// `expected_peak`. disc_share: p, the share of the pixel's visible facets that mirror the eye into the disc;
 // rate_per_curvature: the expected lit facets per unit of E|det H| per m^2 of the footprint seen
 // end-on (brdf.glsl, SunReflection). A pixel wholly lit, at expected / p, cannot exceed GLINT_PEAK: p
 // is raised to at least expected / GLINT_PEAK (fewer facets, each lit more often, at the same

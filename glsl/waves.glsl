@@ -17,7 +17,7 @@ struct SampleScale {
     float lambda_cut;    // trains with wavelength <= this are unresolved in every direction
     float lambda_cut2;   // its square: the loop compares |k|^2 lambda_cut^2 >= 1 (lambda <= cut)
     bool any;            // whether the longest train can be resolved at all
-    vec2 a_u_w;      // a_u and a_v times w, finite at the limb (the glints' footprint)
+    vec2 a_u_w;          // a_u and a_v times w, finite at the limb (the glints' footprint)
     vec2 a_v_w;
     float w;             // -n . ray: 0 at the limb and beyond
 };

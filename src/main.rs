@@ -460,7 +460,11 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 sea: terms.contains(&Term::Sea),
             };
             let base = method.shader()?;
-            let shader = if terms == Terms::ALL { base } else { ShaderConfig { terms, background: false, ..base } };
+            let shader = if terms == Terms::ALL {
+                base
+            } else {
+                ShaderConfig { glints: base.glints, ..ShaderConfig::terms_only(terms, base.method) }
+            };
             let shader = ShaderConfig { train_reads, ..shader };
             let options = Options { shader, ssaa, statistics: stats, ..Options::default() };
             let request = RenderRequest {

@@ -4,10 +4,9 @@
 
 mod common;
 
-use common::{gpu, luminance};
+use common::{gpu, luminance, ocean_cli, render_shader};
 use ocean::model::scene::Scene;
 use ocean::render::passes::ocean::{Method, ShaderConfig, Terms};
-use ocean::render::renderer::{Options, Renderer};
 use ocean::vk::gpu::Gpu;
 
 const W: u32 = 640;
@@ -17,8 +16,7 @@ const H: u32 = 480;
 fn sun_term(gpu: &Gpu, scene: &Scene, method: Method, glints: bool) -> Vec<f64> {
     let shader =
         ShaderConfig { glints, ..ShaderConfig::terms_only(Terms { sun: true, sky: false, sea: false }, method) };
-    let mut renderer = Renderer::new(gpu, scene, W, H, Options { shader, ..Options::default() }).unwrap();
-    let frame = renderer.render(scene).unwrap();
+    let frame = render_shader(gpu, scene, W, H, shader);
     assert!(frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite())), "non-finite pixels");
     frame.hdr.iter().map(|&p| luminance(p)).collect()
 }
@@ -102,14 +100,11 @@ fn only_the_full_method_draws_glints() {
 
 #[test]
 fn glints_asked_of_another_method_are_refused_by_name() {
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).env("OCEAN_CACHE_DIR", "").output().unwrap()
-    };
-    let out = run(&["render", "--method", "paper", "--glints", "on", "--out", "/dev/null"]);
+    let out = ocean_cli(&["render", "--method", "paper", "--glints", "on", "--out", "/dev/null"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert_eq!(stderr.trim_end(), "error: invalid argument: --glints on: only --method full draws glints (not paper)");
-    let out = run(&["render", "--glints", "sometimes", "--out", "/dev/null"]);
+    let out = ocean_cli(&["render", "--glints", "sometimes", "--out", "/dev/null"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("sometimes"), "clap names the bad value");
 }

@@ -1,6 +1,9 @@
 //! Where outputs go: regular files atomically, devices, pipes and symlinks in place, `-` to
 //! standard output, failed writes as errors; and the progress lines of long commands.
 
+mod common;
+
+use common::ocean_cli;
 use ocean::output::progress::{seconds, time_left, Progress, Style};
 use ocean::output::target::Target;
 use ocean::output::write_text;
@@ -110,17 +113,13 @@ fn failed_writes_are_errors_naming_the_path() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-fn ocean(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).env("OCEAN_CACHE_DIR", "").output().unwrap()
-}
-
 #[test]
 fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     let dir = scratch("cli");
     let report = dir.join("r.json");
     let report_arg = report.display().to_string();
     // The PNG on standard output, the status line on standard error.
-    let out = ocean(&["render", "--width", "16", "--height", "12", "--out", "-", "--report", &report_arg]);
+    let out = ocean_cli(&["render", "--width", "16", "--height", "12", "--out", "-", "--report", &report_arg]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.stdout.starts_with(b"\x89PNG\r\n\x1a\n"), "a PNG on standard output");
     let png = image::load_from_memory(&out.stdout).unwrap();
@@ -129,7 +128,7 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     assert!(stderr.starts_with("standard output: 16x12"), "{stderr}");
     assert!(report.exists());
     // /dev/stdout is standard output too: the PNG there, the status line off it.
-    let out = ocean(&["render", "--width", "16", "--height", "12", "--out", "/dev/stdout"]);
+    let out = ocean_cli(&["render", "--width", "16", "--height", "12", "--out", "/dev/stdout"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.stdout.starts_with(b"\x89PNG\r\n\x1a\n"), "a PNG through /dev/stdout");
     assert!(String::from_utf8_lossy(&out.stderr).starts_with("/dev/stdout: 16x12"));
@@ -137,12 +136,12 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     // The report as JSON on standard output.
     let png_path = dir.join("o.png");
     let out =
-        ocean(&["render", "--width", "16", "--height", "12", "--out", png_path.to_str().unwrap(), "--report", "-"]);
+        ocean_cli(&["render", "--width", "16", "--height", "12", "--out", png_path.to_str().unwrap(), "--report", "-"]);
     assert!(out.status.success());
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on standard output");
     assert_eq!(json["width"], 16);
     // A device is written in place and a failed write fails the run, in one line.
-    let out = ocean(&["render", "--width", "16", "--height", "12", "--out", "/dev/full"]);
+    let out = ocean_cli(&["render", "--width", "16", "--height", "12", "--out", "/dev/full"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "writing to /dev/full must fail");
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
@@ -156,7 +155,7 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
         vec!["reference", "--out", "-"],
         vec!["reference", "--png", "-"],
     ] {
-        let out = ocean(&args);
+        let out = ocean_cli(&args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{args:?}");
         assert!(stderr.starts_with("error: ") && stderr.contains('-'), "{args:?}: {stderr}");
@@ -167,7 +166,7 @@ fn the_cli_writes_to_standard_output_and_reports_failed_writes() {
     // line naming the path, and at once (a 512 x 512 trace at 64 x 64 samples takes hours).
     let missing = dir.join("no/such/folder/ref.exr");
     let started = std::time::Instant::now();
-    let out = ocean(&[
+    let out = ocean_cli(&[
         "reference",
         "--width",
         "512",
@@ -192,8 +191,19 @@ fn the_reference_reports_its_progress_on_standard_error() {
     let out_arg = out.display().to_string();
     // A scene the ground truth traces (Preetham's sky).
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/figure/calm.toml");
-    let run =
-        ocean(&["reference", "--scene", scene, "--width", "40", "--height", "30", "--samples", "1", "--out", &out_arg]);
+    let run = ocean_cli(&[
+        "reference",
+        "--scene",
+        scene,
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "--samples",
+        "1",
+        "--out",
+        &out_arg,
+    ]);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let stderr = String::from_utf8_lossy(&run.stderr);
     let lines: Vec<&str> = stderr.lines().collect();

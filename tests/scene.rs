@@ -1,8 +1,9 @@
 //! Scene files: defaults, presets, and one clear line for every kind of bad input.
 
+mod common;
+
 use ocean::model::scene::{wrap_degrees, LongestWave, Scene};
 use std::path::Path;
-use std::process::Command;
 
 fn parse_error(text: &str) -> String {
     match Scene::parse(text, "test.toml") {
@@ -178,7 +179,7 @@ fn every_preset_fits_its_wind() {
 }
 
 fn run_cli(args: &[&str]) -> (bool, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).env("OCEAN_CACHE_DIR", "").output().unwrap();
+    let output = common::ocean_cli(args);
     (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
 

@@ -42,9 +42,18 @@ pub fn render_terms_by(
     terms: Terms,
     method: Method,
 ) -> RenderedFrame {
-    let shader = ShaderConfig { glints: false, ..ShaderConfig::terms_only(terms, method) };
+    render_shader(gpu, scene, width, height, ShaderConfig { glints: false, ..ShaderConfig::terms_only(terms, method) })
+}
+
+/// One frame with the given shader configuration and every other option at its default.
+pub fn render_shader(gpu: &Gpu, scene: &Scene, width: u32, height: u32, shader: ShaderConfig) -> RenderedFrame {
     let mut renderer = Renderer::new(gpu, scene, width, height, Options { shader, ..Options::default() }).unwrap();
     renderer.render(scene).unwrap()
+}
+
+/// Runs the `ocean` program with `args`, its pipeline cache off the disk.
+pub fn ocean_cli(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_ocean")).args(args).env("OCEAN_CACHE_DIR", "").output().unwrap()
 }
 
 /// Fails on any validation error or non-finite pixel, naming the message ids.
