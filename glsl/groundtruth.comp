@@ -26,13 +26,15 @@ layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_wav
 // (rgb) with a = 1 where sub-samples resolve the shortest train, 0 where not; the sum over the
 // even strata, the (N/2) x (N/2) subset, for a convergence estimate, with the sum of the refracted
 // light's weight (Sample::transmitted) in a; the reflected sun's sum, with the cut-off weight's in
-// a; the reflected sky's sum; the sums of squares of the Rec. 709 luminances of the total, the
-// sun, the sky, and of the refracted weight, for each pixel's sample variance; the luminances of
-// the total, the sun, the sky and the refracted weight summed over the half of the strata with
-// i + j even (an estimate independent of the other half's, for the noise of any statistic); and
-// the refracted light's sum. Each dispatch adds one sample (stratum) to every pixel of a tile: a
-// dispatch per sample keeps each invocation's loop iterations bounded (lavapipe 22.3 stops every
-// loop of an invocation after 65535 iterations in total, silently).
+// a; the reflected sky's sum, with the weight of reflected rays that ran out of marching steps in
+// a; the sums of squares of the Rec. 709 luminances of the total, the sun, the sky, and of the
+// refracted weight, for each pixel's sample variance; the luminances of the total, the sun, the
+// sky and the refracted weight summed over the half of the strata with i + j even (an estimate
+// independent of the other half's, for the noise of any statistic); and the refracted light's
+// sum, with the count of camera rays that ran out of steps in a. Each dispatch adds one sample
+// (stratum) to every pixel of a tile: a dispatch per sample keeps each invocation's loop
+// iterations bounded (lavapipe 22.3 stops every loop of an invocation after 65535 iterations in
+// total, silently).
 layout(set = 0, binding = 8, std430) buffer Pixels { vec4 pixels[]; };
 
 layout(push_constant) uniform Tile {
@@ -46,7 +48,7 @@ layout(push_constant) uniform Tile {
     uint seed;
     uint max_march;     // marching steps of the camera ray, within the per-invocation loop budget
     uint bounces;       // how many times a reflected ray may meet the sea again and be shaded there
-    uint bounce_march;  // marching steps of each reflected ray
+    uint bounce_march;  // marching steps all reflected rays of a sample share
     float sun_cos_kernel;    // cos of the cone the reflected sun's energy is spread over (its estimate)
     float sun_kernel_scale;  // the sun disc's solid angle over the cone's (<= 1)
     uvec2 region_origin;     // the pixels traced: the first and how many (the buffer holds these);
@@ -61,21 +63,26 @@ struct Surface {
     vec2 grad_z;   // d(displacement.z) / d(rest x)
 };
 
+void add_train(vec4 w, vec2 x, inout Surface s) {
+    vec2 sc = sincos_turns(w.z - dot(w.xy, x));
+    vec2 k = 2.0 * PI * w.xy;
+    vec2 dir = k * inversesqrt(dot(k, k));
+    float h = w.w;
+    s.d += vec3(dir * (h * sc.x), h * sc.y);
+    // d theta / dx = -k: d(dir h sin)/dx = -h cos dir k^T, d(h cos)/dx = h sin k.
+    s.j -= outerProduct(dir, k) * (h * sc.y);
+    s.grad_z += k * (h * sc.x);
+}
+
+// Eight trains an iteration (tile.wave_count is a multiple of 8, padded with trains of no
+// amplitude): lavapipe's loop budget counts iterations, so a march gets eight times the steps.
 Surface surface(vec2 x) {
     Surface s;
     s.d = vec3(0.0);
     s.j = mat2(0.0);
     s.grad_z = vec2(0.0);
-    for (uint i = 0u; i < tile.wave_count; ++i) {
-        vec4 w = exact_waves[i];
-        vec2 sc = sincos_turns(w.z - dot(w.xy, x));
-        vec2 k = 2.0 * PI * w.xy;
-        vec2 dir = k * inversesqrt(dot(k, k));
-        float h = w.w;
-        s.d += vec3(dir * (h * sc.x), h * sc.y);
-        // d theta / dx = -k: d(dir h sin)/dx = -h cos dir k^T, d(h cos)/dx = h sin k.
-        s.j -= outerProduct(dir, k) * (h * sc.y);
-        s.grad_z += k * (h * sc.x);
+    for (uint i = 0u; i < tile.wave_count; i += 8u) {
+        for (uint m = 0u; m < 8u; ++m) add_train(exact_waves[i + m], x, s);   // unrolled (constant trip count)
     }
     return s;
 }
@@ -125,8 +132,11 @@ vec2 level_and_rate(vec3 p, vec3 r) {
 // per step dt, rate the ray's climb over the rest sphere (level_and_rate, which only grows along
 // the ray), so dt = g / (L |r.xy| - rate) does not cross the surface when L holds; should a step
 // still land below it (or below every trough, or run out of steps going down), bisection on the
-// bracket finds the crossing. (Results travel as floats, control flow has one exit.)
-float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
+// bracket finds the crossing. `steps` is what the march may still take (a sample's reflected
+// rays share one pool); it is left with what remains. `unfinished`: the march ran out of steps
+// before deciding (a miss then counts as leaving, a bracket's bisection may find a later crossing
+// than the first): the report counts such rays. (Results travel as floats, control flow has one exit.)
+float intersect(vec3 o, vec3 r, float t0, inout uint steps, out Surface s_hit, out bool unfinished) {
     float height = frame.cam_forward.w, R = frame.planet.x, slab = tile.slab;
     bool from_eye = o == vec3(0.0);
     float t = t0;
@@ -146,7 +156,8 @@ float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
     Surface s = surface(x);
     float t_above = t;        // last point known above the surface
     float t_below = -1.0;     // first point known below it, once bracketed
-    for (uint it = 0u; it < max_march && searching > 0.0; ++it) {
+    uint it = 0u;
+    for (; it < steps && searching > 0.0; ++it) {
         vec3 p = o + t * r;
         vec2 level = level_and_rate(p, r);
         float closing = tile.lipschitz * length(r.xy) - level.y;
@@ -169,6 +180,8 @@ float intersect(vec3 o, vec3 r, float t0, uint max_march, out Surface s_hit) {
             }
         }
     }
+    steps -= it;
+    unfinished = searching > 0.0;
     // Going down and out of steps: a point below every trough brackets the crossing: from the eye
     // the troughs' sphere, elsewhere the level's tangent (kept only where it does lie below).
     if (searching > 0.0) {
@@ -218,6 +231,8 @@ struct Sample {
     vec3 total;
     float transmitted;   // the sum over the hits of the reflected weight there times 1 - F
     float cut_off;       // the reflected weight left untraced after the last bounce
+    float unfinished;    // the reflected weight whose ray ran out of marching steps
+    bool camera_unfinished;   // the camera ray ran out of marching steps
 };
 
 vec3 surface_normal(Surface s) {
@@ -238,6 +253,9 @@ Sample shade_hit(vec3 r, float t, Surface s) {
     o.sun = o.sky = vec3(0.0);
     o.transmitted = 0.0;
     o.cut_off = 0.0;
+    o.unfinished = 0.0;
+    o.camera_unfinished = false;
+    uint pool = tile.bounce_march;   // the marching steps all reflected rays share
     vec3 p = t * r;
     vec3 dir = r;
     float w = 1.0;
@@ -254,7 +272,9 @@ Sample shade_hit(vec3 r, float t, Surface s) {
         // inside the wave it leaves and meet it at once. So it starts lifted above any such
         // point, twice the tolerance, and a little along itself; it leaves when it meets no wave.
         vec3 origin = p + vec3(0.0, 0.0, 2.0 * hit_tolerance(t_hit, length(p)));
-        float t_next = intersect(origin, refl, 1e-3 + 1e-5 * length(p), tile.bounce_march, next);
+        bool unfinished;
+        float t_next = intersect(origin, refl, 1e-3 + 1e-5 * length(p), pool, next, unfinished);
+        if (unfinished) o.unfinished += w * fresnel;
         if (t_next < 0.0) {
             SeaPoint at = truth_sea_point(p);
             o.sky += w * fresnel * (SKY_PHYSICAL ? truth_sky(at, refl) : preetham_sky(refl));
@@ -293,10 +313,13 @@ Sample shade_hit(vec3 r, float t, Surface s) {
 Sample shade_sample(vec3 ray) {
     vec3 r = normalize(ray);
     Surface s;
-    float t = intersect(vec3(0.0), r, 0.0, tile.max_march, s);
+    uint steps = tile.max_march;
+    bool unfinished;
+    float t = intersect(vec3(0.0), r, 0.0, steps, s, unfinished);
     Sample o;
     if (t >= 0.0) {
         o = shade_hit(r, t, s);
+        o.camera_unfinished = unfinished;
         // The air between the eye and the sea (the terms apart: each is the sea's own light, as
         // the renderer's single-term images; the air between two hits, metres, is left out).
         if (SKY_PHYSICAL) {
@@ -308,6 +331,8 @@ Sample shade_sample(vec3 ray) {
         o.sun = o.sky = o.sea = vec3(0.0);
         o.transmitted = 0.0;
         o.cut_off = 0.0;
+        o.unfinished = 0.0;
+        o.camera_unfinished = unfinished;
         o.total = (SKY_PHYSICAL ? truth_sky_from_eye(r) : preetham_sky(r)) + sun_disc(r);
     }
     return o;
@@ -374,18 +399,18 @@ void main() {
         pixels[index] = vec4(L, resolved);
         pixels[index + 1u] = vec4(in_subset ? L : vec3(0.0), o.transmitted);
         pixels[index + 2u] = vec4(o.sun, o.cut_off);
-        pixels[index + 3u] = vec4(o.sky, 0.0);
+        pixels[index + 3u] = vec4(o.sky, o.unfinished);
         pixels[index + 4u] = squares;
         pixels[index + 5u] = half_sums;
-        pixels[index + 6u] = vec4(o.sea, 0.0);
+        pixels[index + 6u] = vec4(o.sea, o.camera_unfinished ? 1.0 : 0.0);
     } else {
         pixels[index].rgb += L;
         if (in_subset) pixels[index + 1u].rgb += L;
         pixels[index + 1u].a += o.transmitted;
         pixels[index + 2u] += vec4(o.sun, o.cut_off);
-        pixels[index + 3u].rgb += o.sky;
+        pixels[index + 3u] += vec4(o.sky, o.unfinished);
         pixels[index + 4u] += squares;
         pixels[index + 5u] += half_sums;
-        pixels[index + 6u].rgb += o.sea;
+        pixels[index + 6u] += vec4(o.sea, o.camera_unfinished ? 1.0 : 0.0);
     }
 }

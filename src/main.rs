@@ -557,7 +557,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 format!("; the physical sky's own error at most {:.1e} of its radiance", e.largest())
             });
             ocean::say!(
-                "{}: {}x{}{part} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them), in {:.1} s; convergence {convergence}{sky}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
+                "{}: {}x{}{part} with {}x{} samples per pixel, {} bounces ({:.2}% of the reflected light cut off after them; out of marching steps: {:.3}% of the camera rays, {:.3}% of the reflected light), in {:.1} s; convergence {convergence}{sky}; {} pixels unresolved; {} validation errors, {} non-finite pixels",
                 out.display(),
                 width,
                 height,
@@ -565,6 +565,8 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 samples,
                 r.bounces,
                 100.0 * r.cut_off_fraction,
+                100.0 * r.unfinished_camera_fraction,
+                100.0 * r.unfinished_reflected_fraction,
                 r.gpu_seconds,
                 r.unresolved_pixels,
                 r.validation_errors,

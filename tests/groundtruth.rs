@@ -77,18 +77,18 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
     // 10 m above a 10 m/s sea, looking 12 degrees down, the sun behind: the sky's reflection and
     // the refracted light per distance band, against exact geometry (64x48, 4x4 samples; reflected
     // rays that meet the sea again traced up to 3 times). Measured (sky / sea, by band from the
-    // eye, 10-500 m): full +9.6, -1.2, -5.1, +3.4, +12.0% / -0.5, -1.1, -1.6, -4.4, -7.2%; the
-    // paper +7.9, +13, +19, +38, +55% / -0.1, -1.4, -3.6, -9.8, -16%, drifting towards the horizon
-    // (it reads the sky for every reflection, also those another wave stops, centres its lookup
-    // on the mirror direction, not on the facets seen, and its fit of the mean Fresnel is 10-16%
-    // high there); the constant BRDF +7.7, +17, +38, +66, +90%. Full's lookup keeps its integral
-    // within 2% (tests/brdf.rs); its farthest band's excess, with the refracted light's deficit,
-    // is its model's: the visible facets' mean Fresnel some 10% high at 1-3 degrees of grazing
-    // (docs/results.md, "Where the sky's error comes from").
-    // Asserted: full within FULL_SKY (sky) out to 200 m and FULL_SKY_FAR to 500 m, its refracted
+    // eye, 10-500 m and beyond): full +11.9, +6.8, +10.1, +19.7, +31.8, +35.4% / -0.5, -1.7, -4.8,
+    // -8.2, -11.9, -12.9%; the paper +15, +24, +39, +59, +82, +92% / -0.2, -2.5, -7.7, -13, -20,
+    // -23%; the constant BRDF +15, +29, +63, +98, +132, +150%. These are against the ground truth
+    // whose reflected rays march to the wave that stops them (docs/results.md, "The ground truth
+    // at grazing rays"); the truth before it let them leave and read the sky, and full was within
+    // 12% there. The drift towards the horizon is the methods' masking: Smith's shadowing
+    // counts too few reflections stopped by the next wave at grazing (the truth's sky fell
+    // 20-35% at 20-700 m on the default view when they were traced).
+    // Asserted: full within FULL_SKY (sky) out to 100 m and FULL_SKY_FAR to 500 m, its refracted
     // light within FULL_SEA everywhere, both methods within 5% (sea) where the view is at least
-    // 10 degrees down and the paper within 20% (sky) there; each never further off than the next
-    // simpler method in any band (sky and sea).
+    // 10 degrees down and the paper within PAPER_SKY_STEEP (sky) there; each never further off
+    // than the next simpler method in any band (sky and sea).
     let gpu = gpu();
     let mut scene = twilight();
     scene.sun.elevation_deg = 25.0;
@@ -103,6 +103,13 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
     let steep = scene.camera.height_m / 10f64.to_radians().tan(); // farthest point seen 10 degrees down
     let mut compared = 0;
     let (full, paper, constant) = (bands("full"), bands("paper"), bands("constant-brdf"));
+    for b in (0..full.len()).filter(|&b| full[b].0 >= 50) {
+        let (f, p, c) = (&full[b].2, &paper[b].2, &constant[b].2);
+        eprintln!(
+            "band {b}: sky full {:+.3} paper {:+.3} constant {:+.3}; sea full {:+.3} paper {:+.3}",
+            f.energy_error[SKY], p.energy_error[SKY], c.energy_error[SKY], f.energy_error[SEA], p.energy_error[SEA]
+        );
+    }
     for b in 0..full.len() {
         let (n, _, f) = &full[b];
         if *n < 50 {
@@ -110,10 +117,6 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
         }
         compared += 1;
         let (p, c) = (&paper[b].2, &constant[b].2);
-        eprintln!(
-            "band {b}: sky full {:+.3} paper {:+.3} constant {:+.3}; sea full {:+.3} paper {:+.3}",
-            f.energy_error[SKY], p.energy_error[SKY], c.energy_error[SKY], f.energy_error[SEA], p.energy_error[SEA]
-        );
         let sky = |e: &errorbench::TermErrors| e.energy_error[SKY].abs();
         let sea = |e: &errorbench::TermErrors| e.energy_error[SEA].abs();
         assert!(
@@ -135,7 +138,7 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
             sea(p)
         );
         let far_edge = errorbench::BANDS_M[b + 1];
-        if far_edge <= 200.0 {
+        if far_edge <= 100.0 {
             assert!(sky(f) < FULL_SKY, "band {b}: full's sky energy off by {:.3}", sky(f));
         } else if far_edge <= 500.0 {
             assert!(sky(f) < FULL_SKY_FAR, "band {b}: full's sky energy off by {:.3}", sky(f));
@@ -143,7 +146,7 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
         assert!(sea(f) < FULL_SEA, "band {b}: full's refracted energy off by {:.3}", sea(f));
         if errorbench::BANDS_M[b + 1] <= steep {
             assert!(sea(f) < 0.05, "band {b}: full's refracted energy off by {:.3}", sea(f));
-            assert!(sky(p) < 0.20, "band {b}: the paper's sky energy off by {:.3}", sky(p));
+            assert!(sky(p) < PAPER_SKY_STEEP, "band {b}: the paper's sky energy off by {:.3}", sky(p));
             assert!(sea(p) < 0.05, "band {b}: the paper's refracted energy off by {:.3}", sea(p));
         }
     }
@@ -152,11 +155,12 @@ fn the_full_method_keeps_energy_better_than_the_paper_and_the_paper_better_than_
 }
 
 /// Full's energy bounds in the test view above: its measured worst plus about twice the band's
-/// standard error (1-2 points): the sky out to 200 m (9.6%) and to 500 m (12.0%), the refracted
-/// light in every band (7.2%, at 200-500 m).
-const FULL_SKY: f64 = 0.12;
-const FULL_SKY_FAR: f64 = 0.14;
-const FULL_SEA: f64 = 0.09;
+/// standard error (1-2 points): the sky out to 100 m (11.9%) and to 500 m (31.8%), the refracted
+/// light in every band (12.9%, beyond 500 m); the paper's sky where the view is steep (24.2%).
+const FULL_SKY: f64 = 0.15;
+const FULL_SKY_FAR: f64 = 0.36;
+const FULL_SEA: f64 = 0.16;
+const PAPER_SKY_STEEP: f64 = 0.28;
 
 #[test]
 fn the_bench_writes_a_finite_row_per_method() {
@@ -387,11 +391,8 @@ fn the_physical_sky_is_traced_and_its_own_error_sits_below_the_truths_noise() {
 #[test]
 fn the_full_method_keeps_the_physical_skys_energy() {
     // Against the physical ground truth of the view above (40x30, 4x4): measured over the whole
-    // sea, full's sky -6.9% and refracted light -1.6%, the paper's sky +40%. Full's deficit is
-    // its model's, not its lookup's (`bench sky-model` on this view at 80x60: the f64 quadrature of
-    // full's model -11% and -19% at 20-100 m, the GPU within 4 points of it; under Preetham's sky
-    // the same view's model is within 6%): the physical sky brightens faster towards the
-    // horizon, where the facets a pixel sees reflect (docs/results.md).
+    // sea, full's sky +11.0% and refracted light -2.5%, the paper's sky +67% (against the truth
+    // before its grazing rays marched to their end: -6.9%, -1.6% and +40%; docs/results.md).
     let gpu = gpu();
     let scene = physical_view();
     let dir = temp_dir("physical-energy");
@@ -428,9 +429,9 @@ fn the_full_method_keeps_the_physical_skys_energy() {
 const CONTRAST_LOW: f64 = 0.7;
 const CONTRAST_HIGH: f64 = 1.4;
 
-/// Full's whole-sea energy bound against the physical ground truth: the measured worst (6.9%)
+/// Full's whole-sea energy bound against the physical ground truth: the measured worst (11.0%)
 /// plus about three of its standard errors (1 point).
-const PHYSICAL_FULL: f64 = 0.10;
+const PHYSICAL_FULL: f64 = 0.14;
 
 #[test]
 fn night_and_orbit_are_traced_and_too_many_trains_are_refused_by_name() {
@@ -448,11 +449,37 @@ fn night_and_orbit_are_traced_and_too_many_trains_are_refused_by_name() {
     assert!(truth.report.mean_radiance.iter().all(|&l| l > 0.0));
     let e = truth.report.sky_error.unwrap();
     assert!(e.gpu_against_f64 < 1e-4 && e.sea_light_interpolation < 0.03, "{e:?}");
-    // More trains than a sample's loops can march through: named, not cut short.
+    // The most trains and bounces a scene may ask for still fit a sample's loops (the budget's
+    // refusal is unit-tested in src/measure/groundtruth.rs).
     let mut many = physical_view();
-    many.waves.count = 256;
-    let e = groundtruth::render(&gpu, &many, 8, 8, &Sampling::new(1), |_, _| {}).err().expect("refused");
-    assert!(e.to_string().contains("waves.count = 256") && e.to_string().contains("--bounces 3"), "{e}");
+    many.waves.count = ocean::model::scene::MAX_WAVES;
+    let sampling = Sampling { bounces: groundtruth::MAX_BOUNCES, ..Sampling::new(1) };
+    let truth = groundtruth::render(&gpu, &many, 8, 8, &sampling, |_, _| {}).unwrap();
+    assert_eq!((truth.report.validation_errors, truth.report.nonfinite_pixels), (0, 0));
+}
+
+#[test]
+fn grazing_rays_march_to_their_first_crossing_within_the_loop_budget() {
+    // The default view's far rows: camera rays skim crests for hundreds of metres and reflected
+    // rays leave a 3-degree sun's facets nearly level; a march cut short would take a hidden
+    // crossing for the hit, or a blocked reflection for the sky and sun.
+    let gpu = gpu();
+    let scene = Scene::default();
+    let region = ocean::measure::region::Region { x: 16, y: 60, width: 128, height: 8 };
+    let sampling = Sampling { region: Some(region), ..Sampling::new(2) };
+    let truth = groundtruth::render(&gpu, &scene, 160, 120, &sampling, |_, _| {}).unwrap();
+    let r = &truth.report;
+    assert_eq!((r.validation_errors, r.nonfinite_pixels), (0, 0));
+    eprintln!(
+        "out of steps: camera {:.4}, reflected {:.5}",
+        r.unfinished_camera_fraction, r.unfinished_reflected_fraction
+    );
+    assert!(r.unfinished_camera_fraction < 0.01, "camera rays out of steps: {}", r.unfinished_camera_fraction);
+    assert!(
+        r.unfinished_reflected_fraction < 0.002,
+        "reflected light out of steps: {}",
+        r.unfinished_reflected_fraction
+    );
 }
 
 #[test]

@@ -52,8 +52,12 @@ struct TilePush {
 /// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
 /// LP_MAX_TGSI_LOOP_ITERATIONS), past which every loop silently stops.
 const LOOP_BUDGET: u32 = 65535;
-/// Marching steps per ray where the budget allows.
-const MAX_MARCH: u32 = 160;
+/// Marching steps of the camera ray where the budget allows (the reflected rays share the rest).
+const MAX_MARCH: u32 = 4096;
+
+/// Trains the shader's surface loop adds per iteration (glsl/groundtruth.comp `surface`): the
+/// budget counts iterations, so each step costs an eighth of the trains' count in it.
+const TRAINS_PER_ITERATION: usize = 8;
 
 /// Bisection steps after a bracketed crossing (glsl/groundtruth.comp).
 const BISECTION_STEPS: u32 = 16;
@@ -115,18 +119,21 @@ impl Sampling {
     }
 }
 
-/// Marching steps that keep one sample within the loop budget: (camera ray, each reflected ray).
-/// The camera ray and the `bounces + 1` reflected rays may each end in a bisection; every step
-/// (and bisection step) evaluates the surface three times (two Newton steps and the result) over
-/// every train. The camera ray, which may have to cross a grazing slab kilometres long, gets as
-/// many steps as all the reflected rays together, which mostly leave the slab or meet a wave
-/// within a few steps (a reflected ray that runs out going up counts as leaving: the sky).
+/// Marching steps that keep one sample within the loop budget: (camera ray, all reflected rays
+/// together). The camera ray and the `bounces + 1` reflected rays may each end in a bisection;
+/// every step (and bisection step) evaluates the surface three times (two Newton steps and the
+/// result), each a loop over the trains eight at a time (`iterations` per evaluation). The camera
+/// ray, which may have to skim hundreds of metres of crests at grazing view, gets two thirds of
+/// the steps; the reflected rays share the rest in the order they are traced, so the first
+/// reflection, which decides the reflected sun and sky, may use what the rarer later ones do not. A ray that runs out is
+/// counted in the report (`unfinished_*`), never taken silently as a miss.
 fn march_budget(wave_count: u32, bounces: u32, physical: bool) -> Result<(u32, u32)> {
-    let per_eval = 3 * wave_count + 1;
+    let iterations = wave_count.div_ceil(TRAINS_PER_ITERATION as u32);
+    let per_eval = 3 * iterations + 1;
     let rays = bounces + 2;
     // The physical sky's loops: one sky ray and one aerial path per sample at most.
     let air = if physical { (truth_sky::SKY_STEPS + truth_sky::AERIAL_STEPS) as u32 } else { 0 };
-    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * wave_count + 64 + air;
+    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * iterations + 64 + air;
     let steps = LOOP_BUDGET.saturating_sub(fixed) / per_eval;
     // Fewer than MIN_MARCH steps a ray cannot cross the slab: refused rather than cut short.
     if steps < MIN_MARCH * (bounces + 2) {
@@ -135,9 +142,59 @@ fn march_budget(wave_count: u32, bounces: u32, physical: bool) -> Result<(u32, u
              would pass the {LOOP_BUDGET} iterations an invocation may run; use fewer trains or bounces"
         )));
     }
-    let primary = (steps / 2).clamp(MIN_MARCH, MAX_MARCH);
-    let reflected = ((steps - primary) / (bounces + 1)).clamp(MIN_MARCH, MAX_MARCH);
-    Ok((primary, reflected))
+    let primary = (steps * 2 / 3).clamp(MIN_MARCH, MAX_MARCH);
+    Ok((primary, steps - primary))
+}
+
+/// The slope bound the march steps by (glsl/groundtruth.comp `intersect`): how fast the displaced
+/// surface's height can change along a horizontal line.
+///
+/// Where the trains cannot fold (sum k h < 1), sum k h / (1 - sum k h) bounds it. Past that the
+/// sum bounds nothing (a fold is possible in principle, when every phase lines up), and a fixed
+/// bound either crawls or cuts through crests. The bound is then the steepest slope of the
+/// displaced surface over `SLOPE_PROBES` rest positions, times `SLOPE_MARGIN`: a sum of many
+/// trains with independent phases has sub-Gaussian slopes (Hoeffding), and the probes' maximum
+/// sits near 4.3 standard deviations, so twice it stands 8 or more from the mean, where the
+/// tail's probability is below 1e-15. A probe on a fold (the Jacobian's determinant not
+/// positive) keeps the former fixed bound of 10 (84 degrees).
+fn marching_slope(wave_set: &crate::model::waves::WaveSet) -> f64 {
+    const SLOPE_PROBES: usize = 65536;
+    const SLOPE_MARGIN: f64 = 2.0;
+    const FOLDING_BOUND: f64 = 10.0;
+    let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
+    if kh_sum < 0.9 {
+        return kh_sum / (1.0 - kh_sum);
+    }
+    // Rest positions over a square many of the longest waves wide, by the R2 sequence (Roberts
+    // 2018: the plastic number's powers), which covers it evenly whatever the count.
+    let longest = wave_set.trains.iter().map(|t| t.wavelength).fold(1.0, f64::max);
+    let side = 64.0 * longest;
+    let (a1, a2) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
+    let mut steepest: f64 = 0.0;
+    for n in 0..SLOPE_PROBES {
+        let x = [side * (0.5 + a1 * n as f64).fract(), side * (0.5 + a2 * n as f64).fract()];
+        match displaced_slope(wave_set, x) {
+            Some(slope) => steepest = steepest.max(slope),
+            None => return FOLDING_BOUND,
+        }
+    }
+    (SLOPE_MARGIN * steepest).min(FOLDING_BOUND)
+}
+
+/// The height slope of the displaced surface over the point whose rest position is x: the
+/// height's gradient through the inverse of the displacement's Jacobian I + J (as the shader's
+/// `surface`), (I + J)^-T grad with J symmetric; None where the surface folds (det <= 0).
+fn displaced_slope(wave_set: &crate::model::waves::WaveSet, x: [f64; 2]) -> Option<f64> {
+    let (mut j, mut grad) = ([1.0, 0.0, 1.0], [0.0, 0.0]); // I + J as (xx, xy, yy)
+    for t in &wave_set.trains {
+        let ([dx, dy], k, h) = (t.direction, t.k, t.amplitude);
+        let (sin, cos) = (t.phase0 - k * (dx * x[0] + dy * x[1])).sin_cos();
+        let kh_cos = k * h * cos;
+        j = [j[0] - dx * dx * kh_cos, j[1] - dx * dy * kh_cos, j[2] - dy * dy * kh_cos];
+        grad = [grad[0] + dx * k * h * sin, grad[1] + dy * k * h * sin];
+    }
+    let det = j[0] * j[2] - j[1] * j[1];
+    (det > 0.0).then(|| ((j[2] * grad[0] - j[1] * grad[1]) / det).hypot((j[0] * grad[1] - j[1] * grad[0]) / det))
 }
 
 /// The fewest marching steps a ray gets.
@@ -169,6 +226,15 @@ pub struct GroundTruthReport {
     /// The reflected weight left untraced after the last bounce, as a fraction of the sea's
     /// samples' reflected weight, and its mean over the sea's pixels (what `--bounces` cuts off).
     pub cut_off_fraction: f64,
+    /// The camera rays over the sea that ran out of marching steps, as a fraction of the sea's
+    /// samples: their hit was found by bisecting a bracket, which may hold a later crossing than
+    /// the first (a crest hidden behind another).
+    #[serde(default)]
+    pub unfinished_camera_fraction: f64,
+    /// The reflected weight whose rays ran out of marching steps (going up, taken as leaving:
+    /// the sky and sun they may not see), as a fraction of the sea's samples' reflected weight.
+    #[serde(default)]
+    pub unfinished_reflected_fraction: f64,
     pub nonfinite_pixels: u64,
     pub mean_radiance: [f64; 3],
     pub validation_errors: u32,
@@ -274,7 +340,7 @@ pub fn render(
         Location::Upload,
     )?;
     uniforms.write(std::slice::from_ref(&data.uniforms))?;
-    let exact: Vec<[f32; 4]> = wave_set
+    let mut exact: Vec<[f32; 4]> = wave_set
         .trains
         .iter()
         .map(|t| {
@@ -286,6 +352,9 @@ pub fn render(
             ]
         })
         .collect();
+    // Padded to whole iterations with trains of no amplitude (a unit wave vector keeps their
+    // direction finite); the shortest train stays first.
+    exact.resize(exact.len().next_multiple_of(TRAINS_PER_ITERATION), [1.0, 0.0, 0.0, 0.0]);
     let waves_buffer = Buffer::new(gpu, "exact waves", (16 * exact.len()) as u64, B::STORAGE_BUFFER, Location::Upload)?;
     waves_buffer.write(&exact)?;
     let output =
@@ -339,7 +408,6 @@ pub fn render(
     let cmd = commands.cmd;
 
     let (max_march, bounce_march) = march_budget(exact.len() as u32, bounces, physical)?;
-    let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
     let push = TilePush {
         origin: [0, 0],
         samples,
@@ -349,9 +417,7 @@ pub fn render(
         bounce_march,
         wave_count: exact.len() as u32,
         slab: wave_set.highest_crest() as f32,
-        // Height slope of the displaced surface: sum k h over 1 - sum k h where the trains cannot
-        // fold; where they can, a bound of 10 (84 degrees) keeps steps finite.
-        lipschitz: if kh_sum < 0.9 { (kh_sum / (1.0 - kh_sum)) as f32 } else { 10.0 },
+        lipschitz: marching_slope(&wave_set) as f32,
         ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
@@ -429,6 +495,15 @@ pub fn render(
         .filter(|(sea, _)| **sea)
         .fold((0.0, 0.0), |(c, r), (_, p)| (c + p[11] as f64, r + (all - p[7]).max(0.0) as f64));
     let cut_off_fraction = if reflected > 0.0 { cut / reflected } else { 0.0 };
+    // The rays that ran out of steps: the reflected weight (sky's sums, a) and the camera rays
+    // (sea's sums, a), over the sea's pixels.
+    let (unfinished_reflected, unfinished_camera, sea_samples) = sees_sea
+        .iter()
+        .zip(words.chunks_exact(WORDS_PER_PIXEL))
+        .filter(|(sea, _)| **sea)
+        .fold((0.0, 0.0, 0.0), |(r, c, n), (_, p)| (r + p[15] as f64, c + p[27] as f64, n + all as f64));
+    let unfinished_reflected_fraction = if reflected > 0.0 { unfinished_reflected / reflected } else { 0.0 };
+    let unfinished_camera_fraction = if sea_samples > 0.0 { unfinished_camera / sea_samples } else { 0.0 };
     // The variance of each pixel's mean (luminance, per term): the samples' variance over their
     // count, strata taken as independent samples (stratification only lowers it: an upper bound).
     let variance: Vec<[f32; 4]> = words
@@ -483,6 +558,8 @@ pub fn render(
         bounces,
         sun_kernel_deg,
         cut_off_fraction,
+        unfinished_camera_fraction,
+        unfinished_reflected_fraction,
         nonfinite_pixels: stats.nonfinite_pixels,
         mean_radiance: stats.mean_radiance,
         validation_errors: gpu.validation_counts().error_total() - before,
@@ -745,6 +822,42 @@ mod tests {
             sky_error: None,
             region: None,
         }
+    }
+
+    #[test]
+    fn the_loop_budget_fits_every_scene_and_names_what_it_cannot_trace() {
+        let limit = crate::model::scene::MAX_WAVES;
+        let (camera, reflected) = march_budget(limit, MAX_BOUNCES, true).unwrap();
+        assert!(camera > reflected && reflected >= MIN_MARCH * 8, "{camera}, {reflected}");
+        // The default scene's march: a thousand steps and more for the camera ray.
+        let (camera, reflected) = march_budget(60, DEFAULT_BOUNCES, true).unwrap();
+        assert!(camera >= 1500 && reflected >= 750, "{camera}, {reflected}");
+        let e = march_budget(4096, 3, true).unwrap_err().to_string();
+        assert!(e.contains("waves.count = 4096") && e.contains("--bounces 3"), "{e}");
+    }
+
+    #[test]
+    fn the_marching_slope_bounds_the_surfaces_slope_and_is_strict_where_it_can_be() {
+        // A calm sea cannot fold: the strict bound sum k h / (1 - sum k h).
+        let mut calm = Scene::default();
+        calm.wind.speed_mps = 3.0;
+        calm.waves.count = 8;
+        let waves = crate::model::waves::generate(&calm);
+        let kh: f64 = waves.trains.iter().map(|t| t.k * t.amplitude).sum();
+        assert!(kh < 0.9, "{kh}");
+        assert_eq!(marching_slope(&waves), kh / (1.0 - kh));
+        // The default's 60 trains sum past 1: the probed bound, below the former fixed 10 and
+        // above the displaced surface's slope at points the probes never met.
+        let waves = crate::model::waves::generate(&Scene::default());
+        let bound = marching_slope(&waves);
+        assert!(bound < 5.0, "{bound}");
+        let mut steepest: f64 = 0.0;
+        for n in 0..20_000u32 {
+            // Other rest positions: a coarse lattice far from the probes' square.
+            let x = [1.0e4 + 0.37 * n as f64, -2.0e4 + 0.61 * (n % 997) as f64];
+            steepest = steepest.max(displaced_slope(&waves, x).expect("no fold"));
+        }
+        assert!(steepest < bound / 1.5, "slope {steepest} against the bound {bound}");
     }
 
     #[test]
