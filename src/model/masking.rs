@@ -3,6 +3,8 @@
 //! facing the eye by its projected area (src/model/fresnel.rs). On the sea a grazing ray reaches
 //! first the steeper facets facing it, whose Fresnel is lower. This module measures that on the
 //! sea's exact surface, along vertical profiles (`ocean bench sky-model`, docs/results.md).
+//! The same holds for the sun's glint: the facets that mirror a low sun to a grazing eye are
+//! nearly level, and a level facet is seen, and lit, only near a long wave's crest (`glint`).
 
 use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::waves::WaveSet;
@@ -82,6 +84,97 @@ pub fn measure(waves: &WaveSet, t: f64, azimuth_deg: f64, depressions_deg: &[f64
         .collect()
 }
 
+/// Where the sun's glint meets the sea's own masking, at one depression of the view: among the
+/// facets whose slope along the profile mirrors the eye into the sun (within a fifth of the slopes'
+/// standard deviation, by projected area towards the eye), the shares seen from the eye, lit by
+/// the sun and both, on the sea's exact profiles; and Smith's for the same directions, which do
+/// not depend on the facet: 1 / (1 + Lambda_v), 1 / (1 + Lambda_l) and the height-correlated
+/// 1 / (1 + Lambda_v + Lambda_l) the sun term takes (glsl/brdf.glsl).
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct GlintMasking {
+    /// The mirror slope along the profile (towards the eye positive).
+    pub mirror_slope: f64,
+    pub seen: f64,
+    pub lit: f64,
+    pub seen_and_lit: f64,
+    pub smith_seen: f64,
+    pub smith_lit: f64,
+    pub smith_seen_and_lit: f64,
+}
+
+/// The glint's masking (`GlintMasking`) looking along `azimuth_deg` from the wind towards a sun
+/// `sun_elevation_deg` up at that azimuth, at each depression (degrees), profiles sampled every
+/// `step` m at time t. Points within LEAD_M of either end are left out: what hides them from
+/// the eye (before) or from the sun (after) could lie past the profile.
+pub fn glint(
+    waves: &WaveSet,
+    t: f64,
+    azimuth_deg: f64,
+    sun_elevation_deg: f64,
+    depressions_deg: &[f64],
+    step: f64,
+) -> Vec<GlintMasking> {
+    let wind = DVec2::from(waves.wind_direction);
+    let along = DVec2::from_angle(azimuth_deg.to_radians()).rotate(wind);
+    let profiles: Vec<Vec<(f64, DVec3)>> =
+        (0..PROFILES).map(|line| profile(waves, t, along.perp() * (37.0 * line as f64), along, step)).collect();
+    let variance = waves.sigma2[0] * along.dot(wind).powi(2) + waves.sigma2[1] * along.perp_dot(wind).powi(2);
+    let sigma = variance.sqrt();
+    let a = sun_elevation_deg.to_radians();
+    let l = DVec3::new(along.x * a.cos(), along.y * a.cos(), a.sin());
+    // Smith's Lambda at elevation e for the slopes along the profile: a = tan(e) / (sqrt(2) sigma).
+    let lambda = |e: f64| crate::measure::reference::smith_lambda(e.tan() / (std::f64::consts::SQRT_2 * sigma));
+    depressions_deg
+        .iter()
+        .map(|&depression_deg| {
+            let e = depression_deg.to_radians();
+            let v = DVec3::new(-along.x * e.cos(), -along.y * e.cos(), e.sin());
+            let h = (v + l).normalize();
+            // The mirror facet's slope towards the eye: its normal h leans back along the profile.
+            let mirror_slope = -DVec2::new(h.x, h.y).dot(along) / h.z;
+            let (mut all, mut seen, mut lit, mut both) = (0.0, 0.0, 0.0, 0.0);
+            for samples in &profiles {
+                let n = samples.len();
+                let reach_eye: Vec<f64> = (0..n).map(|i| samples[i].0 + i as f64 * step * e.tan()).collect();
+                let reach_sun: Vec<f64> = (0..n).map(|i| samples[i].0 - i as f64 * step * a.tan()).collect();
+                // Lit: z - s tan(a) at least its running maximum further towards the sun.
+                let mut lit_here = vec![false; n];
+                let mut horizon = f64::NEG_INFINITY;
+                for i in (0..n).rev() {
+                    lit_here[i] = reach_sun[i] >= horizon;
+                    horizon = horizon.max(reach_sun[i]);
+                }
+                let mut horizon = f64::NEG_INFINITY;
+                for i in 0..n {
+                    let s = i as f64 * step;
+                    let (_, area) = samples[i];
+                    let slope = -DVec2::new(area.x, area.y).dot(along) / area.z;
+                    let projected = v.dot(area) / area.z;
+                    let inside = s > LEAD_M && s < (n as f64 * step - LEAD_M);
+                    if inside && projected > 0.0 && (slope - mirror_slope).abs() < 0.2 * sigma {
+                        let is_seen = reach_eye[i] >= horizon;
+                        all += projected;
+                        seen += if is_seen { projected } else { 0.0 };
+                        lit += if lit_here[i] { projected } else { 0.0 };
+                        both += if is_seen && lit_here[i] { projected } else { 0.0 };
+                    }
+                    horizon = horizon.max(reach_eye[i]);
+                }
+            }
+            let (lv, ll) = (lambda(e), lambda(a));
+            GlintMasking {
+                mirror_slope,
+                seen: seen / all,
+                lit: lit / all,
+                seen_and_lit: both / all,
+                smith_seen: 1.0 / (1.0 + lv),
+                smith_lit: 1.0 / (1.0 + ll),
+                smith_seen_and_lit: 1.0 / (1.0 + lv + ll),
+            }
+        })
+        .collect()
+}
+
 /// (height, area vector dp/dx x dp/dy) at Eulerian positions offset + s along, s = 0, step, ...:
 /// each point's rest position by Newton's method from the previous one's, a step away.
 fn profile(waves: &WaveSet, t: f64, offset: DVec2, along: DVec2, step: f64) -> Vec<(f64, DVec3)> {
@@ -125,14 +218,36 @@ mod tests {
     use crate::model::scene::Scene;
     use crate::model::waves;
 
+    /// 20 trains from 0.5 m: the default's sea, coarse enough to march quickly.
+    fn coarse_sea() -> WaveSet {
+        let mut scene = Scene::default();
+        scene.waves.count = 20;
+        scene.waves.lambda_min_m = 0.5;
+        waves::generate(&scene)
+    }
+
+    /// A low sun's glint seen at grazing view: the level facets that mirror it are seen and lit
+    /// far less often than Smith's masking, which ignores the facet's slope, says; from high up
+    /// the two agree.
+    #[test]
+    fn the_glints_facets_are_hidden_at_grazing_view_more_than_smiths_masking_says() {
+        let waves = coarse_sea();
+        let m = glint(&waves, 0.0, 0.0, 3.0, &[1.0, 30.0], 0.05);
+        let (grazing, steep) = (&m[0], &m[1]);
+        eprintln!("1 degree down: {grazing:?}\n30 degrees down: {steep:?}");
+        assert!(grazing.seen_and_lit < 0.5 * grazing.smith_seen_and_lit, "{grazing:?}");
+        assert!(
+            grazing.seen < grazing.smith_seen && grazing.seen_and_lit <= grazing.seen.min(grazing.lit),
+            "{grazing:?}"
+        );
+        assert!((steep.seen - steep.smith_seen).abs() < 0.05, "{steep:?}");
+    }
+
     /// Seen from high up nothing hides a facet; at grazing view the profiles hide most of them,
     /// and the ones left face the eye more steeply: a lower Fresnel than Smith's model keeps.
     #[test]
     fn the_seas_own_masking_hides_grazing_facets_and_leaves_the_steeper_ones() {
-        let mut scene = Scene::default();
-        scene.waves.count = 20;
-        scene.waves.lambda_min_m = 0.5;
-        let waves = waves::generate(&scene);
+        let waves = coarse_sea();
         for azimuth in [0.0, 90.0] {
             for (m, depression) in measure(&waves, 3.0, azimuth, &[1.0, 2.0, 20.0], 0.1).iter().zip([1.0, 2.0, 20.0]) {
                 assert!(

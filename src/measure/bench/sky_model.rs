@@ -112,7 +112,9 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
     }
     let masking = profiles(&wave_set, scene.render.time_s);
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    write_text(&out_dir.join("sky_model.md"), &markdown(scene_name, reference, &bands, &masking))?;
+    let mut text = markdown(scene_name, reference, &bands, &masking);
+    text.push_str(&glint_markdown(scene, &wave_set));
+    write_text(&out_dir.join("sky_model.md"), &text)?;
     Ok(())
 }
 
@@ -130,6 +132,43 @@ pub fn profiles(waves: &WaveSet, t: f64) -> Vec<MaskingRow> {
         }
     }
     rows
+}
+
+/// The sun's glint against the sea's own masking (src/model/masking.rs `glint`), looking towards
+/// the sun at the depressions measured; nothing where the sun is down.
+fn glint_markdown(scene: &Scene, waves: &WaveSet) -> String {
+    let mut s = String::new();
+    if scene.sun.elevation_deg <= 0.0 {
+        return s;
+    }
+    let azimuth = scene.sun.azimuth_deg - scene.wind.direction_deg;
+    let rows = masking::glint(waves, scene.render.time_s, azimuth, scene.sun.elevation_deg, &DEPRESSIONS_DEG, 0.01);
+    let _ = writeln!(
+        s,
+        "\nThe sun's glint, looking towards the sun ({:.1} degrees up, {azimuth:.0} degrees from the wind): among the \
+         facets that mirror the eye into the sun (slope along the view within 0.2 sigma of the mirror slope, by projected \
+         area), the shares seen from the eye, lit by the sun and both on the sea's own profiles, and Smith's (which the \
+         sun term takes: the last column is the share both seen and lit over the height-correlated 1 / (1 + Lambda_v + \
+         Lambda_l), the factor by which the method's sun is too bright from the masking alone).\n",
+        scene.sun.elevation_deg
+    );
+    s.push_str("| depression | mirror slope | seen | Smith | lit | Smith | seen and lit | Smith | exact / Smith |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+    for (m, depression) in rows.iter().zip(DEPRESSIONS_DEG) {
+        let _ = writeln!(
+            s,
+            "| {depression}° | {:+.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} |",
+            m.mirror_slope,
+            m.seen,
+            m.smith_seen,
+            m.lit,
+            m.smith_lit,
+            m.seen_and_lit,
+            m.smith_seen_and_lit,
+            m.seen_and_lit / m.smith_seen_and_lit
+        );
+    }
+    s
 }
 
 fn percent(e: f64) -> String {
