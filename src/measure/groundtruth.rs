@@ -125,8 +125,8 @@ impl Sampling {
 /// result), each a loop over the trains eight at a time (`iterations` per evaluation). The camera
 /// ray, which may have to skim hundreds of metres of crests at grazing view, gets two thirds of
 /// the steps; the reflected rays share the rest in the order they are traced, so the first
-/// reflection, which decides the reflected sun and sky, may use what the rarer later ones do not. A ray that runs out is
-/// counted in the report (`unfinished_*`), never taken silently as a miss.
+/// reflection, which decides the reflected sun and sky, may use what the rarer later ones do not.
+/// A ray that runs out is counted in the report (`unfinished_*`), never taken silently as a miss.
 fn march_budget(wave_count: u32, bounces: u32, physical: bool) -> Result<(u32, u32)> {
     let iterations = wave_count.div_ceil(TRAINS_PER_ITERATION as u32);
     let per_eval = 3 * iterations + 1;
@@ -165,7 +165,8 @@ fn marching_slope(wave_set: &crate::model::waves::WaveSet) -> f64 {
     let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
     let strict = (kh_sum < 0.9).then(|| kh_sum / (1.0 - kh_sum));
     // Rest positions over a square many of the longest waves wide, by the R2 sequence (Roberts
-    // 2018: the plastic number's powers), which covers it evenly whatever the count.
+    // 2018: the plastic number's powers), which covers it evenly whatever the count; the phases
+    // at time 0 (time only shifts the surface, its slopes' statistics stay).
     let longest = wave_set.trains.iter().map(|t| t.wavelength).fold(1.0, f64::max);
     let side = 64.0 * longest;
     let (a1, a2) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
