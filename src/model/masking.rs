@@ -36,11 +36,7 @@ pub struct Masking {
 /// The visible facets' mean Fresnel along profiles at `azimuth_deg` from the wind, at each
 /// depression (degrees), sampled every `step` m at time t.
 pub fn measure(waves: &WaveSet, t: f64, azimuth_deg: f64, depressions_deg: &[f64], step: f64) -> Vec<Masking> {
-    let wind = DVec2::from(waves.wind_direction);
-    let along = DVec2::from_angle(azimuth_deg.to_radians()).rotate(wind);
-    let profiles: Vec<Vec<(f64, DVec3)>> =
-        (0..PROFILES).map(|line| profile(waves, t, along.perp() * (37.0 * line as f64), along, step)).collect();
-    let variance = waves.sigma2[0] * along.dot(wind).powi(2) + waves.sigma2[1] * along.perp_dot(wind).powi(2);
+    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step);
     let model_table = MeanFresnelTable::sea_water();
     depressions_deg
         .iter()
@@ -52,24 +48,21 @@ pub fn measure(waves: &WaveSet, t: f64, azimuth_deg: f64, depressions_deg: &[f64
             let (mut visible_tilt, mut facing_tilt) = (0.0, 0.0);
             for samples in &profiles {
                 // Visible: z + s tan(e) at least its running maximum nearer the eye.
-                let mut horizon = f64::NEG_INFINITY;
-                for (i, (z, area)) in samples.iter().enumerate() {
-                    let s = i as f64 * step;
-                    let reach = z + s * e.tan();
+                let seen = unblocked(samples.iter().enumerate().map(|(i, (z, _))| z + i as f64 * step * e.tan()));
+                for (i, (_, area)) in samples.iter().enumerate() {
                     let projected = v.dot(*area) / area.z; // per unit of horizontal length
-                    if s > LEAD_M && projected > 0.0 {
+                    if i as f64 * step > LEAD_M && projected > 0.0 {
                         let f = fresnel_exact(v.dot(*area) / area.length(), SEA_WATER_IOR);
                         let tilt = -DVec2::new(area.x, area.y).dot(along) / area.z;
                         facing += projected * f;
                         facing_w += projected;
                         facing_tilt += projected * tilt;
-                        if reach >= horizon {
+                        if seen[i] {
                             visible += projected * f;
                             visible_w += projected;
                             visible_tilt += projected * tilt;
                         }
                     }
-                    horizon = horizon.max(reach);
                 }
             }
             Masking {
@@ -114,11 +107,7 @@ pub fn glint(
     depressions_deg: &[f64],
     step: f64,
 ) -> Vec<GlintMasking> {
-    let wind = DVec2::from(waves.wind_direction);
-    let along = DVec2::from_angle(azimuth_deg.to_radians()).rotate(wind);
-    let profiles: Vec<Vec<(f64, DVec3)>> =
-        (0..PROFILES).map(|line| profile(waves, t, along.perp() * (37.0 * line as f64), along, step)).collect();
-    let variance = waves.sigma2[0] * along.dot(wind).powi(2) + waves.sigma2[1] * along.perp_dot(wind).powi(2);
+    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step);
     let sigma = variance.sqrt();
     let a = sun_elevation_deg.to_radians();
     let l = DVec3::new(along.x * a.cos(), along.y * a.cos(), a.sin());
@@ -135,30 +124,23 @@ pub fn glint(
             let (mut all, mut seen, mut lit, mut both) = (0.0, 0.0, 0.0, 0.0);
             for samples in &profiles {
                 let n = samples.len();
-                let reach_eye: Vec<f64> = (0..n).map(|i| samples[i].0 + i as f64 * step * e.tan()).collect();
-                let reach_sun: Vec<f64> = (0..n).map(|i| samples[i].0 - i as f64 * step * a.tan()).collect();
-                // Lit: z - s tan(a) at least its running maximum further towards the sun.
-                let mut lit_here = vec![false; n];
-                let mut horizon = f64::NEG_INFINITY;
-                for i in (0..n).rev() {
-                    lit_here[i] = reach_sun[i] >= horizon;
-                    horizon = horizon.max(reach_sun[i]);
-                }
-                let mut horizon = f64::NEG_INFINITY;
-                for i in 0..n {
+                // Seen: z + s tan(e) at least its running maximum nearer the eye; lit: z - s tan(a)
+                // at least its running maximum further towards the sun.
+                let seen_here = unblocked((0..n).map(|i| samples[i].0 + i as f64 * step * e.tan()));
+                let mut lit_here = unblocked((0..n).rev().map(|i| samples[i].0 - i as f64 * step * a.tan()));
+                lit_here.reverse();
+                for (i, (_, area)) in samples.iter().enumerate() {
                     let s = i as f64 * step;
-                    let (_, area) = samples[i];
                     let slope = -DVec2::new(area.x, area.y).dot(along) / area.z;
-                    let projected = v.dot(area) / area.z;
+                    let projected = v.dot(*area) / area.z;
                     let inside = s > LEAD_M && s < (n as f64 * step - LEAD_M);
                     if inside && projected > 0.0 && (slope - mirror_slope).abs() < 0.2 * sigma {
-                        let is_seen = reach_eye[i] >= horizon;
+                        let (is_seen, is_lit) = (seen_here[i], lit_here[i]);
                         all += projected;
                         seen += if is_seen { projected } else { 0.0 };
-                        lit += if lit_here[i] { projected } else { 0.0 };
-                        both += if is_seen && lit_here[i] { projected } else { 0.0 };
+                        lit += if is_lit { projected } else { 0.0 };
+                        both += if is_seen && is_lit { projected } else { 0.0 };
                     }
-                    horizon = horizon.max(reach_eye[i]);
                 }
             }
             let (lv, ll) = (lambda(e), lambda(a));
@@ -171,6 +153,38 @@ pub fn glint(
                 smith_lit: 1.0 / (1.0 + ll),
                 smith_seen_and_lit: 1.0 / (1.0 + lv + ll),
             }
+        })
+        .collect()
+}
+
+/// The sea's profiles at one azimuth: their direction, PROFILES parallel lines 37 m apart of
+/// (height, area vector) every `step` m (`profile`), and the slopes' variance along them.
+struct Profiles {
+    along: DVec2,
+    samples: Vec<Vec<(f64, DVec3)>>,
+    variance: f64,
+}
+
+impl Profiles {
+    fn new(waves: &WaveSet, t: f64, azimuth_deg: f64, step: f64) -> Profiles {
+        let wind = DVec2::from(waves.wind_direction);
+        let along = DVec2::from_angle(azimuth_deg.to_radians()).rotate(wind);
+        let samples =
+            (0..PROFILES).map(|line| profile(waves, t, along.perp() * (37.0 * line as f64), along, step)).collect();
+        let variance = waves.sigma2[0] * along.dot(wind).powi(2) + waves.sigma2[1] * along.perp_dot(wind).powi(2);
+        Profiles { along, samples, variance }
+    }
+}
+
+/// Whether each point of a sequence of ray heights is at least the running maximum of the ones
+/// before it: nothing earlier on the line rises above its ray.
+fn unblocked(reach: impl Iterator<Item = f64>) -> Vec<bool> {
+    let mut horizon = f64::NEG_INFINITY;
+    reach
+        .map(|r| {
+            let clear = r >= horizon;
+            horizon = horizon.max(r);
+            clear
         })
         .collect()
 }
