@@ -182,20 +182,14 @@ fn marching_slope(wave_set: &crate::model::waves::WaveSet) -> f64 {
     strict.map_or(probed, |strict| strict.min(probed))
 }
 
-/// The height slope of the displaced surface over the point whose rest position is x: the
-/// height's gradient through the inverse of the displacement's Jacobian I + J (as the shader's
-/// `surface`), (I + J)^-T grad with J symmetric; None where the surface folds (det <= 0).
+/// The height slope of the displaced surface over the point whose rest position is x at time 0:
+/// the height's gradient through the inverse of the displacement's Jacobian I + J (the tangents'
+/// horizontal parts, src/model/masking.rs `surface`), symmetric for trochoids; None where the
+/// surface folds (det <= 0).
 fn displaced_slope(wave_set: &crate::model::waves::WaveSet, x: [f64; 2]) -> Option<f64> {
-    let (mut j, mut grad) = ([1.0, 0.0, 1.0], [0.0, 0.0]); // I + J as (xx, xy, yy)
-    for t in &wave_set.trains {
-        let ([dx, dy], k, h) = (t.direction, t.k, t.amplitude);
-        let (sin, cos) = (t.phase0 - k * (dx * x[0] + dy * x[1])).sin_cos();
-        let kh_cos = k * h * cos;
-        j = [j[0] - dx * dx * kh_cos, j[1] - dx * dy * kh_cos, j[2] - dy * dy * kh_cos];
-        grad = [grad[0] + dx * k * h * sin, grad[1] + dy * k * h * sin];
-    }
-    let det = j[0] * j[2] - j[1] * j[1];
-    (det > 0.0).then(|| ((j[2] * grad[0] - j[1] * grad[1]) / det).hypot((j[0] * grad[1] - j[1] * grad[0]) / det))
+    let (_, tx, ty) = crate::model::masking::surface(wave_set, 0.0, glam::DVec2::from(x));
+    let det = tx.x * ty.y - ty.x * tx.y;
+    (det > 0.0).then(|| ((ty.y * tx.z - ty.x * ty.z) / det).hypot((tx.x * ty.z - tx.y * tx.z) / det))
 }
 
 /// The fewest marching steps a ray gets.

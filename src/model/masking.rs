@@ -213,7 +213,7 @@ fn profile(waves: &WaveSet, t: f64, offset: DVec2, along: DVec2, step: f64) -> V
 }
 
 /// The displaced point of rest position x and its tangents along x and y (glsl/waves.glsl).
-fn surface(waves: &WaveSet, t: f64, x: DVec2) -> (DVec3, DVec3, DVec3) {
+pub(crate) fn surface(waves: &WaveSet, t: f64, x: DVec2) -> (DVec3, DVec3, DVec3) {
     let (mut p, mut tx, mut ty) = (DVec3::new(x.x, x.y, 0.0), DVec3::X, DVec3::Y);
     for tr in &waves.trains {
         let d = DVec2::from(tr.direction);
