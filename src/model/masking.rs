@@ -298,6 +298,48 @@ impl GlintMaskingTable {
     }
 }
 
+impl GlintMaskingTable {
+    /// The table at a depression (radians) in configuration 0 or 1, as glsl/masking.glsl reads
+    /// it: linearly in sqrt(depression / max), clamped to its domain.
+    pub fn lookup(&self, configuration: usize, depression: f64) -> f64 {
+        let max = GLINT_DEPRESSION_MAX_DEG.to_radians();
+        let u = (depression / max).clamp(0.0, 1.0).sqrt() * (GLINT_DEPRESSIONS - 1) as f64;
+        let j = (u as usize).min(GLINT_DEPRESSIONS - 2);
+        let f = u - j as f64;
+        self.at(configuration, j) * (1.0 - f) + self.at(configuration, j + 1) * f
+    }
+
+    /// The factor glsl/masking.glsl's `sea_masking` puts on the full method's sun term, in f64,
+    /// on a level sea (z up): v, l unit directions to the eye and the sun, `wind` the unit wind
+    /// direction, slope variances along and across it of the BRDF's slopes and of the whole sea's.
+    pub fn sea_masking(&self, v: DVec3, l: DVec3, wind: DVec2, unresolved: [f64; 2], whole: [f64; 2]) -> f64 {
+        let local = |d: DVec3| DVec3::new(d.x * wind.x + d.y * wind.y, d.y * wind.x - d.x * wind.y, d.z);
+        let (vs, ls) = (local(v), local(l));
+        if vs.z <= 0.0 || ls.z <= 0.0 {
+            return 1.0;
+        }
+        let lambda = |d: DVec3, sigma2: [f64; 2]| {
+            let spread = (2.0 * (sigma2[0] * d.x * d.x + sigma2[1] * d.y * d.y)).sqrt();
+            if spread > 0.0 {
+                crate::measure::reference::smith_lambda(d.z / spread)
+            } else {
+                0.0
+            }
+        };
+        let smith = |sigma2| 1.0 / (1.0 + lambda(vs, sigma2) + lambda(ls, sigma2));
+        let smith_ratio = (smith(whole) / smith(unresolved)).min(1.0);
+        let (vh, lh) = (DVec2::new(vs.x, vs.y), DVec2::new(ls.x, ls.y));
+        let towards_sun = match (vh.try_normalize(), lh.try_normalize()) {
+            (Some(a), Some(b)) => 0.5 * (1.0 - a.dot(b)),
+            _ => 0.5,
+        };
+        let depression = vs.z.clamp(0.0, 1.0).asin();
+        let exact_over_smith =
+            self.lookup(1, depression) * (1.0 - towards_sun) + self.lookup(0, depression) * towards_sun;
+        smith_ratio * exact_over_smith.max(0.0)
+    }
+}
+
 /// The standard normal distribution function (by erfc_approx, the shaders' rational approximation).
 fn normal_cdf(x: f64) -> f64 {
     let e = crate::measure::reference::erfc_approx(x.abs() / std::f64::consts::SQRT_2);
