@@ -182,6 +182,8 @@ pub const GLINT_DEPRESSION_MAX_DEG: f64 = 30.0;
 const TABLE_STEP_M: [f64; 2] = [0.02, 0.1];
 /// The table's profiles: fewer than the bench's, it is measured whenever the sea or sun change.
 const TABLE_PROFILES: usize = 2;
+/// Sampled facets both seen and lit below which a depression's share is not measured.
+const TABLE_MIN_HITS: usize = 20;
 /// The mirror facets: slopes within this many standard deviations of the mirror slope.
 const MIRROR_WINDOW_SIGMAS: f64 = 0.2;
 
@@ -259,7 +261,7 @@ impl GlintMaskingTable {
                 lit
             })
             .collect();
-        let mut ratio = Vec::with_capacity(2 * GLINT_DEPRESSIONS);
+        let mut ratio: Vec<Option<f64>> = Vec::with_capacity(2 * GLINT_DEPRESSIONS);
         for towards in [true, false] {
             // The eye before the profiles (towards the sun) or after them (the sun behind it).
             let eye_side = if towards { -1.0 } else { 1.0 };
@@ -269,7 +271,7 @@ impl GlintMaskingTable {
                 let v = DVec3::new(eye_side * along.x * e.cos(), eye_side * along.y * e.cos(), e.sin());
                 let h = (v + l).normalize();
                 let mirror_rise = -DVec2::new(h.x, h.y).dot(along) / h.z;
-                let (mut all, mut both) = (0.0, 0.0);
+                let (mut all, mut both, mut hits) = (0.0, 0.0, 0usize);
                 for (samples, lit) in profiles.iter().zip(&lit) {
                     let n = samples.len();
                     let seen = if towards {
@@ -287,13 +289,32 @@ impl GlintMaskingTable {
                         if inside && projected > 0.0 && (rise - mirror_rise).abs() < MIRROR_WINDOW_SIGMAS * sigma {
                             all += projected;
                             both += if seen[i] && lit[i] { projected } else { 0.0 };
+                            hits += usize::from(seen[i] && lit[i]);
                         }
                     }
                 }
                 let smith = 1.0 / (1.0 + lambda(e) + lambda(a));
-                ratio.push(if all > 0.0 { both / all / smith } else { 1.0 });
+                ratio.push((hits >= TABLE_MIN_HITS && all > 0.0).then(|| both / all / smith));
             }
         }
+        // A depression with too few facets both seen and lit to measure takes the next steeper
+        // one's ratio (the share grows with the depression: this errs bright, never to 0).
+        let ratio = ratio
+            .chunks(GLINT_DEPRESSIONS)
+            .flat_map(|row| {
+                let mut next = 1.0;
+                let mut filled: Vec<f64> = row
+                    .iter()
+                    .rev()
+                    .map(|r| {
+                        next = r.unwrap_or(next);
+                        next
+                    })
+                    .collect();
+                filled.reverse();
+                filled
+            })
+            .collect();
         GlintMaskingTable { ratio }
     }
 }
