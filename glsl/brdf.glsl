@@ -135,11 +135,15 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
                 + sky_map_grad(reflected_u(f, v, slopes.mean - step), g_major, minor));
 }
 
+#include "masking.glsl"
+
 // Everything the sea sends towards v at one pixel, under `light`. sun_visible: the share of the
 // sun that the displaced grid leaves the point (its shadow map); the unresolved slopes' own
-// shadowing is Smith's, inside reflected_sun, over the slopes the grid does not hold. glint: where
-// the reflected sun's glints are drawn from (glints.glsl; unused without GLINTS).
-vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint) {
+// shadowing is Smith's, inside reflected_sun, over the slopes the grid does not hold; for
+// METHOD_FULL corrected to the sea's own over all its slopes (masking.glsl), about up, the
+// sea's normal. glint: where the reflected sun's glints are drawn from (glints.glsl; unused
+// without GLINTS).
+vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint) {
     // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
     // where cos_v = 0 is the formulas' own finite limit.
     float vn = dot(v, n);
@@ -154,6 +158,12 @@ vec3 sea_radiance(vec3 n, vec3 v, vec2 sigma2, float sun_visible, SeaLight light
     vec3 color = vec3(0.0);
     if (TERM_SUN && sun_visible > 0.0 && max(light.sun.r, max(light.sun.g, light.sun.b)) > 0.0) {
         SunReflection sun = reflect_sun(f, v, frame.sun_dir.xyz, sigma2, light.sun);
+        if (METHOD == METHOD_FULL) {
+            float masking = sea_masking(v, frame.sun_dir.xyz, up, sigma2);
+            sun.radiance *= masking;
+            sun.share_per_sr *= masking;
+            sun.glints_per_curvature *= masking;
+        }
         vec3 expected = sun_visible * sun.radiance;
         float peak = max(expected.r, max(expected.g, expected.b));
         float glints = GLINTS && METHOD == METHOD_FULL

@@ -58,7 +58,9 @@ layout(constant_id = 13) const bool GLINTS = false;
 // prefix[i].xy: slope variance (wind frame) of train i and all shorter ones; z: their curvature
 // power (1/m^2, glsl/glints.glsl); w: unused.
 const uint MAX_WAVES = 256u;
-#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; }
+// glint_masking: the sun's masking on the sea's own profiles over Smith's (glsl/masking.glsl).
+const int GLINT_MASKING_VEC4S = 16;   // frame::GLINT_MASKING_VEC4S
+#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; vec4 glint_masking[GLINT_MASKING_VEC4S]; }
 
 struct Wave {
     vec2 k;          // turns per metre

@@ -166,7 +166,7 @@ void main() {
     int trains = int(frame.grid_dims.z);
     float curvature = resolves ? s.curvature : (trains > 0 ? wave_prefix[trains - 1].z : 0.0);
     GlintSite glint = GlintSite(x, u.xy, pixel.a_u_w, pixel.a_v_w, pixel.w, v_up, curvature, sigma2);
-    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, v, sigma2, sun_visibility(p, ray, covered), local_sea_light(up), glint) : vec3(0.0);
+    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, sun_visibility(p, ray, covered), local_sea_light(up), glint) : vec3(0.0);
     if (SKY_PHYSICAL && AERIAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, u, length(sea_point(x)));

@@ -99,7 +99,10 @@ impl ReferenceScene<'_> {
         let sun_dir = DVec3::from(self.sky.sun_dir());
         let sun = if self.sky.sun_irradiance().iter().any(|&l| l > 0.0) {
             let sun_sigma2 = SkyModel::sun_slope_variance();
-            let value = reflected_sun_with(vl, local(sun_dir), sigma2, sun_sigma2, self.facet_fresnel());
+            let mut value = reflected_sun_with(vl, local(sun_dir), sigma2, sun_sigma2, self.facet_fresnel());
+            if self.full {
+                value *= self.glint_masking(v, sun_dir, sigma2);
+            }
             self.sky.sun_irradiance().map(|e| e * value)
         } else {
             [0.0; 3]
@@ -118,6 +121,22 @@ impl ReferenceScene<'_> {
 }
 
 impl ReferenceScene<'_> {
+    /// The full method's masking factor on the sun term (glsl/masking.glsl), from the table the
+    /// renderer measures for the same sea and sun (its own measurement is tested apart).
+    fn glint_masking(&self, v: DVec3, sun_dir: DVec3, unresolved: [f64; 2]) -> f64 {
+        let waves = self.footprint.waves;
+        let wind = DVec2::from(waves.wind_direction);
+        let sun_azimuth = sun_dir.y.atan2(sun_dir.x) - wind.y.atan2(wind.x);
+        let elevation = sun_dir.z.clamp(-1.0, 1.0).asin();
+        let table = crate::model::masking::GlintMaskingTable::cached(
+            waves,
+            0.0,
+            sun_azimuth.to_degrees(),
+            elevation.to_degrees(),
+        );
+        table.sea_masking(v, sun_dir, wind, unresolved, waves.sigma2)
+    }
+
     /// The sky and refracted terms' Fresnel: the paper's fit, or (full) the exact average over
     /// the visible slopes, through the table the shaders read (its own accuracy is tested apart).
     fn mean_fresnel(&self, cos_v: f64, sigma_v: f64) -> f64 {

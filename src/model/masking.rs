@@ -36,7 +36,7 @@ pub struct Masking {
 /// The visible facets' mean Fresnel along profiles at `azimuth_deg` from the wind, at each
 /// depression (degrees), sampled every `step` m at time t.
 pub fn measure(waves: &WaveSet, t: f64, azimuth_deg: f64, depressions_deg: &[f64], step: f64) -> Vec<Masking> {
-    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step);
+    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step, PROFILES);
     let model_table = MeanFresnelTable::sea_water();
     depressions_deg
         .iter()
@@ -93,6 +93,12 @@ pub struct GlintMasking {
     pub smith_seen: f64,
     pub smith_lit: f64,
     pub smith_seen_and_lit: f64,
+    /// Smith's height-correlated masking at each facet's own height (Smith 1967; Heitz 2014): the
+    /// facet seen and lit with probability C(h)^(Lambda_v + Lambda_l), C the heights' distribution
+    /// (Gaussian of the profiles' own variance), averaged over the mirror facets. It keeps the
+    /// correlation of a facet's slope with its height but not with its neighbours' heights: on
+    /// the default sea it stays near Smith's mean (docs/results.md, "The sun's masking").
+    pub smith_at_height: f64,
 }
 
 /// The glint's masking (`GlintMasking`) looking along `azimuth_deg` from the wind towards a sun
@@ -107,12 +113,16 @@ pub fn glint(
     depressions_deg: &[f64],
     step: f64,
 ) -> Vec<GlintMasking> {
-    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step);
+    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step, PROFILES);
     let sigma = variance.sqrt();
     let a = sun_elevation_deg.to_radians();
     let l = DVec3::new(along.x * a.cos(), along.y * a.cos(), a.sin());
     // Smith's Lambda at elevation e for the slopes along the profile: a = tan(e) / (sqrt(2) sigma).
     let lambda = |e: f64| crate::measure::reference::smith_lambda(e.tan() / (std::f64::consts::SQRT_2 * sigma));
+    let heights = profiles.iter().flatten().map(|(z, _)| *z);
+    let count = profiles.iter().map(Vec::len).sum::<usize>() as f64;
+    let mean_height = heights.clone().sum::<f64>() / count;
+    let height_sigma = (heights.map(|z| (z - mean_height).powi(2)).sum::<f64>() / count).sqrt();
     depressions_deg
         .iter()
         .map(|&depression_deg| {
@@ -121,7 +131,8 @@ pub fn glint(
             let h = (v + l).normalize();
             // The mirror facet's slope towards the eye: its normal h leans back along the profile.
             let mirror_slope = -DVec2::new(h.x, h.y).dot(along) / h.z;
-            let (mut all, mut seen, mut lit, mut both) = (0.0, 0.0, 0.0, 0.0);
+            let (lv, ll) = (lambda(e), lambda(a));
+            let (mut all, mut seen, mut lit, mut both, mut at_height) = (0.0, 0.0, 0.0, 0.0, 0.0);
             for samples in &profiles {
                 let n = samples.len();
                 // Seen: z + s tan(e) at least its running maximum nearer the eye; lit: z - s tan(a)
@@ -140,10 +151,10 @@ pub fn glint(
                         seen += if is_seen { projected } else { 0.0 };
                         lit += if is_lit { projected } else { 0.0 };
                         both += if is_seen && is_lit { projected } else { 0.0 };
+                        at_height += projected * normal_cdf((samples[i].0 - mean_height) / height_sigma).powf(lv + ll);
                     }
                 }
             }
-            let (lv, ll) = (lambda(e), lambda(a));
             GlintMasking {
                 mirror_slope,
                 seen: seen / all,
@@ -152,9 +163,212 @@ pub fn glint(
                 smith_seen: 1.0 / (1.0 + lv),
                 smith_lit: 1.0 / (1.0 + ll),
                 smith_seen_and_lit: 1.0 / (1.0 + lv + ll),
+                smith_at_height: at_height / all,
             }
         })
         .collect()
+}
+
+/// Depressions of the glint's masking table (`GlintMaskingTable`); its two configurations are
+/// the eye looking towards the sun's azimuth (0) and away from it (1).
+pub const GLINT_DEPRESSIONS: usize = 32;
+/// Depression j of the table is GLINT_DEPRESSION_MAX_DEG (j / (GLINT_DEPRESSIONS - 1))^2: dense
+/// at grazing view, where the correction changes fastest. Beyond it the table's last entry holds.
+pub const GLINT_DEPRESSION_MAX_DEG: f64 = 30.0;
+/// The profiles' sampling: the shortest train's wavelength, within these bounds (m). Coarser
+/// sampling misses the short waves' own crests that hide a grazing facet: on the default sea
+/// the share at 1-3 degrees down reads 1.2-1.3 times as high at 2 cm as at 1 cm, 1.5 times at
+/// 4 cm. 1 cm would cost four times 2 cm's time.
+const TABLE_STEP_M: [f64; 2] = [0.02, 0.1];
+/// The table's profiles: fewer than the bench's, it is measured whenever the sea or sun change.
+const TABLE_PROFILES: usize = 2;
+/// Sampled facets both seen and lit below which a depression's share is not measured.
+const TABLE_MIN_HITS: usize = 20;
+/// The mirror facets: slopes within this many standard deviations of the mirror slope.
+const MIRROR_WINDOW_SIGMAS: f64 = 0.2;
+
+/// The sun term's masking on the sea's own profiles over Smith's: among the facets that mirror an
+/// eye at a given depression into the sun, in the vertical plane of the sun, the share both seen
+/// and lit over Smith's height-correlated 1 / (1 + Lambda_v + Lambda_l) for the same directions,
+/// which takes visibility as independent of the facet's slope. At grazing view it is not: a level
+/// facet is seen and lit only near a long wave's crest, while one leaning towards the eye is also
+/// seen down the near face (docs/results.md, "The sun's masking"). glsl/masking.glsl reads it at
+/// each pixel's depression.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GlintMaskingTable {
+    /// [configuration][depression].
+    pub ratio: Vec<f64>,
+}
+
+impl GlintMaskingTable {
+    /// Every ratio 1: Smith's masking unchanged (the sun below the horizon, or no slopes).
+    pub fn smith() -> GlintMaskingTable {
+        GlintMaskingTable { ratio: vec![1.0; 2 * GLINT_DEPRESSIONS] }
+    }
+
+    pub fn depression_deg(j: usize) -> f64 {
+        GLINT_DEPRESSION_MAX_DEG * (j as f64 / (GLINT_DEPRESSIONS - 1) as f64).powi(2)
+    }
+
+    pub fn at(&self, configuration: usize, depression: usize) -> f64 {
+        self.ratio[configuration * GLINT_DEPRESSIONS + depression]
+    }
+
+    /// `measure`, remembered for the last few seas and suns of this process: renderers made for
+    /// the same scene (tests, benches, a window's resize) measure it once.
+    pub fn cached(waves: &WaveSet, t: f64, sun_azimuth_deg: f64, sun_elevation_deg: f64) -> GlintMaskingTable {
+        type Entry = ((WaveSet, [u64; 3]), GlintMaskingTable);
+        static CACHE: std::sync::Mutex<Vec<Entry>> = std::sync::Mutex::new(Vec::new());
+        const KEPT: usize = 8;
+        let key = (waves.clone(), [t.to_bits(), sun_azimuth_deg.to_bits(), sun_elevation_deg.to_bits()]);
+        let lock = || CACHE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((_, table)) = lock().iter().find(|(k, _)| *k == key) {
+            return table.clone();
+        }
+        let table = Self::measure(waves, t, sun_azimuth_deg, sun_elevation_deg);
+        let mut cache = lock();
+        if cache.len() >= KEPT {
+            cache.remove(0);
+        }
+        cache.push((key, table.clone()));
+        table
+    }
+
+    /// Measured on the profiles along the sun's azimuth (`sun_azimuth_deg` from the wind) at time
+    /// t, with the eye before them looking along (towards the sun) and after them looking back
+    /// (the sun behind it); `glint` measures the first configuration alone.
+    pub fn measure(waves: &WaveSet, t: f64, sun_azimuth_deg: f64, sun_elevation_deg: f64) -> GlintMaskingTable {
+        let shortest = waves.trains.first().map_or(TABLE_STEP_M[1], |t| t.wavelength);
+        let step = shortest.clamp(TABLE_STEP_M[0], TABLE_STEP_M[1]);
+        if sun_elevation_deg <= 0.0 || waves.trains.is_empty() {
+            return GlintMaskingTable::smith();
+        }
+        let Profiles { along, samples: profiles, variance } =
+            Profiles::new(waves, t, sun_azimuth_deg, step, TABLE_PROFILES);
+        if variance <= 0.0 {
+            return GlintMaskingTable::smith();
+        }
+        let sigma = variance.sqrt();
+        let a = sun_elevation_deg.to_radians();
+        let l = DVec3::new(along.x * a.cos(), along.y * a.cos(), a.sin());
+        let lambda = |e: f64| crate::measure::reference::smith_lambda(e.tan() / (std::f64::consts::SQRT_2 * sigma));
+        let reach = |samples: &[(f64, DVec3)], i: usize| samples[i].0 - i as f64 * step * a.tan();
+        let lit: Vec<Vec<bool>> = profiles
+            .iter()
+            .map(|samples| {
+                let mut lit = unblocked((0..samples.len()).rev().map(|i| reach(samples, i)));
+                lit.reverse();
+                lit
+            })
+            .collect();
+        let mut ratio: Vec<Option<f64>> = Vec::with_capacity(2 * GLINT_DEPRESSIONS);
+        for towards in [true, false] {
+            // The eye before the profiles (towards the sun) or after them (the sun behind it).
+            let eye_side = if towards { -1.0 } else { 1.0 };
+            for j in 0..GLINT_DEPRESSIONS {
+                // Depression 0 stands for its limit: Smith's share vanishes there.
+                let e = Self::depression_deg(j).max(0.05).to_radians();
+                let v = DVec3::new(eye_side * along.x * e.cos(), eye_side * along.y * e.cos(), e.sin());
+                let h = (v + l).normalize();
+                let mirror_rise = -DVec2::new(h.x, h.y).dot(along) / h.z;
+                let (mut all, mut both, mut hits) = (0.0, 0.0, 0usize);
+                for (samples, lit) in profiles.iter().zip(&lit) {
+                    let n = samples.len();
+                    let seen = if towards {
+                        unblocked((0..n).map(|i| samples[i].0 + i as f64 * step * e.tan()))
+                    } else {
+                        let mut seen = unblocked((0..n).rev().map(|i| samples[i].0 - i as f64 * step * e.tan()));
+                        seen.reverse();
+                        seen
+                    };
+                    for (i, (_, area)) in samples.iter().enumerate() {
+                        let s = i as f64 * step;
+                        let rise = -DVec2::new(area.x, area.y).dot(along) / area.z;
+                        let projected = v.dot(*area) / area.z;
+                        let inside = s > LEAD_M && s < n as f64 * step - LEAD_M;
+                        if inside && projected > 0.0 && (rise - mirror_rise).abs() < MIRROR_WINDOW_SIGMAS * sigma {
+                            all += projected;
+                            both += if seen[i] && lit[i] { projected } else { 0.0 };
+                            hits += usize::from(seen[i] && lit[i]);
+                        }
+                    }
+                }
+                let smith = 1.0 / (1.0 + lambda(e) + lambda(a));
+                ratio.push((hits >= TABLE_MIN_HITS && all > 0.0).then(|| both / all / smith));
+            }
+        }
+        // A depression with too few facets both seen and lit to measure takes the next steeper
+        // one's ratio (the share grows with the depression: this errs bright, never to 0).
+        let ratio = ratio
+            .chunks(GLINT_DEPRESSIONS)
+            .flat_map(|row| {
+                let mut next = 1.0;
+                let mut filled: Vec<f64> = row
+                    .iter()
+                    .rev()
+                    .map(|r| {
+                        next = r.unwrap_or(next);
+                        next
+                    })
+                    .collect();
+                filled.reverse();
+                filled
+            })
+            .collect();
+        GlintMaskingTable { ratio }
+    }
+}
+
+impl GlintMaskingTable {
+    /// The table at a depression (radians) in configuration 0 or 1, as glsl/masking.glsl reads
+    /// it: linearly in sqrt(depression / max), clamped to its domain.
+    pub fn lookup(&self, configuration: usize, depression: f64) -> f64 {
+        let max = GLINT_DEPRESSION_MAX_DEG.to_radians();
+        let u = (depression / max).clamp(0.0, 1.0).sqrt() * (GLINT_DEPRESSIONS - 1) as f64;
+        let j = (u as usize).min(GLINT_DEPRESSIONS - 2);
+        let f = u - j as f64;
+        self.at(configuration, j) * (1.0 - f) + self.at(configuration, j + 1) * f
+    }
+
+    /// The factor glsl/masking.glsl's `sea_masking` puts on the full method's sun term, in f64,
+    /// on a level sea (z up): v, l unit directions to the eye and the sun, `wind` the unit wind
+    /// direction, slope variances along and across it of the BRDF's slopes and of the whole sea's.
+    pub fn sea_masking(&self, v: DVec3, l: DVec3, wind: DVec2, unresolved: [f64; 2], whole: [f64; 2]) -> f64 {
+        let local = |d: DVec3| DVec3::new(d.x * wind.x + d.y * wind.y, d.y * wind.x - d.x * wind.y, d.z);
+        let (vs, ls) = (local(v), local(l));
+        if vs.z <= 0.0 || ls.z <= 0.0 {
+            return 1.0;
+        }
+        let lambda = |d: DVec3, sigma2: [f64; 2]| {
+            let spread = (2.0 * (sigma2[0] * d.x * d.x + sigma2[1] * d.y * d.y)).sqrt();
+            if spread > 0.0 {
+                crate::measure::reference::smith_lambda(d.z / spread)
+            } else {
+                0.0
+            }
+        };
+        let smith = |sigma2| 1.0 / (1.0 + lambda(vs, sigma2) + lambda(ls, sigma2));
+        let smith_ratio = (smith(whole) / smith(unresolved)).min(1.0);
+        let (vh, lh) = (DVec2::new(vs.x, vs.y), DVec2::new(ls.x, ls.y));
+        let towards_sun = match (vh.try_normalize(), lh.try_normalize()) {
+            (Some(a), Some(b)) => 0.5 * (1.0 - a.dot(b)),
+            _ => 0.5,
+        };
+        let depression = vs.z.clamp(0.0, 1.0).asin();
+        let exact_over_smith =
+            self.lookup(1, depression) * (1.0 - towards_sun) + self.lookup(0, depression) * towards_sun;
+        smith_ratio * exact_over_smith.max(0.0)
+    }
+}
+
+/// The standard normal distribution function (by erfc_approx, the shaders' rational approximation).
+fn normal_cdf(x: f64) -> f64 {
+    let e = crate::measure::reference::erfc_approx(x.abs() / std::f64::consts::SQRT_2);
+    if x >= 0.0 {
+        1.0 - 0.5 * e
+    } else {
+        0.5 * e
+    }
 }
 
 /// The sea's profiles at one azimuth: their direction, PROFILES parallel lines 37 m apart of
@@ -166,11 +380,16 @@ struct Profiles {
 }
 
 impl Profiles {
-    fn new(waves: &WaveSet, t: f64, azimuth_deg: f64, step: f64) -> Profiles {
+    fn new(waves: &WaveSet, t: f64, azimuth_deg: f64, step: f64, count: usize) -> Profiles {
         let wind = DVec2::from(waves.wind_direction);
         let along = DVec2::from_angle(azimuth_deg.to_radians()).rotate(wind);
-        let samples =
-            (0..PROFILES).map(|line| profile(waves, t, along.perp() * (37.0 * line as f64), along, step)).collect();
+        // One thread a profile: each is tens of thousands of Newton solves over every train.
+        let samples = std::thread::scope(|scope| {
+            let lines: Vec<_> = (0..count)
+                .map(|line| scope.spawn(move || profile(waves, t, along.perp() * (37.0 * line as f64), along, step)))
+                .collect();
+            lines.into_iter().map(|line| line.join().expect("a profile's thread does not panic")).collect()
+        });
         let variance = waves.sigma2[0] * along.dot(wind).powi(2) + waves.sigma2[1] * along.perp_dot(wind).powi(2);
         Profiles { along, samples, variance }
     }
@@ -255,6 +474,31 @@ mod tests {
             "{grazing:?}"
         );
         assert!((steep.seen - steep.smith_seen).abs() < 0.05, "{steep:?}");
+    }
+
+    /// The table the sun term reads: towards a low sun at grazing view the mirror facets are
+    /// seen and lit a fraction of Smith's share, from 20 degrees down about Smith's; away from
+    /// the sun no facet mirrors a low sun and Smith's stands.
+    #[test]
+    fn the_glint_masking_table_hides_grazing_mirror_facets_and_leaves_steep_views_to_smith() {
+        let waves = coarse_sea();
+        let table = GlintMaskingTable::measure(&waves, 0.0, 0.0, 3.0);
+        let node = |deg: f64| {
+            (0..GLINT_DEPRESSIONS)
+                .min_by(|&a, &b| {
+                    let d = |j| (GlintMaskingTable::depression_deg(j) - deg).abs();
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap_or(0)
+        };
+        let row: Vec<f64> = (0..GLINT_DEPRESSIONS).map(|j| table.at(0, j)).collect();
+        eprintln!("towards the sun: {row:.3?}");
+        assert!(row.iter().all(|r| r.is_finite() && *r >= 0.0));
+        assert!(table.at(0, node(1.0)) < 0.5, "{row:?}");
+        assert!((0.7..1.4).contains(&table.at(0, node(20.0))), "{row:?}");
+        assert!(table.at(0, node(1.0)) < table.at(0, node(5.0)) && table.at(0, node(5.0)) < table.at(0, node(15.0)));
+        assert!((0..GLINT_DEPRESSIONS).all(|j| table.at(1, j) == 1.0), "no mirror facets with the sun behind");
+        assert_eq!(GlintMaskingTable::measure(&waves, 0.0, 0.0, -1.0), GlintMaskingTable::smith());
     }
 
     /// Seen from high up nothing hides a facet; at grazing view the profiles hide most of them,

@@ -1,6 +1,7 @@
 //! What the CPU hands the shaders each frame: the camera, the sun and sky, the projected grid's
 //! extent and the wave trains. Layouts mirror glsl/frame.glsl (std140 / std430, vec4-packed).
 
+use crate::model::masking::{GlintMaskingTable, GLINT_DEPRESSIONS};
 use crate::model::scene::{Scene, MAX_WAVES};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
@@ -76,17 +77,35 @@ pub struct FrameUniforms {
     pub glints: [f32; 4],
 }
 
-/// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums.
+/// vec4s of the glint's masking table in the `Waves` block (glsl/masking.glsl).
+pub const GLINT_MASKING_VEC4S: usize = 2 * GLINT_DEPRESSIONS / 4;
+
+/// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums, then the
+/// sun's masking on the sea's own profiles over Smith's (model::masking::GlintMaskingTable).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GpuWaves {
     pub data: [[u32; 4]; MAX_WAVES as usize],
     pub prefix: [[f32; 4]; MAX_WAVES as usize],
+    pub glint_masking: [[f32; 4]; GLINT_MASKING_VEC4S],
 }
 
 impl Default for GpuWaves {
     fn default() -> Self {
-        GpuWaves { data: [[0; 4]; MAX_WAVES as usize], prefix: [[0.0; 4]; MAX_WAVES as usize] }
+        GpuWaves {
+            data: [[0; 4]; MAX_WAVES as usize],
+            prefix: [[0.0; 4]; MAX_WAVES as usize],
+            glint_masking: [[1.0; 4]; GLINT_MASKING_VEC4S],
+        }
+    }
+}
+
+impl GpuWaves {
+    /// Writes the masking table, four ratios a vec4, in its own order.
+    pub fn set_glint_masking(&mut self, table: &GlintMaskingTable) {
+        for (i, r) in table.ratio.iter().enumerate() {
+            self.glint_masking[i / 4][i % 4] = *r as f32;
+        }
     }
 }
 

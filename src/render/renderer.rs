@@ -4,6 +4,7 @@
 //! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
+use crate::model::masking::GlintMaskingTable;
 use crate::model::scene::{Planet, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
@@ -169,7 +170,16 @@ pub struct Renderer<'g> {
     sky_map_extent: f32,
     /// The scene's shadow-map setting the passes and resources were made for.
     shadow_setting: (ShadowMapMode, u32),
+    /// Whether the shading reads the glint's masking table (the full method's sun term), and the
+    /// table with the sea and sun it was measured for: measuring takes up to half a second, so
+    /// frames under the same sea and sun reuse it.
+    measures_glint_masking: bool,
+    glint_masking: Option<(GlintMaskingKey, GlintMaskingTable)>,
 }
+
+/// What the glint's masking table depends on: the sea's trains (their statistics do not change
+/// with time) and the sun's direction.
+type GlintMaskingKey = (crate::model::scene::Waves, crate::model::scene::Wind, crate::model::scene::Sun);
 
 /// What the view-dependent passes depend on: the sky and the camera's rays and height, as the
 /// frame's uniforms hold them (bit-exact).
@@ -312,6 +322,8 @@ impl<'g> Renderer<'g> {
             sky_model: scene.sky.model,
             tone,
             sky_map_extent: frame::sky_map_extent(options.shader.method),
+            measures_glint_masking: options.shader.method == Method::Full && options.shader.terms.sun,
+            glint_masking: None,
             shadow_setting: (scene.render.shadow_map, scene.render.shadow_map_size),
         })
     }
@@ -520,6 +532,17 @@ impl<'g> Renderer<'g> {
         let mut data =
             frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         data.uniforms.tone[1] = self.sky_map_extent;
+        if self.measures_glint_masking {
+            let key = (scene.waves.clone(), scene.wind.clone(), scene.sun.clone());
+            if self.glint_masking.as_ref().is_none_or(|(k, _)| *k != key) {
+                let azimuth = scene.sun.azimuth_deg - scene.wind.direction_deg;
+                let table = GlintMaskingTable::cached(&wave_set, 0.0, azimuth, scene.sun.elevation_deg);
+                self.glint_masking = Some((key, table));
+            }
+            if let Some((_, table)) = &self.glint_masking {
+                data.waves.set_glint_masking(table);
+            }
+        }
         self.resources.frame_uniforms.write(slot, &data.uniforms)?;
         self.resources.waves.write(slot, data.waves.as_ref())?;
         self.slots[slot].grid.set(data.grid.columns, data.grid.rows)?;

@@ -149,15 +149,17 @@ fn glint_markdown(scene: &Scene, waves: &WaveSet) -> String {
          facets that mirror the eye into the sun (slope along the view within 0.2 sigma of the mirror slope, by projected \
          area), the shares seen from the eye, lit by the sun and both on the sea's own profiles, and Smith's (which the \
          sun term takes: the last column is the share both seen and lit over the height-correlated 1 / (1 + Lambda_v + \
-         Lambda_l), the factor by which the method's sun is too bright from the masking alone).\n",
+         Lambda_l), the factor by which Smith's masking leaves the sun too bright; and Smith's at each facet's own height, \
+         C(h)^(Lambda_v + Lambda_l), which keeps the correlation of height and slope but not of the facet's slope with \
+         its neighbours').\n",
         scene.sun.elevation_deg
     );
-    s.push_str("| depression | mirror slope | seen | Smith | lit | Smith | seen and lit | Smith | exact / Smith |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| depression | mirror slope | seen | Smith | lit | Smith | seen and lit | Smith | exact / Smith | Smith at height |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
     for (m, depression) in rows.iter().zip(DEPRESSIONS_DEG) {
         let _ = writeln!(
             s,
-            "| {depression}° | {:+.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} |",
+            "| {depression}° | {:+.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.4} |",
             m.mirror_slope,
             m.seen,
             m.smith_seen,
@@ -165,7 +167,8 @@ fn glint_markdown(scene: &Scene, waves: &WaveSet) -> String {
             m.smith_lit,
             m.seen_and_lit,
             m.smith_seen_and_lit,
-            m.seen_and_lit / m.smith_seen_and_lit
+            m.seen_and_lit / m.smith_seen_and_lit,
+            m.smith_at_height
         );
     }
     s

@@ -1,0 +1,64 @@
+// The sea's own masking of the reflected sun beyond Smith's (src/model/masking.rs,
+// GlintMaskingTable; docs/results.md, "The sun's masking"). Smith's masking takes a facet's
+// visibility as independent of its slope. At grazing view it is not: the sea's slope is shared
+// by every octave of its trains, its height belongs to the longest, so a level facet is seen and
+// lit only near a long wave's crest. The table holds, per depression of the view, the share of
+// the facets that mirror the eye into the sun both seen and lit on the sea's exact profiles over
+// Smith's height-correlated share, measured in the sun's vertical plane with the eye looking
+// towards the sun (configuration 0) and away from it (1).
+// Requires frame.glsl, slopes.glsl and WAVES_BLOCK (its glint_masking array) in scope.
+#ifndef MASKING_GLSL
+#define MASKING_GLSL
+
+// model::masking's GLINT_* constants.
+const int GLINT_DEPRESSIONS = 32;
+const float GLINT_DEPRESSION_MAX = 30.0 * PI / 180.0;
+
+float glint_masking_at(int configuration, int depression) {
+    int i = configuration * GLINT_DEPRESSIONS + depression;
+    return glint_masking[i >> 2][i & 3];
+}
+
+// The table linearly in sqrt(depression / max), its nodes' spacing, clamped to its domain.
+float glint_masking_lookup(int configuration, float depression) {
+    float u = sqrt(clamp(depression / GLINT_DEPRESSION_MAX, 0.0, 1.0)) * float(GLINT_DEPRESSIONS - 1);
+    int j = min(int(u), GLINT_DEPRESSIONS - 2);
+    return mix(glint_masking_at(configuration, j), glint_masking_at(configuration, j + 1), u - float(j));
+}
+
+// 1 / (1 + Lambda_v + Lambda_l) for unit directions v and l in a frame with z up and Gaussian
+// slopes of variance sigma2 (the wind's axes), as glsl/brdf.glsl's sun term forms it: multiplied
+// through by v_z l_z, so a direction on the horizon gives its limit 0 instead of dividing by 0.
+float smith_shadowing(vec3 v, vec3 l, vec2 sigma2) {
+    float cv = max(v.z, 0.0), cl = max(l.z, 0.0);
+    float denom = cv * cl + cl * cos_times_lambda(cv, slope_spread(v, sigma2))
+                + cv * cos_times_lambda(cl, slope_spread(l, sigma2));
+    return denom > 0.0 ? cv * cl / denom : 0.0;
+}
+
+// The factor that takes the sun term's masking from Smith's over the pixel's unresolved slopes
+// (inside reflect_sun) to the sea's own over all of its slopes: the table's exact-over-Smith at
+// the view's depression (out of the sun's plane, its mirror facets' value in it), times Smith's
+// over the whole sea's slopes over Smith's over the unresolved ones, both about the sea's mean
+// plane. Where the per-pixel normals resolve long trains, their
+// slopes are then shadowed too, statistically (the trains the grid displaces included: without
+// the shadow map nothing else shadows them; with it they are shadowed twice). v, l: unit
+// directions to the eye and the sun; up: the sea's normal; sigma2_unresolved: the BRDF's slopes.
+float sea_masking(vec3 v, vec3 l, vec3 up, vec2 sigma2_unresolved) {
+    Frame3 sea = wind_frame(up);
+    vec3 vs = to_local(sea, v), ls = to_local(sea, l);
+    if (vs.z <= 0.0 || ls.z <= 0.0) return 1.0;   // reflect_sun's own limit applies
+    float unresolved = smith_shadowing(vs, ls, sigma2_unresolved);
+    float whole = smith_shadowing(vs, ls, frame.wind.zw);
+    // whole <= unresolved: the whole sea's slopes hold the unresolved ones.
+    float smith_ratio = unresolved > 0.0 ? min(whole / unresolved, 1.0) : 1.0;
+    // The configuration by the view's azimuth against the sun's: the eye looks along -v.
+    float horizontal = length(vs.xy), sun_horizontal = length(ls.xy);
+    float towards_sun = horizontal > 0.0 && sun_horizontal > 0.0
+                      ? 0.5 * (1.0 - dot(vs.xy / horizontal, ls.xy / sun_horizontal)) : 0.5;
+    float depression = asin(clamp(vs.z, 0.0, 1.0));
+    float exact_over_smith = mix(glint_masking_lookup(1, depression), glint_masking_lookup(0, depression), towards_sun);
+    return smith_ratio * max(exact_over_smith, 0.0);
+}
+
+#endif
