@@ -99,6 +99,10 @@ pub struct GlintMasking {
     /// correlation of a facet's slope with its height but not with its neighbours' heights: on
     /// the default sea it stays near Smith's mean (docs/results.md, "The sun's masking").
     pub smith_at_height: f64,
+    /// The mirror facets' projected area per unit length of the profile over the Gaussian
+    /// slopes' (the model's p(zeta_h), of the profiles' slope variance): whether the sea holds as
+    /// many mirror facets as the model draws, before any masking.
+    pub density_over_gaussian: f64,
 }
 
 /// The glint's masking (`GlintMasking`) looking along `azimuth_deg` from the wind towards a sun
@@ -133,6 +137,7 @@ pub fn glint(
             let mirror_slope = -DVec2::new(h.x, h.y).dot(along) / h.z;
             let (lv, ll) = (lambda(e), lambda(a));
             let (mut all, mut seen, mut lit, mut both, mut at_height) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            let mut length = 0.0;
             for samples in &profiles {
                 let n = samples.len();
                 // Seen: z + s tan(e) at least its running maximum nearer the eye; lit: z - s tan(a)
@@ -145,6 +150,7 @@ pub fn glint(
                     let slope = -DVec2::new(area.x, area.y).dot(along) / area.z;
                     let projected = v.dot(*area) / area.z;
                     let inside = s > LEAD_M && s < (n as f64 * step - LEAD_M);
+                    length += if inside { 1.0 } else { 0.0 };
                     if inside && projected > 0.0 && (slope - mirror_slope).abs() < 0.2 * sigma {
                         let (is_seen, is_lit) = (seen_here[i], lit_here[i]);
                         all += projected;
@@ -164,9 +170,25 @@ pub fn glint(
                 smith_lit: 1.0 / (1.0 + ll),
                 smith_seen_and_lit: 1.0 / (1.0 + lv + ll),
                 smith_at_height: at_height / all,
+                density_over_gaussian: all / length / gaussian_window(mirror_slope, 0.2 * sigma, sigma, e),
             }
         })
         .collect()
+}
+
+/// The projected area towards an eye at depression e, per unit horizontal length, of Gaussian
+/// slopes (standard deviation sigma) within half_width of centre: the integral of
+/// (sin e + zeta cos e)^+ N(zeta; 0, sigma^2), by the midpoint rule.
+fn gaussian_window(centre: f64, half_width: f64, sigma: f64, e: f64) -> f64 {
+    const NODES: usize = 64;
+    let dz = 2.0 * half_width / NODES as f64;
+    (0..NODES)
+        .map(|i| {
+            let zeta = centre - half_width + (i as f64 + 0.5) * dz;
+            let density = (-0.5 * (zeta / sigma).powi(2)).exp() / (sigma * (std::f64::consts::TAU).sqrt());
+            (e.sin() + zeta * e.cos()).max(0.0) * density * dz
+        })
+        .sum()
 }
 
 /// Depressions of the glint's masking table (`GlintMaskingTable`); its two configurations are

@@ -119,7 +119,7 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
 }
 
 /// Depressions of the view measured (degrees): the far field's 1-3 degrees to the mid field's 20.
-const DEPRESSIONS_DEG: [f64; 6] = [1.0, 2.0, 3.0, 5.0, 10.0, 20.0];
+const DEPRESSIONS_DEG: [f64; 7] = [1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 30.0];
 
 /// The sea's own masking (src/model/masking.rs) down the wind and across it, sampled every
 /// centimetre.
@@ -151,15 +151,16 @@ fn glint_markdown(scene: &Scene, waves: &WaveSet) -> String {
          sun term takes: the last column is the share both seen and lit over the height-correlated 1 / (1 + Lambda_v + \
          Lambda_l), the factor by which Smith's masking leaves the sun too bright; and Smith's at each facet's own height, \
          C(h)^(Lambda_v + Lambda_l), which keeps the correlation of height and slope but not of the facet's slope with \
-         its neighbours').\n",
+         its neighbours'; and the mirror facets' projected area per unit length over the Gaussian slopes', before any \
+         masking).\n",
         scene.sun.elevation_deg
     );
-    s.push_str("| depression | mirror slope | seen | Smith | lit | Smith | seen and lit | Smith | exact / Smith | Smith at height |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| depression | mirror slope | seen | Smith | lit | Smith | seen and lit | Smith | exact / Smith | Smith at height | density / Gaussian |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (m, depression) in rows.iter().zip(DEPRESSIONS_DEG) {
         let _ = writeln!(
             s,
-            "| {depression}° | {:+.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.4} |",
+            "| {depression}° | {:+.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.4} | {:.3} |",
             m.mirror_slope,
             m.seen,
             m.smith_seen,
@@ -168,7 +169,8 @@ fn glint_markdown(scene: &Scene, waves: &WaveSet) -> String {
             m.seen_and_lit,
             m.smith_seen_and_lit,
             m.seen_and_lit / m.smith_seen_and_lit,
-            m.smith_at_height
+            m.smith_at_height,
+            m.density_over_gaussian
         );
     }
     s
