@@ -135,4 +135,26 @@ VisibleSlopes visible_slopes(vec3 v_local, vec2 sigma2) {
     return VisibleSlopes(-sigma2 * azimuth / (sigma_s * (r + m)), sigma * w * sqrt(k), sigma * w_perp);
 }
 
+// The mean facet that a ray along unit d (local frame) strikes where it meets the sea: the facets
+// facing it, each by its area projected across the ray, (zeta_s - tan e)^+ for the slope zeta_s
+// along the ray's azimuth and its elevation e. That is visible_slopes' linear ramp for an eye
+// looking back along the ray, r = -tan(e) / sigma_s, now of either sign: a rising ray (r < 0)
+// strikes only facets steeper than itself, a falling one (r > 0) the facets seen from above.
+// Phi(r) for r < 0 is 1 - Phi(-r); r is kept from -3, where Smith's blocked share of a rising ray
+// is 1.2e-4 (blocked_share at a = 3 / sqrt(2)) and the mean no longer weighs on the map. Returns
+// the mean facet's unit normal; straight up on a glassy sea or for a vertical ray.
+vec3 struck_facet_normal(vec3 d_local, vec2 sigma2) {
+    float sin2 = dot(d_local.xy, d_local.xy);
+    float var = directional_variance(d_local, sigma2);
+    if (sin2 <= 0.0 || var <= 0.0) return vec3(0.0, 0.0, 1.0);
+    float sin_d = sqrt(sin2);
+    vec2 back = -d_local.xy / sin_d;   // towards where the ray comes from
+    float sigma_s = sqrt(var);
+    float r = max(-d_local.z / sin_d / sigma_s, -3.0);
+    float cdf = r >= 0.0 ? normal_cdf_positive(r) : 1.0 - normal_cdf_positive(-r);   // >= 1.3e-3
+    float m = 0.39894228 * exp(-0.5 * min(r * r, 2.0 * EXP_UNDERFLOW)) / cdf;
+    vec2 mean = -sigma2 * back / (sigma_s * (r + m));   // r + m > 0 for every finite r
+    return normalize(vec3(-mean, 1.0));
+}
+
 #endif

@@ -189,11 +189,19 @@ impl ReferenceScene<'_> {
                 let mut l = self.sky.radiance([r.x, r.y, r.z.abs()]);
                 if self.full {
                     let d = DVec2::new(r.x, r.y);
-                    let (along, across) = (d.dot(wind), d.perp_dot(wind));
+                    let (along, across) = (d.dot(wind), d.dot(wind.perp()));
                     let var = directional_variance(along, across, sea.sigma2);
                     let f2 = MeanFresnelTable::sea_water().lookup(r.z.abs(), var.sqrt());
                     let blocked = if r.z < 0.0 { 1.0 } else { blocked_share(along, across, r.z, sea.sigma2) };
-                    l = l.map(|x| (1.0 - blocked * (1.0 - f2)) * x);
+                    // The wave it meets mirrors it again about the mean facet it strikes.
+                    let local = DVec3::new(along, across, r.z);
+                    let facet = struck_facet_normal(local, sea.sigma2);
+                    let again = local - 2.0 * local.dot(facet) * facet;
+                    let again_xy = wind * again.x + wind.perp() * again.y;
+                    let l2 = self.sky.radiance([again_xy.x, again_xy.y, again.z.abs()]);
+                    for c in 0..3 {
+                        l[c] = (1.0 - blocked) * l[c] + blocked * f2 * l2[c];
+                    }
                     enters_sum += weight * blocked * (1.0 - f2);
                 }
                 for c in 0..3 {
@@ -207,6 +215,26 @@ impl ReferenceScene<'_> {
         }
         (sum.map(|s| s / weight_sum), enters_sum / weight_sum)
     }
+}
+
+/// The unit normal of the mean facet that a ray along the unit direction d (wind-axis components)
+/// strikes where it meets the sea (glsl/slopes.glsl, struck_facet_normal): the Gaussian slopes
+/// under the ramp (zeta_s - tan e)^+, r = -tan(e) / sigma_s kept from -3.
+fn struck_facet_normal(d: DVec3, sigma2: [f64; 2]) -> DVec3 {
+    let sin2 = d.x * d.x + d.y * d.y;
+    let var = directional_variance(d.x, d.y, sigma2);
+    if sin2 <= 0.0 || var <= 0.0 {
+        return DVec3::Z;
+    }
+    let back = -DVec2::new(d.x, d.y) / sin2.sqrt();
+    let sigma_s = var.sqrt();
+    let r = (-d.z / sin2.sqrt() / sigma_s).max(-3.0);
+    // Phi(r) = erfc(-r / sqrt 2) / 2, by the same approximation on either side of 0.
+    let tail = 0.5 * erfc_approx(r.abs() / std::f64::consts::SQRT_2);
+    let cdf = if r >= 0.0 { 1.0 - tail } else { tail };
+    let m = (-0.5 * r * r).exp() / (2.0 * PI).sqrt() / cdf;
+    let mean = DVec2::new(-sigma2[0] * back.x, -sigma2[1] * back.y) / (sigma_s * (r + m));
+    DVec3::new(-mean.x, -mean.y, 1.0).normalize()
 }
 
 /// Slope variance along the azimuth with wind-axis components (x, y); the mean of the axes where
