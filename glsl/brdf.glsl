@@ -91,7 +91,7 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
 // Average sky radiance over the slope distribution: textureGrad lookups whose footprint is the
 // image of the 2-sigma slope ellipse (paper, algorithm 5.1; derivatives by finite differences
 // along its axes), centred on the mirror direction (the paper) or, for METHOD_FULL, the ellipse
-// of the visible facets' slopes (slopes.glsl). rgb: the reflected sky; a: the share of the
+// of the visible facets' slopes (slopes.glsl) moved by `lean` (0 for the paper). rgb: the reflected sky; a: the share of the
 // reflections that meet the sea again and enter it there (0 for the paper, whose map holds none).
 //
 // A mipmap lookup filters isotropically over the footprint's longer axis. At grazing view the
@@ -110,9 +110,10 @@ vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
     return textureGrad(sky_map, sky_map_uv(u), du_x * to_uv, du_y * to_uv);
 }
 
-vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2) {
+vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
     const float eps = 1e-3;
     VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2) : gaussian_slopes(sigma2);
+    slopes.mean += lean;
     vec2 u0 = reflected_u(f, v, slopes.mean);
     // u's derivative along each axis's direction, times twice its length (0 for a zero axis).
     float len_a = length(slopes.axis_along), len_b = length(slopes.axis_across);
@@ -171,10 +172,20 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
         color += glints * expected;
     }
     float fresnel = sea_fresnel(cos_v, sqrt(directional_variance(vl, sigma2)));
+    // METHOD_FULL: at grazing view the facets the eye sees lean further towards it than their
+    // projected area alone makes them, and mirror less (masking.glsl): the sky lookup is centred
+    // on their slopes and the Fresnel of the sky and refracted terms is theirs.
+    vec2 lean = vec2(0.0);
+    if (METHOD == METHOD_FULL) {
+        vec2 seen = visible_facet_correction(v, up);
+        float horizontal = length(vl.xy);
+        lean = horizontal > 0.0 ? -seen.x * vl.xy / horizontal : vec2(0.0);
+        fresnel = min(fresnel * seen.y, 1.0);
+    }
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
-    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2) : vec4(0.0);
+    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean) : vec4(0.0);
     if (TERM_SKY) color += fresnel * light.sky_scale * sky.rgb;
     if (TERM_SEA) color += (1.0 - fresnel * (1.0 - sky.a)) * frame.sea_albedo.rgb * light.sky_irradiance / PI;
     return color;

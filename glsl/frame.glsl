@@ -60,7 +60,11 @@ layout(constant_id = 13) const bool GLINTS = false;
 const uint MAX_WAVES = 256u;
 // glint_masking: the sun's masking on the sea's own profiles over Smith's (glsl/masking.glsl).
 const int GLINT_MASKING_VEC4S = 16;   // frame::GLINT_MASKING_VEC4S
-#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; vec4 glint_masking[GLINT_MASKING_VEC4S]; }
+// visible_facets[j]: at the masking tables' depression j, the facets the eye sees over the
+// model's (model::masking::VisibleFacetTable): x, y their further lean looking along and across
+// the wind; z, w their Fresnel ratio the same (glsl/masking.glsl).
+const int VISIBLE_FACET_NODES = 32;   // model::masking::GLINT_DEPRESSIONS
+#define WAVES_BLOCK layout(set = 0, binding = 1, std140) uniform Waves { uvec4 wave_data[MAX_WAVES]; vec4 wave_prefix[MAX_WAVES]; vec4 glint_masking[GLINT_MASKING_VEC4S]; vec4 visible_facets[VISIBLE_FACET_NODES]; }
 
 struct Wave {
     vec2 k;          // turns per metre

@@ -61,4 +61,20 @@ float sea_masking(vec3 v, vec3 l, vec3 up, vec2 sigma2_unresolved) {
     return smith_ratio * max(exact_over_smith, 0.0);
 }
 
+// The facets the eye sees against the model's (model::masking::VisibleFacetTable), for unit v
+// towards the eye over a sea of normal up: x, their further lean towards the eye (slope); y,
+// their mean Fresnel over the model's. Each configuration linearly in sqrt(depression / max),
+// blended by cos^2 of the view's azimuth from the wind (the share of the slope variance along
+// the view that the wind's axis holds).
+vec2 visible_facet_correction(vec3 v, vec3 up) {
+    vec3 vs = to_local(wind_frame(up), v);
+    float horizontal2 = dot(vs.xy, vs.xy);
+    float along = horizontal2 > 0.0 ? vs.x * vs.x / horizontal2 : 0.5;
+    float depression = asin(clamp(vs.z, 0.0, 1.0));
+    float u = sqrt(clamp(depression / GLINT_DEPRESSION_MAX, 0.0, 1.0)) * float(VISIBLE_FACET_NODES - 1);
+    int j = min(int(u), VISIBLE_FACET_NODES - 2);
+    vec4 node = mix(visible_facets[j], visible_facets[j + 1], u - float(j));
+    return vec2(mix(node.y, node.x, along), mix(node.w, node.z, along));
+}
+
 #endif

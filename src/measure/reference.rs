@@ -107,8 +107,14 @@ impl ReferenceScene<'_> {
         } else {
             [0.0; 3]
         };
-        let fresnel = self.mean_fresnel(cos_v, directional_variance(vl.x, vl.y, sigma2).sqrt());
-        let (sky_l, enters) = self.mean_sky_radiance([t_x, t_y, n], v, sigma2);
+        let mut fresnel = self.mean_fresnel(cos_v, directional_variance(vl.x, vl.y, sigma2).sqrt());
+        let mut lean = DVec2::ZERO;
+        if self.full {
+            let (further, ratio) = self.visible_facet_correction(v);
+            lean = -further * DVec2::new(vl.x, vl.y).try_normalize().unwrap_or(DVec2::ZERO);
+            fresnel = (fresnel * ratio).min(1.0);
+        }
+        let (sky_l, enters) = self.mean_sky_radiance([t_x, t_y, n], v, sigma2, lean);
         let e_sky = self.sky.sky_irradiance();
         PixelRadiance {
             sun,
@@ -137,6 +143,19 @@ impl ReferenceScene<'_> {
         table.sea_masking(v, sun_dir, wind, unresolved, waves.sigma2)
     }
 
+    /// The full method's visible facets at v's depression on a level sea (glsl/masking.glsl,
+    /// visible_facet_correction): their further lean towards the eye and their Fresnel ratio,
+    /// from the table the renderer measures for the same sea.
+    fn visible_facet_correction(&self, v: DVec3) -> (f64, f64) {
+        let waves = self.footprint.waves;
+        let wind = DVec2::from(waves.wind_direction);
+        let (x, y) = (v.x * wind.x + v.y * wind.y, v.y * wind.x - v.x * wind.y);
+        let horizontal2 = x * x + y * y;
+        let along_share = if horizontal2 > 0.0 { x * x / horizontal2 } else { 0.5 };
+        let table = crate::model::masking::VisibleFacetTable::cached(waves, 0.0);
+        table.lookup(along_share, v.z.clamp(0.0, 1.0).asin())
+    }
+
     /// The sky and refracted terms' Fresnel: the paper's fit, or (full) the exact average over
     /// the visible slopes, through the table the shaders read (its own accuracy is tested apart).
     fn mean_fresnel(&self, cos_v: f64, sigma_v: f64) -> f64 {
@@ -161,8 +180,10 @@ impl ReferenceScene<'_> {
     /// the sky mirrored, as its sky map folds them. Full: each facet weighted by its projected
     /// area (v.f)^+ / f_z as well, and a reflection below the horizon meets the sea, seen from there
     /// over all its slopes: the sky mirrored again times the mean Fresnel F2 there, the rest
-    /// entering the water. Returns the mean sky radiance and the mean entering share.
-    pub fn mean_sky_radiance(&self, frame: [DVec3; 3], v: DVec3, sigma2: [f64; 2]) -> ([f64; 3], f64) {
+    /// entering the water; each facet's slope moved by `lean` after its weight (the visible
+    /// facets' further lean, glsl/brdf.glsl). Returns the mean sky radiance and the mean entering
+    /// share.
+    pub fn mean_sky_radiance(&self, frame: [DVec3; 3], v: DVec3, sigma2: [f64; 2], lean: DVec2) -> ([f64; 3], f64) {
         const N: usize = 33;
         let [t_x, t_y, n] = frame;
         let (sx, sy) = (sigma2[0].sqrt(), sigma2[1].sqrt());
@@ -179,7 +200,7 @@ impl ReferenceScene<'_> {
                 if self.full {
                     weight *= (v.dot(n) - zx * v.dot(t_x) - zy * v.dot(t_y)).max(0.0);
                 }
-                let facet = (n - zx * t_x - zy * t_y).normalize();
+                let facet = (n - (zx + lean.x) * t_x - (zy + lean.y) * t_y).normalize();
                 let mut r = 2.0 * v.dot(facet) * facet - v;
                 if self.full && r.z < RIM_Z {
                     // The sky map holds directions down to its rim; deeper ones read the rim.

@@ -36,45 +36,55 @@ pub struct Masking {
 /// The visible facets' mean Fresnel along profiles at `azimuth_deg` from the wind, at each
 /// depression (degrees), sampled every `step` m at time t.
 pub fn measure(waves: &WaveSet, t: f64, azimuth_deg: f64, depressions_deg: &[f64], step: f64) -> Vec<Masking> {
-    let Profiles { along, samples: profiles, variance } = Profiles::new(waves, t, azimuth_deg, step, PROFILES);
+    let profiles = Profiles::new(waves, t, azimuth_deg, step, PROFILES);
     let model_table = MeanFresnelTable::sea_water();
     depressions_deg
         .iter()
         .map(|&depression_deg| {
             let e = depression_deg.to_radians();
-            // Towards the eye, which lies back along the profile.
-            let v = DVec3::new(-along.x * e.cos(), -along.y * e.cos(), e.sin());
-            let (mut visible, mut visible_w, mut facing, mut facing_w) = (0.0, 0.0, 0.0, 0.0);
-            let (mut visible_tilt, mut facing_tilt) = (0.0, 0.0);
-            for samples in &profiles {
-                // Visible: z + s tan(e) at least its running maximum nearer the eye.
-                let seen = unblocked(samples.iter().enumerate().map(|(i, (z, _))| z + i as f64 * step * e.tan()));
-                for (i, (_, area)) in samples.iter().enumerate() {
-                    let projected = v.dot(*area) / area.z; // per unit of horizontal length
-                    if i as f64 * step > LEAD_M && projected > 0.0 {
-                        let f = fresnel_exact(v.dot(*area) / area.length(), SEA_WATER_IOR);
-                        let tilt = -DVec2::new(area.x, area.y).dot(along) / area.z;
-                        facing += projected * f;
-                        facing_w += projected;
-                        facing_tilt += projected * tilt;
-                        if seen[i] {
-                            visible += projected * f;
-                            visible_w += projected;
-                            visible_tilt += projected * tilt;
-                        }
-                    }
-                }
-            }
             Masking {
-                visible: visible / visible_w,
-                facing: facing / facing_w,
-                model: model_table.lookup(e.sin(), variance.sqrt()),
-                visible_share: visible_w / facing_w,
-                visible_tilt: visible_tilt / visible_w,
-                facing_tilt: facing_tilt / facing_w,
+                model: model_table.lookup(e.sin(), profiles.variance.sqrt()),
+                ..visible_facets(&profiles, step, e)
             }
         })
         .collect()
+}
+
+/// The facets seen from an eye at depression e looking along the profiles, and every facet
+/// facing it, on the profiles sampled every `step` m (`Masking`, its `model` left 0).
+fn visible_facets(profiles: &Profiles, step: f64, e: f64) -> Masking {
+    let along = profiles.along;
+    // Towards the eye, which lies back along the profile.
+    let v = DVec3::new(-along.x * e.cos(), -along.y * e.cos(), e.sin());
+    let (mut visible, mut visible_w, mut facing, mut facing_w) = (0.0, 0.0, 0.0, 0.0);
+    let (mut visible_tilt, mut facing_tilt) = (0.0, 0.0);
+    for samples in &profiles.samples {
+        // Visible: z + s tan(e) at least its running maximum nearer the eye.
+        let seen = unblocked(samples.iter().enumerate().map(|(i, (z, _))| z + i as f64 * step * e.tan()));
+        for (i, (_, area)) in samples.iter().enumerate() {
+            let projected = v.dot(*area) / area.z; // per unit of horizontal length
+            if i as f64 * step > LEAD_M && projected > 0.0 {
+                let f = fresnel_exact(v.dot(*area) / area.length(), SEA_WATER_IOR);
+                let tilt = -DVec2::new(area.x, area.y).dot(along) / area.z;
+                facing += projected * f;
+                facing_w += projected;
+                facing_tilt += projected * tilt;
+                if seen[i] {
+                    visible += projected * f;
+                    visible_w += projected;
+                    visible_tilt += projected * tilt;
+                }
+            }
+        }
+    }
+    Masking {
+        visible: visible / visible_w,
+        facing: facing / facing_w,
+        model: 0.0,
+        visible_share: visible_w / facing_w,
+        visible_tilt: visible_tilt / visible_w,
+        facing_tilt: facing_tilt / facing_w,
+    }
 }
 
 /// Where the sun's glint meets the sea's own masking, at one depression of the view: among the
@@ -383,6 +393,93 @@ impl GlintMaskingTable {
     }
 }
 
+/// The facets the eye sees on the sea's own profiles against the model's, per depression of the
+/// view (the glint table's nodes) with the eye looking along the wind (configuration 0) and
+/// across it (1). The full method weighs the facets facing the eye by their projected area and
+/// lets Smith's masking, which does not see a facet's slope, cancel; at grazing view the facets a
+/// ray reaches first lean further towards the eye (they mirror the sky from higher up) and their
+/// mean Fresnel is lower. `lean`: the visible facets' mean slope towards the eye less the facing
+/// ones'; `fresnel_ratio`: their mean Fresnel over the facing ones' (docs/results.md, "The facets
+/// the eye sees"). glsl/masking.glsl reads both at each pixel's depression.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VisibleFacetTable {
+    /// [configuration][depression].
+    pub lean: Vec<f64>,
+    pub fresnel_ratio: Vec<f64>,
+}
+
+impl VisibleFacetTable {
+    /// The model's own: no further lean, its Fresnel (no slopes, or a glassy sea).
+    pub fn model() -> VisibleFacetTable {
+        VisibleFacetTable { lean: vec![0.0; 2 * GLINT_DEPRESSIONS], fresnel_ratio: vec![1.0; 2 * GLINT_DEPRESSIONS] }
+    }
+
+    /// `measure`, remembered for the last few seas of this process.
+    pub fn cached(waves: &WaveSet, t: f64) -> VisibleFacetTable {
+        type Entry = ((WaveSet, u64), VisibleFacetTable);
+        static CACHE: std::sync::Mutex<Vec<Entry>> = std::sync::Mutex::new(Vec::new());
+        const KEPT: usize = 8;
+        let key = (waves.clone(), t.to_bits());
+        let lock = || CACHE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((_, table)) = lock().iter().find(|(k, _)| *k == key) {
+            return table.clone();
+        }
+        let table = Self::measure(waves, t);
+        let mut cache = lock();
+        if cache.len() >= KEPT {
+            cache.remove(0);
+        }
+        cache.push((key, table.clone()));
+        table
+    }
+
+    /// Measured on TABLE_PROFILES profiles along the wind and across it at time t, sampled as the
+    /// glint table's.
+    pub fn measure(waves: &WaveSet, t: f64) -> VisibleFacetTable {
+        let shortest = waves.trains.first().map_or(TABLE_STEP_M[1], |t| t.wavelength);
+        let step = shortest.clamp(TABLE_STEP_M[0], TABLE_STEP_M[1]);
+        if waves.trains.is_empty() {
+            return VisibleFacetTable::model();
+        }
+        let mut table = VisibleFacetTable::model();
+        for (configuration, azimuth_deg) in [0.0, 90.0].into_iter().enumerate() {
+            let profiles = Profiles::new(waves, t, azimuth_deg, step, TABLE_PROFILES);
+            if profiles.variance <= 0.0 {
+                continue;
+            }
+            // From the steepest node down: a depression where no facet is seen (a glassy crest
+            // line at 0) keeps the next steeper one's values.
+            let (mut lean, mut ratio) = (0.0, 1.0);
+            for j in (0..GLINT_DEPRESSIONS).rev() {
+                // Depression 0 stands for its limit.
+                let e = GlintMaskingTable::depression_deg(j).max(0.05).to_radians();
+                let m = visible_facets(&profiles, step, e);
+                if m.visible_share > 0.0 && m.visible.is_finite() && m.facing > 0.0 {
+                    (lean, ratio) = (m.visible_tilt - m.facing_tilt, m.visible / m.facing);
+                }
+                table.lean[configuration * GLINT_DEPRESSIONS + j] = lean;
+                table.fresnel_ratio[configuration * GLINT_DEPRESSIONS + j] = ratio;
+            }
+        }
+        table
+    }
+
+    /// (lean, Fresnel ratio) for an eye at depression (radians) looking at `along_share` =
+    /// cos^2 of its azimuth from the wind, as glsl/masking.glsl reads them: each configuration
+    /// linearly in sqrt(depression / max), then blended by the share.
+    pub fn lookup(&self, along_share: f64, depression: f64) -> (f64, f64) {
+        let max = GLINT_DEPRESSION_MAX_DEG.to_radians();
+        let u = (depression / max).clamp(0.0, 1.0).sqrt() * (GLINT_DEPRESSIONS - 1) as f64;
+        let j = (u as usize).min(GLINT_DEPRESSIONS - 2);
+        let f = u - j as f64;
+        let at = |values: &[f64], c: usize| {
+            values[c * GLINT_DEPRESSIONS + j] * (1.0 - f) + values[c * GLINT_DEPRESSIONS + j + 1] * f
+        };
+        let blend = |values: &[f64]| at(values, 0) * along_share + at(values, 1) * (1.0 - along_share);
+        (blend(&self.lean), blend(&self.fresnel_ratio))
+    }
+}
+
 /// The standard normal distribution function (by erfc_approx, the shaders' rational approximation).
 fn normal_cdf(x: f64) -> f64 {
     let e = crate::measure::reference::erfc_approx(x.abs() / std::f64::consts::SQRT_2);
@@ -542,5 +639,23 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The table the sky and refracted terms read: at grazing view the facets a ray reaches first
+    /// lean further towards the eye than the facing ones and mirror less, most along the wind
+    /// (its slopes are the larger); from 20 degrees down they are the facing ones.
+    #[test]
+    fn the_visible_facets_lean_towards_a_grazing_eye_and_match_the_model_from_above() {
+        let waves = coarse_sea();
+        let table = VisibleFacetTable::measure(&waves, 0.0);
+        let at = |along_share: f64, deg: f64| table.lookup(along_share, f64::to_radians(deg));
+        let ((lean_1, ratio_1), (lean_3, _), (lean_20, ratio_20)) = (at(1.0, 1.0), at(1.0, 3.0), at(1.0, 20.0));
+        let (across_1, _) = at(0.0, 1.0);
+        eprintln!("along the wind: 1 degree {lean_1:.4} {ratio_1:.3}, 3 degrees {lean_3:.4}, 20 degrees {lean_20:.5} {ratio_20:.4}; across at 1 degree {across_1:.4}");
+        assert!(lean_1 > 0.02 && lean_1 > lean_3 && lean_3 > lean_20, "{:?}", &table.lean[..GLINT_DEPRESSIONS]);
+        assert!(across_1 > 0.0 && across_1 < lean_1, "across the wind {across_1}, along {lean_1}");
+        assert!(ratio_1 < 0.9, "the visible facets' Fresnel ratio at 1 degree: {ratio_1}");
+        assert!(lean_20.abs() < 0.002 && (ratio_20 - 1.0).abs() < 0.01, "20 degrees: {lean_20} {ratio_20}");
+        assert!(table.lean.iter().chain(&table.fresnel_ratio).all(|x| x.is_finite()));
     }
 }

@@ -1,7 +1,7 @@
 //! What the CPU hands the shaders each frame: the camera, the sun and sky, the projected grid's
 //! extent and the wave trains. Layouts mirror glsl/frame.glsl (std140 / std430, vec4-packed).
 
-use crate::model::masking::{GlintMaskingTable, GLINT_DEPRESSIONS};
+use crate::model::masking::{GlintMaskingTable, VisibleFacetTable, GLINT_DEPRESSIONS};
 use crate::model::scene::{Scene, MAX_WAVES};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
@@ -81,13 +81,15 @@ pub struct FrameUniforms {
 pub const GLINT_MASKING_VEC4S: usize = 2 * GLINT_DEPRESSIONS / 4;
 
 /// The `Waves` uniform block: one packed vec4 per train, then the variance prefix sums, then the
-/// sun's masking on the sea's own profiles over Smith's (model::masking::GlintMaskingTable).
+/// sun's masking on the sea's own profiles over Smith's (model::masking::GlintMaskingTable), then
+/// the facets the eye sees there over the model's (model::masking::VisibleFacetTable).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GpuWaves {
     pub data: [[u32; 4]; MAX_WAVES as usize],
     pub prefix: [[f32; 4]; MAX_WAVES as usize],
     pub glint_masking: [[f32; 4]; GLINT_MASKING_VEC4S],
+    pub visible_facets: [[f32; 4]; GLINT_DEPRESSIONS],
 }
 
 impl Default for GpuWaves {
@@ -96,6 +98,7 @@ impl Default for GpuWaves {
             data: [[0; 4]; MAX_WAVES as usize],
             prefix: [[0.0; 4]; MAX_WAVES as usize],
             glint_masking: [[1.0; 4]; GLINT_MASKING_VEC4S],
+            visible_facets: [[0.0, 0.0, 1.0, 1.0]; GLINT_DEPRESSIONS],
         }
     }
 }
@@ -105,6 +108,16 @@ impl GpuWaves {
     pub fn set_glint_masking(&mut self, table: &GlintMaskingTable) {
         for (i, r) in table.ratio.iter().enumerate() {
             self.glint_masking[i / 4][i % 4] = *r as f32;
+        }
+    }
+
+    /// Writes the visible facets' table, a vec4 per depression: lean along and across the wind,
+    /// then the Fresnel ratio along and across.
+    pub fn set_visible_facets(&mut self, table: &VisibleFacetTable) {
+        let n = GLINT_DEPRESSIONS;
+        for (j, node) in self.visible_facets.iter_mut().enumerate() {
+            let [lean, ratio] = [&table.lean, &table.fresnel_ratio];
+            *node = [lean[j], lean[n + j], ratio[j], ratio[n + j]].map(|x| x as f32);
         }
     }
 }

@@ -4,7 +4,7 @@
 //! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
-use crate::model::masking::GlintMaskingTable;
+use crate::model::masking::{GlintMaskingTable, VisibleFacetTable};
 use crate::model::scene::{Planet, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
@@ -175,7 +175,14 @@ pub struct Renderer<'g> {
     /// frames under the same sea and sun reuse it.
     measures_glint_masking: bool,
     glint_masking: Option<(GlintMaskingKey, GlintMaskingTable)>,
+    /// The same for the visible facets' table (the full method's sky and refracted terms), which
+    /// depends on the sea alone.
+    measures_visible_facets: bool,
+    visible_facets: Option<(VisibleFacetKey, VisibleFacetTable)>,
 }
+
+/// What the visible facets' table depends on: the sea's trains.
+type VisibleFacetKey = (crate::model::scene::Waves, crate::model::scene::Wind);
 
 /// What the glint's masking table depends on: the sea's trains (their statistics do not change
 /// with time) and the sun's direction.
@@ -324,6 +331,9 @@ impl<'g> Renderer<'g> {
             sky_map_extent: frame::sky_map_extent(options.shader.method),
             measures_glint_masking: options.shader.method == Method::Full && options.shader.terms.sun,
             glint_masking: None,
+            measures_visible_facets: options.shader.method == Method::Full
+                && (options.shader.terms.sky || options.shader.terms.sea),
+            visible_facets: None,
             shadow_setting: (scene.render.shadow_map, scene.render.shadow_map_size),
         })
     }
@@ -541,6 +551,15 @@ impl<'g> Renderer<'g> {
             }
             if let Some((_, table)) = &self.glint_masking {
                 data.waves.set_glint_masking(table);
+            }
+        }
+        if self.measures_visible_facets {
+            let key = (scene.waves.clone(), scene.wind.clone());
+            if self.visible_facets.as_ref().is_none_or(|(k, _)| *k != key) {
+                self.visible_facets = Some((key, VisibleFacetTable::cached(&wave_set, 0.0)));
+            }
+            if let Some((_, table)) = &self.visible_facets {
+                data.waves.set_visible_facets(table);
             }
         }
         self.resources.frame_uniforms.write(slot, &data.uniforms)?;
