@@ -157,10 +157,13 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     vec3 vl = to_local(f, v);
     float cos_v = clamp(vl.z, 0.0, 1.0);
     vec3 color = vec3(0.0);
+    // The view in the sea's own frame, which the full method's masking tables are read in.
+    SeaView view;
+    if (METHOD == METHOD_FULL) view = sea_view(v, up);
     if (TERM_SUN && sun_visible > 0.0 && max(light.sun.r, max(light.sun.g, light.sun.b)) > 0.0) {
         SunReflection sun = reflect_sun(f, v, frame.sun_dir.xyz, sigma2, light.sun);
         if (METHOD == METHOD_FULL) {
-            float masking = sea_masking(v, frame.sun_dir.xyz, up, sigma2);
+            float masking = sea_masking(view, frame.sun_dir.xyz, sigma2);
             sun.radiance *= masking;
             sun.share_per_sr *= masking;
             sun.glints_per_curvature *= masking;
@@ -177,7 +180,7 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // on their slopes and the Fresnel of the sky and refracted terms is theirs.
     vec2 lean = vec2(0.0);
     if (METHOD == METHOD_FULL) {
-        vec2 seen = visible_facet_correction(v, up);
+        vec2 seen = visible_facet_correction(view);
         float horizontal = length(vl.xy);
         lean = horizontal > 0.0 ? -seen.x * vl.xy / horizontal : vec2(0.0);
         fresnel = min(fresnel * seen.y, 1.0);

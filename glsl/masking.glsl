@@ -6,7 +6,7 @@
 // the facets that mirror the eye into the sun both seen and lit on the sea's exact profiles over
 // Smith's height-correlated share, measured in the sun's vertical plane with the eye looking
 // towards the sun (configuration 0) and away from it (1).
-// Requires frame.glsl, slopes.glsl and WAVES_BLOCK (its glint_masking array) in scope.
+// Requires frame.glsl, slopes.glsl and WAVES_BLOCK (its glint_masking and visible_facets) in scope.
 #ifndef MASKING_GLSL
 #define MASKING_GLSL
 
@@ -19,11 +19,29 @@ float glint_masking_at(int configuration, int depression) {
     return glint_masking[i >> 2][i & 3];
 }
 
-// The table linearly in sqrt(depression / max), its nodes' spacing, clamped to its domain.
-float glint_masking_lookup(int configuration, float depression) {
+// Where a depression falls among the tables' nodes, spaced linearly in sqrt(depression / max):
+// the node below it in j (clamped to the domain), the fraction towards the next returned
+// (model::masking::depression_node).
+float masking_node(float depression, out int j) {
     float u = sqrt(clamp(depression / GLINT_DEPRESSION_MAX, 0.0, 1.0)) * float(GLINT_DEPRESSIONS - 1);
-    int j = min(int(u), GLINT_DEPRESSIONS - 2);
-    return mix(glint_masking_at(configuration, j), glint_masking_at(configuration, j + 1), u - float(j));
+    j = min(int(u), GLINT_DEPRESSIONS - 2);
+    return u - float(j);
+}
+
+float glint_masking_lookup(int configuration, float depression) {
+    int j;
+    float f = masking_node(depression, j);
+    return mix(glint_masking_at(configuration, j), glint_masking_at(configuration, j + 1), f);
+}
+
+// The view in the sea's own frame (z up, x along the wind), which both tables are read in: the
+// frame, unit v towards the eye in it, and the view's depression.
+struct SeaView { Frame3 sea; vec3 v; float depression; };
+
+SeaView sea_view(vec3 v, vec3 up) {
+    Frame3 sea = wind_frame(up);
+    vec3 vs = to_local(sea, v);
+    return SeaView(sea, vs, asin(clamp(vs.z, 0.0, 1.0)));
 }
 
 // 1 / (1 + Lambda_v + Lambda_l) for unit directions v and l in a frame with z up and Gaussian
@@ -40,13 +58,12 @@ float smith_shadowing(vec3 v, vec3 l, vec2 sigma2) {
 // (inside reflect_sun) to the sea's own over all of its slopes: the table's exact-over-Smith at
 // the view's depression (out of the sun's plane, its mirror facets' value in it), times Smith's
 // over the whole sea's slopes over Smith's over the unresolved ones, both about the sea's mean
-// plane. Where the per-pixel normals resolve long trains, their
-// slopes are then shadowed too, statistically (the trains the grid displaces included: without
-// the shadow map nothing else shadows them; with it they are shadowed twice). v, l: unit
-// directions to the eye and the sun; up: the sea's normal; sigma2_unresolved: the BRDF's slopes.
-float sea_masking(vec3 v, vec3 l, vec3 up, vec2 sigma2_unresolved) {
-    Frame3 sea = wind_frame(up);
-    vec3 vs = to_local(sea, v), ls = to_local(sea, l);
+// plane. Where the per-pixel normals resolve long trains, their slopes are then shadowed too,
+// statistically (the trains the grid displaces included: without the shadow map nothing else
+// shadows them; with it they are shadowed twice). l: unit direction to the sun;
+// sigma2_unresolved: the BRDF's slopes.
+float sea_masking(SeaView view, vec3 l, vec2 sigma2_unresolved) {
+    vec3 vs = view.v, ls = to_local(view.sea, l);
     if (vs.z <= 0.0 || ls.z <= 0.0) return 1.0;   // reflect_sun's own limit applies
     float unresolved = smith_shadowing(vs, ls, sigma2_unresolved);
     float whole = smith_shadowing(vs, ls, frame.wind.zw);
@@ -56,24 +73,22 @@ float sea_masking(vec3 v, vec3 l, vec3 up, vec2 sigma2_unresolved) {
     float horizontal = length(vs.xy), sun_horizontal = length(ls.xy);
     float towards_sun = horizontal > 0.0 && sun_horizontal > 0.0
                       ? 0.5 * (1.0 - dot(vs.xy / horizontal, ls.xy / sun_horizontal)) : 0.5;
-    float depression = asin(clamp(vs.z, 0.0, 1.0));
-    float exact_over_smith = mix(glint_masking_lookup(1, depression), glint_masking_lookup(0, depression), towards_sun);
+    float exact_over_smith =
+        mix(glint_masking_lookup(1, view.depression), glint_masking_lookup(0, view.depression), towards_sun);
     return smith_ratio * max(exact_over_smith, 0.0);
 }
 
-// The facets the eye sees against the model's (model::masking::VisibleFacetTable), for unit v
-// towards the eye over a sea of normal up: x, their further lean towards the eye (slope); y,
-// their mean Fresnel over the model's. Each configuration linearly in sqrt(depression / max),
-// blended by cos^2 of the view's azimuth from the wind (the share of the slope variance along
-// the view that the wind's axis holds).
-vec2 visible_facet_correction(vec3 v, vec3 up) {
-    vec3 vs = to_local(wind_frame(up), v);
+// The facets the eye sees against the model's (model::masking::VisibleFacetTable) for the view:
+// x, their further lean towards the eye (slope); y, their mean Fresnel over the model's. Each
+// configuration at the view's depression, blended by cos^2 of the view's azimuth from the wind
+// (the share of the slope variance along the view that the wind's axis holds).
+vec2 visible_facet_correction(SeaView view) {
+    vec3 vs = view.v;
     float horizontal2 = dot(vs.xy, vs.xy);
     float along = horizontal2 > 0.0 ? vs.x * vs.x / horizontal2 : 0.5;
-    float depression = asin(clamp(vs.z, 0.0, 1.0));
-    float u = sqrt(clamp(depression / GLINT_DEPRESSION_MAX, 0.0, 1.0)) * float(VISIBLE_FACET_NODES - 1);
-    int j = min(int(u), VISIBLE_FACET_NODES - 2);
-    vec4 node = mix(visible_facets[j], visible_facets[j + 1], u - float(j));
+    int j;
+    float f = masking_node(view.depression, j);
+    vec4 node = mix(visible_facets[j], visible_facets[j + 1], f);
     return vec2(mix(node.y, node.x, along), mix(node.w, node.z, along));
 }
 

@@ -250,10 +250,7 @@ fn struck_facet_normal(d: DVec3, sigma2: [f64; 2]) -> DVec3 {
     let back = -DVec2::new(d.x, d.y) / sin2.sqrt();
     let sigma_s = var.sqrt();
     let r = (-d.z / sin2.sqrt() / sigma_s).max(-3.0);
-    // Phi(r) = erfc(-r / sqrt 2) / 2, by the same approximation on either side of 0.
-    let tail = 0.5 * erfc_approx(r.abs() / std::f64::consts::SQRT_2);
-    let cdf = if r >= 0.0 { 1.0 - tail } else { tail };
-    let m = (-0.5 * r * r).exp() / (2.0 * PI).sqrt() / cdf;
+    let m = (-0.5 * r * r).exp() / (2.0 * PI).sqrt() / crate::model::masking::normal_cdf(r);
     let mean = DVec2::new(-sigma2[0] * back.x, -sigma2[1] * back.y) / (sigma_s * (r + m));
     DVec3::new(-mean.x, -mean.y, 1.0).normalize()
 }

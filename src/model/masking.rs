@@ -251,19 +251,8 @@ impl GlintMaskingTable {
     pub fn cached(waves: &WaveSet, t: f64, sun_azimuth_deg: f64, sun_elevation_deg: f64) -> GlintMaskingTable {
         type Entry = ((WaveSet, [u64; 3]), GlintMaskingTable);
         static CACHE: std::sync::Mutex<Vec<Entry>> = std::sync::Mutex::new(Vec::new());
-        const KEPT: usize = 8;
         let key = (waves.clone(), [t.to_bits(), sun_azimuth_deg.to_bits(), sun_elevation_deg.to_bits()]);
-        let lock = || CACHE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Some((_, table)) = lock().iter().find(|(k, _)| *k == key) {
-            return table.clone();
-        }
-        let table = Self::measure(waves, t, sun_azimuth_deg, sun_elevation_deg);
-        let mut cache = lock();
-        if cache.len() >= KEPT {
-            cache.remove(0);
-        }
-        cache.push((key, table.clone()));
-        table
+        remembered(&CACHE, key, || Self::measure(waves, t, sun_azimuth_deg, sun_elevation_deg))
     }
 
     /// Measured on the profiles along the sun's azimuth (`sun_azimuth_deg` from the wind) at time
@@ -355,10 +344,7 @@ impl GlintMaskingTable {
     /// The table at a depression (radians) in configuration 0 or 1, as glsl/masking.glsl reads
     /// it: linearly in sqrt(depression / max), clamped to its domain.
     pub fn lookup(&self, configuration: usize, depression: f64) -> f64 {
-        let max = GLINT_DEPRESSION_MAX_DEG.to_radians();
-        let u = (depression / max).clamp(0.0, 1.0).sqrt() * (GLINT_DEPRESSIONS - 1) as f64;
-        let j = (u as usize).min(GLINT_DEPRESSIONS - 2);
-        let f = u - j as f64;
+        let (j, f) = depression_node(depression);
         self.at(configuration, j) * (1.0 - f) + self.at(configuration, j + 1) * f
     }
 
@@ -418,19 +404,7 @@ impl VisibleFacetTable {
     pub fn cached(waves: &WaveSet, t: f64) -> VisibleFacetTable {
         type Entry = ((WaveSet, u64), VisibleFacetTable);
         static CACHE: std::sync::Mutex<Vec<Entry>> = std::sync::Mutex::new(Vec::new());
-        const KEPT: usize = 8;
-        let key = (waves.clone(), t.to_bits());
-        let lock = || CACHE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Some((_, table)) = lock().iter().find(|(k, _)| *k == key) {
-            return table.clone();
-        }
-        let table = Self::measure(waves, t);
-        let mut cache = lock();
-        if cache.len() >= KEPT {
-            cache.remove(0);
-        }
-        cache.push((key, table.clone()));
-        table
+        remembered(&CACHE, (waves.clone(), t.to_bits()), || Self::measure(waves, t))
     }
 
     /// Measured on TABLE_PROFILES profiles along the wind and across it at time t, sampled as the
@@ -468,10 +442,7 @@ impl VisibleFacetTable {
     /// cos^2 of its azimuth from the wind, as glsl/masking.glsl reads them: each configuration
     /// linearly in sqrt(depression / max), then blended by the share.
     pub fn lookup(&self, along_share: f64, depression: f64) -> (f64, f64) {
-        let max = GLINT_DEPRESSION_MAX_DEG.to_radians();
-        let u = (depression / max).clamp(0.0, 1.0).sqrt() * (GLINT_DEPRESSIONS - 1) as f64;
-        let j = (u as usize).min(GLINT_DEPRESSIONS - 2);
-        let f = u - j as f64;
+        let (j, f) = depression_node(depression);
         let at = |values: &[f64], c: usize| {
             values[c * GLINT_DEPRESSIONS + j] * (1.0 - f) + values[c * GLINT_DEPRESSIONS + j + 1] * f
         };
@@ -480,8 +451,35 @@ impl VisibleFacetTable {
     }
 }
 
+/// Where a depression (radians) falls among the tables' nodes, which are spaced linearly in
+/// sqrt(depression / max): the node below it and the fraction towards the next, clamped to the
+/// domain (glsl/masking.glsl, masking_node).
+fn depression_node(depression: f64) -> (usize, f64) {
+    let max = GLINT_DEPRESSION_MAX_DEG.to_radians();
+    let u = (depression / max).clamp(0.0, 1.0).sqrt() * (GLINT_DEPRESSIONS - 1) as f64;
+    let j = (u as usize).min(GLINT_DEPRESSIONS - 2);
+    (j, u - j as f64)
+}
+
+/// A table measured for `key`, remembered for the last few keys of this process: renderers made
+/// for the same sea (tests, benches, a window's resize) measure it once.
+fn remembered<K: PartialEq, V: Clone>(cache: &std::sync::Mutex<Vec<(K, V)>>, key: K, measure: impl FnOnce() -> V) -> V {
+    const KEPT: usize = 8;
+    let lock = || cache.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, table)) = lock().iter().find(|(k, _)| *k == key) {
+        return table.clone();
+    }
+    let table = measure();
+    let mut entries = lock();
+    if entries.len() >= KEPT {
+        entries.remove(0);
+    }
+    entries.push((key, table.clone()));
+    table
+}
+
 /// The standard normal distribution function (by erfc_approx, the shaders' rational approximation).
-fn normal_cdf(x: f64) -> f64 {
+pub(crate) fn normal_cdf(x: f64) -> f64 {
     let e = crate::measure::reference::erfc_approx(x.abs() / std::f64::consts::SQRT_2);
     if x >= 0.0 {
         1.0 - 0.5 * e
