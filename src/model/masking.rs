@@ -228,7 +228,7 @@ const MIRROR_WINDOW_SIGMAS: f64 = 0.2;
 /// each pixel's depression.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GlintMaskingTable {
-    /// [configuration][depression].
+    /// Indexed by configuration * GLINT_DEPRESSIONS + depression.
     pub ratio: Vec<f64>,
 }
 
@@ -389,7 +389,7 @@ impl GlintMaskingTable {
 /// the eye sees"). glsl/masking.glsl reads both at each pixel's depression.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisibleFacetTable {
-    /// [configuration][depression].
+    /// Indexed by configuration * GLINT_DEPRESSIONS + depression.
     pub lean: Vec<f64>,
     pub fresnel_ratio: Vec<f64>,
 }
