@@ -108,6 +108,53 @@ float sun_visibility(ivec2 p, vec3 ray, bool covered) {
     return texture(sun_shadow_map, vec3(c.xy * 0.5 + 0.5, c.z));
 }
 
+// How much of the step to where the pixel's ray meets the surface (waves.glsl
+// ray_hit_rest_position) a pixel takes. The step moves the shaded point by about a pixel; what
+// that changes beyond the picture's detail is the share of steep facets seen (a trochoid's
+// compressed crest no longer counts as much as its trough), and so the reflected sun, whose
+// glitter lives in the slopes' tail: in the default view +114%, +55% -> +71%, +13% against the
+// truth at 10-20 and 20-50 m (docs/results.md, "Where the pixel's ray meets the sea"). Its cost
+// is one more loop over the trains, so it is taken only in the sun's path: where the sun's
+// expected reflection on the mean plane (all slopes in the BRDF) reaches RAY_HIT_SUN times the
+// least reflected sky, water's Fresnel at normal incidence times the sky's mean radiance, ramped
+// from a tenth of that, so that it fades in without a seam, and where the normal resolves enough
+// of the slopes to matter (RAY_HIT_SHARE). On the default view the sun's two nearest bands are
+// within 1.2 points of the step taken everywhere. Whether the sun term is drawn does not enter:
+// each term's image is its share of the whole one (measure::reference's ray_hit_strength is the
+// f64 twin).
+const float RAY_HIT_SUN = 300.0;
+
+// The share of the sea's slope variance in the trains a pixel's normal can resolve at all (longer
+// than its lambda_cut), from the prefix sums of the rest: trains are sorted by wavelength, so a
+// binary search finds how many are too short.
+float resolvable_slope_share(SampleScale s) {
+    int lo = 0, hi = int(frame.grid_dims.z);   // trains [0, lo) too short, [hi, n) resolvable
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        Wave wave = unpack_wave(wave_data[mid].xy);
+        if (dot(wave.k, wave.k) * s.lambda_cut2 >= 1.0) lo = mid + 1; else hi = mid;
+    }
+    vec2 unresolved = lo > 0 ? wave_prefix[lo - 1].xy : vec2(0.0);
+    float total = frame.wind.z + frame.wind.w;
+    return total > 0.0 ? clamp(1.0 - (unresolved.x + unresolved.y) / total, 0.0, 1.0) : 0.0;
+}
+
+// The step matters as much as the normal holds of the slopes: it is ramped in from 0.4 of their
+// variance to 0.6 (the default view's sun path holds 0.66-0.88 at 320x240, the high-altitude
+// preset's 0.10-0.34, an airliner's 0.02: the step changes little there and would cost the most).
+const vec2 RAY_HIT_SHARE = vec2(0.4, 0.6);
+
+float ray_hit_strength(vec3 v, vec3 up, SeaLight light, SampleScale s) {
+    const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
+    float sun = dot(reflected_sun(wind_frame(up), v, frame.sun_dir.xyz, frame.wind.zw, light.sun), REC709);
+    float sky_floor = FRESNEL_R0 * dot(light.sky_irradiance, REC709) / PI;
+    float ramp = 0.9 * RAY_HIT_SUN * sky_floor;
+    // sky_floor = 0 (no sky) makes the ramp a step at sun = 0.
+    float in_path = ramp > 0.0 ? clamp((sun - 0.1 * RAY_HIT_SUN * sky_floor) / ramp, 0.0, 1.0) : (sun > 0.0 ? 1.0 : 0.0);
+    if (in_path <= 0.0) return 0.0;
+    return in_path * smoothstep(RAY_HIT_SHARE.x, RAY_HIT_SHARE.y, resolvable_slope_share(s));
+}
+
 layout(local_size_x = 8, local_size_y = 8) in;   // SHADE_GROUP in src/render/passes/shade.rs
 
 const bool ANY_TERM = TERM_SUN || TERM_SKY || TERM_SEA;
@@ -142,6 +189,13 @@ void main() {
     // v . up <= 0 (the eye below a raised wave) resolves nothing: the grazing limit. Beyond
     // FAR_LIMIT (a rest position gone wrong) nothing is resolvable either.
     bool resolves = NORMALS && ANY_TERM && is_sea && pixel.any && v_up > 0.0 && all(lessThan(abs(x), vec2(FAR_LIMIT)));
+    SeaLight light = local_sea_light(up);
+    // METHOD_FULL shades the point the pixel's ray meets on the surface it resolves (waves.glsl),
+    // where the sun's glitter needs it.
+    if (METHOD == METHOD_FULL && resolves) {
+        float strength = ray_hit_strength(v, up, light, pixel);
+        x = ray_hit_rest_position(x, u, pixel, strength);
+    }
     vec2 at = resolves ? x : vec2(0.0);
 #ifdef TRAIN_BLOCKS
     SurfaceSample s = surface_sample_blocked(at, pixel, frame.filter_steps.zw, resolves);
@@ -166,7 +220,7 @@ void main() {
     int trains = int(frame.grid_dims.z);
     float curvature = resolves ? s.curvature : (trains > 0 ? wave_prefix[trains - 1].z : 0.0);
     GlintSite glint = GlintSite(x, u.xy, pixel.a_u_w, pixel.a_v_w, pixel.w, v_up, curvature, sigma2);
-    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, sun_visibility(p, ray, covered), local_sea_light(up), glint) : vec3(0.0);
+    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, sun_visibility(p, ray, covered), light, glint) : vec3(0.0);
     if (SKY_PHYSICAL && AERIAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, u, length(sea_point(x)));

@@ -244,4 +244,54 @@ SurfaceSample surface_sample(vec2 x, SampleScale s, vec2 steps) {
     return r;
 }
 
+// The rest position whose displaced point the pixel's unit ray u meets, the surface being the
+// trains the pixel resolves at their weights in its normal (what its box filter keeps of each),
+// from x, the grid's: the grid is flat between its nodes and displaces only its own trains, so
+// at x a trochoid's compressed crest covered as many pixels as its trough, and the pixel shaded
+// the slopes per unit of rest area instead of those per unit of the surface the ray meets, as
+// the ground truth does. One Newton step on the two components of P(x) = sea_point(x) + D(x)
+// across the ray (the sphere's drop left out of the Jacobian: its slope |x| / R is below 1e-3
+// within 6 km); a second one moves the default view's bands by a tenth of the first's change.
+// The step is taken where the surface faces the ray (det > 0) and only if it stays within the
+// waves' slab: the ray meets the surface between the heights -+A (A the sum of the weighted
+// amplitudes), within A (1 + |u.xy| / |u.z|) of x horizontally; a longer step, the linear
+// model's failure at a facet seen edge-on (it grows as 1 / sin of the facet's angle to the ray),
+// lands nowhere on it. `strength` in [0, 1] scales the step (0: x as it is, and no train is read).
+vec2 ray_hit_rest_position(vec2 x, vec3 u, SampleScale s, float strength) {
+    // e1, e2 span the plane across the ray (any horizontal e1 for a ray straight down).
+    vec3 across = cross(u, vec3(0.0, 0.0, 1.0));
+    float across_len = length(across);
+    vec3 e1 = across_len > 0.0 ? across / across_len : vec3(1.0, 0.0, 0.0);
+    vec3 e2 = cross(e1, u);
+    vec3 d = vec3(0.0), t_x = vec3(1.0, 0.0, 0.0), t_y = vec3(0.0, 1.0, 0.0);
+    float slab = 0.0;
+    // A loop that starts below 0 where there is no step to take: a SIMD group none of whose
+    // invocations takes one runs no iteration.
+    for (int i = strength > 0.0 ? int(frame.grid_dims.z) - 1 : -1; i >= 0; --i) {
+        Wave wave = unpack_wave(wave_data[i].xy);
+        float k2 = dot(wave.k, wave.k);
+        if (k2 * s.lambda_cut2 >= 1.0) break;
+        float kh = normal_weight(s, wave.k) * wave.kh;
+        vec2 dir = wave.k * inversesqrt(k2);
+        vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
+        // h = k h / k, k = 2 pi |k_turns|; the tangents as add_weighted_train's.
+        float h = kh * inversesqrt(k2) * (0.5 / PI);
+        slab += h;
+        d += vec3(dir * (h * sc.x), h * sc.y);
+        float c = kh * sc.y, sn = kh * sc.x;
+        t_x += vec3(-dir * (dir.x * c), dir.x * sn);
+        t_y += vec3(-dir * (dir.y * c), dir.y * sn);
+    }
+    vec3 p = sea_point(x) + d;
+    mat2 jacobian = mat2(dot(t_x, e1), dot(t_x, e2), dot(t_y, e1), dot(t_y, e2));
+    float det = determinant(jacobian);
+    // x - inverse(J) f = x - adj(J) f / det; the slab's bound compared before dividing, and
+    // multiplied through by |u.z| (0 on the horizon: no bound).
+    vec2 f = vec2(dot(p, e1), dot(p, e2));
+    vec2 adj_f = vec2(jacobian[1][1] * f.x - jacobian[1][0] * f.y, jacobian[0][0] * f.y - jacobian[0][1] * f.x);
+    float vertical = abs(u.z);
+    bool within = length(adj_f) * vertical <= slab * (vertical + length(u.xy)) * det;
+    return strength > 0.0 && det > 0.0 && within ? x - adj_f * (strength / det) : x;
+}
+
 #endif

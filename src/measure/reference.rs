@@ -8,8 +8,9 @@
 
 use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::sky::{SkyLight, SkyModel};
+use crate::model::waves::trochoid_slope_variance;
 use crate::render::footprint::{normal_weight, Footprint};
-use crate::render::frame::{GEOMETRY_STEPS, SEA_ALBEDO};
+use crate::render::frame::{GEOMETRY_STEPS, NORMAL_STEPS, SEA_ALBEDO};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 
@@ -40,7 +41,8 @@ pub struct ReferenceScene<'a> {
     /// Preetham's sky, or the physical one seen from sea level (model::sky_table).
     pub sky: &'a dyn SkyLight,
     /// The full method's sky (Method::Full) instead of the paper's: each facet weighted by its
-    /// projected area towards the eye, and a reflection below the horizon meeting the sea.
+    /// projected area towards the eye, a reflection below the horizon meeting the sea, and the
+    /// point shaded where the pixel's ray meets the surface it resolves.
     pub full: bool,
 }
 
@@ -81,17 +83,15 @@ impl ReferenceScene<'_> {
     /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
     /// where the pixel sees no sea (`footprint::resolved_surface`).
     pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
-        self.footprint.resolved_surface(px, py)
+        let strength = |v, up, a_u, a_v| self.ray_hit_strength(v, up, a_u, a_v);
+        self.footprint.resolved_surface(px, py, self.full.then_some(&strength as &dyn Fn(_, _, _, _) -> _))
     }
 
     /// The three terms for resolved normal `n`, view `v` and residual variance `sigma2`.
     pub fn brdf(&self, n: DVec3, v: DVec3, sigma2: [f64; 2]) -> PixelRadiance {
         let vn = v.dot(n);
         let n = if vn < 0.0 { (n - vn * v).try_normalize().unwrap_or(DVec3::Z) } else { n };
-        let wind = DVec3::new(self.footprint.waves.wind_direction[0], self.footprint.waves.wind_direction[1], 0.0);
-        let t = wind - n * n.dot(wind);
-        let t_x = t.try_normalize().unwrap_or_else(|| DVec3::new(-wind.y, wind.x, 0.0).cross(n).normalize());
-        let t_y = n.cross(t_x);
+        let [t_x, t_y, n] = self.wind_frame(n);
         let local = |d: DVec3| DVec3::new(d.dot(t_x), d.dot(t_y), d.dot(n));
         let vl = local(v);
         let cos_v = vl.z.clamp(0.0, 1.0);
@@ -127,6 +127,59 @@ impl ReferenceScene<'_> {
 }
 
 impl ReferenceScene<'_> {
+    /// The wind's axes in the plane normal to n, and n (glsl/brdf.glsl wind_frame).
+    fn wind_frame(&self, n: DVec3) -> [DVec3; 3] {
+        let wind = DVec3::new(self.footprint.waves.wind_direction[0], self.footprint.waves.wind_direction[1], 0.0);
+        let t = wind - n * n.dot(wind);
+        let t_x = t.try_normalize().unwrap_or_else(|| DVec3::new(-wind.y, wind.x, 0.0).cross(n).normalize());
+        [t_x, n.cross(t_x), n]
+    }
+
+    /// How much of the step to where the pixel's ray meets the surface a pixel takes: the sun's
+    /// expected reflection on the mean plane, all slopes in the BRDF, against the least reflected
+    /// sky, times a ramp in the share of the slope variance the pixel's normal can resolve
+    /// (glsl/shade.glsl ray_hit_strength, RAY_HIT_SUN and RAY_HIT_SHARE the same).
+    fn ray_hit_strength(&self, v: DVec3, up: DVec3, a_u: DVec2, a_v: DVec2) -> f64 {
+        const RAY_HIT_SUN: f64 = 300.0;
+        const RAY_HIT_SHARE: [f64; 2] = [0.4, 0.6];
+        let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let [t_x, t_y, n] = self.wind_frame(up);
+        let local = |d: DVec3| DVec3::new(d.dot(t_x), d.dot(t_y), d.dot(n));
+        let sun_dir = DVec3::from(self.sky.sun_dir());
+        let share = reflected_sun_with(
+            local(v),
+            local(sun_dir),
+            self.footprint.waves.sigma2,
+            SkyModel::sun_slope_variance(),
+            self.facet_fresnel(),
+        );
+        let sun = share * luminance(self.sky.sun_irradiance());
+        let sky_floor = R0 * luminance(self.sky.sky_irradiance()) / PI;
+        let ramp = 0.9 * RAY_HIT_SUN * sky_floor;
+        let in_path = if ramp > 0.0 {
+            ((sun - 0.1 * RAY_HIT_SUN * sky_floor) / ramp).clamp(0.0, 1.0)
+        } else if sun > 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+        // Trains no direction resolves: wavelength within the footprint's smallest phase step
+        // (glsl/waves.glsl sample_scale's lambda_cut, at the normals' cut-off of one turn).
+        let diagonal = (a_u - a_v).length().max((a_u + a_v).length());
+        let lambda_cut = if diagonal > 0.0 { a_u.perp_dot(a_v).abs() / diagonal / NORMAL_STEPS[1] as f64 } else { 0.0 };
+        let waves = self.footprint.waves;
+        let unresolved: f64 = waves
+            .trains
+            .iter()
+            .filter(|t| t.wavelength <= lambda_cut)
+            .map(|t| trochoid_slope_variance(t.k * t.amplitude))
+            .sum();
+        let total = waves.sigma2[0] + waves.sigma2[1];
+        let share = if total > 0.0 { (1.0 - unresolved / total).clamp(0.0, 1.0) } else { 0.0 };
+        let t = ((share - RAY_HIT_SHARE[0]) / (RAY_HIT_SHARE[1] - RAY_HIT_SHARE[0])).clamp(0.0, 1.0);
+        in_path * t * t * (3.0 - 2.0 * t)
+    }
+
     /// The full method's masking factor on the sun term (glsl/masking.glsl), from the table the
     /// renderer measures for the same sea and sun (its own measurement is tested apart).
     fn glint_masking(&self, v: DVec3, sun_dir: DVec3, unresolved: [f64; 2]) -> f64 {

@@ -5,7 +5,7 @@
 //! the f64 reference (`measure::reference`) to shade a pixel.
 //!
 //! Only valid where the grid is not displaced: the visible point is the ray's intersection with
-//! the rest sphere. The normal is in the tangent frame of the point below the eye, as the
+//! the rest sphere, moved for the full method to where the ray meets the trains the pixel resolves. The normal is in the tangent frame of the point below the eye, as the
 //! waves; `resolved_surface` tilts it by the sphere's normal there, as glsl/shade.glsl.
 
 use super::frame::CameraFrame;
@@ -58,10 +58,25 @@ impl Footprint<'_> {
     }
 
     /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
-    /// where the pixel sees no sea.
-    pub fn resolved_surface(&self, px: f64, py: f64) -> Option<(DVec3, DVec3, [f64; 2])> {
+    /// where the pixel sees no sea. `ray_hit_strength`: for the full method, the strength of the
+    /// step to where the pixel's ray meets the surface it resolves (`ray_hit`) for the view v, the
+    /// sphere's normal up at the rest sphere's point and the footprint a_u, a_v; None for that
+    /// point.
+    pub fn resolved_surface(
+        &self,
+        px: f64,
+        py: f64,
+        ray_hit_strength: Option<&dyn Fn(DVec3, DVec3, DVec2, DVec2) -> f64>,
+    ) -> Option<(DVec3, DVec3, [f64; 2])> {
         let ray = self.pixel_ray(px, py);
         let (x, a_u, a_v) = self.rest_hit(ray)?;
+        let x = match ray_hit_strength {
+            Some(strength) if v_up_positive(self, x, ray) => {
+                let strength = strength(-ray.normalize(), self.camera.sea_normal(x), a_u, a_v);
+                self.ray_hit(x, ray, a_u, a_v, strength)
+            }
+            _ => x,
+        };
         let v = -ray.normalize();
         let up = self.camera.sea_normal(x);
         let v_up = v.dot(up);
@@ -88,6 +103,64 @@ impl Footprint<'_> {
         let n = tx.cross(ty).try_normalize().unwrap_or(DVec3::Z);
         Some((super::frame::tilt_to(n, up), v, sigma2))
     }
+
+    /// The rest position whose displaced point `ray` meets, from x on the rest sphere: the trains
+    /// at their normal weights, one Newton step across the ray, taken where the surface faces the
+    /// ray and the step stays within the waves' slab, scaled by `strength` (glsl/waves.glsl
+    /// ray_hit_rest_position, the same).
+    pub fn ray_hit(&self, x: DVec2, ray: DVec3, a_u: DVec2, a_v: DVec2, strength: f64) -> DVec2 {
+        if strength <= 0.0 {
+            return x;
+        }
+        let u = ray.normalize();
+        let e1 = u.cross(DVec3::Z).try_normalize().unwrap_or(DVec3::X);
+        let e2 = e1.cross(u);
+        let FilteredPoint { point: p, tangent_x: tx, tangent_y: ty, slab } = self.filtered_point(x, a_u, a_v);
+        let (j00, j01, j10, j11) = (tx.dot(e1), ty.dot(e1), tx.dot(e2), ty.dot(e2));
+        let det = j00 * j11 - j01 * j10;
+        let f = DVec2::new(p.dot(e1), p.dot(e2));
+        let step = DVec2::new(j11 * f.x - j01 * f.y, j00 * f.y - j10 * f.x) / det;
+        let within = step.length() * u.z.abs() <= slab * (u.z.abs() + u.truncate().length());
+        if det > 0.0 && within {
+            x - strength * step
+        } else {
+            x
+        }
+    }
+
+    /// The surface of the trains at their normal weights for a footprint a_u, a_v: the point
+    /// displaced from rest position x, its tangents, and the sum of the weighted amplitudes.
+    pub fn filtered_point(&self, x: DVec2, a_u: DVec2, a_v: DVec2) -> FilteredPoint {
+        let (mut d, mut tx, mut ty, mut slab) = (DVec3::ZERO, DVec3::X, DVec3::Y, 0.0);
+        for t in &self.waves.trains {
+            let dir = DVec2::from(t.direction);
+            let wn = normal_weight(dir / t.wavelength, a_u, a_v);
+            let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
+            let (s, c) = theta.sin_cos();
+            let h = wn * t.amplitude;
+            slab += h;
+            d += DVec3::new(dir.x * h * s, dir.y * h * s, h * c);
+            let (c, s) = (wn * t.k * t.amplitude * c, wn * t.k * t.amplitude * s);
+            tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
+            ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
+        }
+        FilteredPoint { point: self.camera.sea_point(x) + d, tangent_x: tx, tangent_y: ty, slab }
+    }
+}
+
+/// A point of the surface a pixel resolves (`Footprint::filtered_point`).
+pub struct FilteredPoint {
+    /// Eye-relative, on the rest sphere's point displaced.
+    pub point: DVec3,
+    pub tangent_x: DVec3,
+    pub tangent_y: DVec3,
+    /// The sum of the weighted amplitudes (m): the surface lies within it of the rest sphere.
+    pub slab: f64,
+}
+
+/// Whether the eye sees the rest sphere's point x from above (the shader's `v_up > 0`).
+fn v_up_positive(footprint: &Footprint, x: DVec2, ray: DVec3) -> bool {
+    -ray.normalize().dot(footprint.camera.sea_normal(x)) > 0.0
 }
 
 #[cfg(test)]
@@ -110,5 +183,45 @@ mod tests {
         let quarter = (PI / 4.0).sin() / (PI / 4.0);
         assert!((box_transfer(0.25) - quarter).abs() < 1e-3);
         assert!((box_transfer(0.5) - std::f64::consts::FRAC_2_PI).abs() < 1e-3);
+    }
+
+    /// The Newton step brings the shaded point onto the pixel's ray: on the default scene at
+    /// 160x120, from the bottom row to 6 rows below the horizon, the displaced point's distance
+    /// from the ray falls several times over (measured: 11x in the median, 2.3x at the 90th
+    /// percentile), and with no strength the point is left as it was.
+    #[test]
+    fn the_ray_hit_step_lands_on_the_ray() {
+        use crate::model::{scene::Scene, waves};
+        let scene = Scene::default();
+        let wave_set = waves::generate(&scene);
+        let (w, h) = (160, 120);
+        let camera = CameraFrame::new(&scene, &wave_set, w, h);
+        let footprint = Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: w, height: h };
+        let off_ray = |x: DVec2, ray: DVec3, a_u, a_v| {
+            let p = footprint.filtered_point(x, a_u, a_v).point;
+            (p - ray.normalize() * p.dot(ray.normalize())).length()
+        };
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        for py in (66..h).step_by(3) {
+            for px in (0..w).step_by(7) {
+                let ray = footprint.pixel_ray(px as f64, py as f64);
+                let Some((x, a_u, a_v)) = footprint.rest_hit(ray) else { continue };
+                let moved = footprint.ray_hit(x, ray, a_u, a_v, 1.0);
+                assert_eq!(footprint.ray_hit(x, ray, a_u, a_v, 0.0), x, "strength 0 leaves the point");
+                before.push(off_ray(x, ray, a_u, a_v));
+                after.push(off_ray(moved, ray, a_u, a_v));
+            }
+        }
+        let ratios: Vec<f64> = {
+            let mut r: Vec<f64> = before.iter().zip(&after).map(|(b, a)| a / b.max(1e-12)).collect();
+            r.sort_by(f64::total_cmp);
+            r
+        };
+        let (median, p90) = (ratios[ratios.len() / 2], ratios[ratios.len() * 9 / 10]);
+        assert!(ratios.len() > 300, "{} pixels", ratios.len());
+        assert!(
+            median < 0.15 && p90 < 0.6,
+            "off the ray after the step over before: median {median}, 90th percentile {p90}"
+        );
     }
 }

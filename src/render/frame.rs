@@ -317,7 +317,9 @@ pub fn baseline_slope_variance(
     height: u32,
 ) -> [f64; 2] {
     let footprint = super::footprint::Footprint { camera, waves, time_s, width, height };
-    footprint.resolved_surface(width as f64 / 2.0, height as f64 - 1.0).map_or(waves.sigma2, |(_, _, sigma2)| sigma2)
+    footprint
+        .resolved_surface(width as f64 / 2.0, height as f64 - 1.0, None)
+        .map_or(waves.sigma2, |(_, _, sigma2)| sigma2)
 }
 
 /// Rows at the top of a `height`-row image that only sky can cover, so that the shading pass
