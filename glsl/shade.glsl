@@ -115,8 +115,9 @@ float sun_visibility(ivec2 p, vec3 ray, bool covered) {
 // glitter lives in the slopes' tail: in the default view +114%, +55% -> +71%, +13% against the
 // truth at 10-20 and 20-50 m (docs/results.md, "Where the pixel's ray meets the sea"). Its cost
 // is one more loop over the trains, so it is taken only in the sun's path: where the sun's
-// expected reflection on the mean plane (all slopes in the BRDF) reaches RAY_HIT_SUN times the
-// least reflected sky, water's Fresnel at normal incidence times the sky's mean radiance, ramped
+// glitter on the mean plane (all slopes in the BRDF) reaches RAY_HIT_SUN times the
+// least reflected sky, water's Fresnel at normal incidence times the sky's mean radiance (the
+// sun's reflection without Fresnel, masking and 1 / cos_v: sun_glitter_density), ramped
 // from a tenth of that, so that it fades in without a seam, and where the normal resolves enough
 // of the slopes to matter (RAY_HIT_SHARE). On the default view the sun's two nearest bands are
 // within 1.2 points of the step taken everywhere. Whether the sun term is drawn does not enter:
@@ -144,9 +145,26 @@ float resolvable_slope_share(SampleScale s) {
 // preset's 0.10-0.34, an airliner's 0.02: the step changes little there and would cost the most).
 const vec2 RAY_HIT_SHARE = vec2(0.4, 0.6);
 
+// The sun's glitter on the mean plane, all slopes in the BRDF, without its Fresnel, masking and
+// 1 / cos_v: the slopes' density at the half vector over 4 h_z^4 (reflect_sun's), times the sun's
+// irradiance. Where the sun lies the slope density decides: a lookup's worth of work per pixel
+// instead of the whole BRDF (docs/results.md measures both).
+float sun_glitter_density(vec3 v, vec3 up, vec3 sun_irradiance) {
+    Frame3 f = wind_frame(up);
+    vec3 vl = to_local(f, v), ll = to_local(f, frame.sun_dir.xyz);
+    if (vl.z <= 0.0 || ll.z <= 0.0) return 0.0;
+    vec3 h = normalize(vl + ll);   // h.z = (vl.z + ll.z) / |vl + ll| > 0
+    float hz2 = h.z * h.z;
+    vec2 s2 = frame.wind.zw + vec2(frame.sun_radiance.w);
+    float q = h.x * h.x / s2.x + h.y * h.y / s2.y;
+    if (q >= 2.0 * EXP_UNDERFLOW * hz2) return 0.0;
+    const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
+    return exp(-0.5 * q / hz2) / (8.0 * PI * sqrt(s2.x * s2.y) * hz2 * hz2) * dot(sun_irradiance, REC709);
+}
+
 float ray_hit_strength(vec3 v, vec3 up, SeaLight light, SampleScale s) {
     const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
-    float sun = dot(reflected_sun(wind_frame(up), v, frame.sun_dir.xyz, frame.wind.zw, light.sun), REC709);
+    float sun = sun_glitter_density(v, up, light.sun);
     float sky_floor = FRESNEL_R0 * dot(light.sky_irradiance, REC709) / PI;
     float ramp = 0.9 * RAY_HIT_SUN * sky_floor;
     // sky_floor = 0 (no sky) makes the ramp a step at sun = 0.

@@ -136,7 +136,7 @@ impl ReferenceScene<'_> {
     }
 
     /// How much of the step to where the pixel's ray meets the surface a pixel takes: the sun's
-    /// expected reflection on the mean plane, all slopes in the BRDF, against the least reflected
+    /// glitter on the mean plane, all slopes in the BRDF, against the least reflected
     /// sky, times a ramp in the share of the slope variance the pixel's normal can resolve
     /// (glsl/shade.glsl ray_hit_strength, RAY_HIT_SUN and RAY_HIT_SHARE the same).
     fn ray_hit_strength(&self, v: DVec3, up: DVec3, a_u: DVec2, a_v: DVec2) -> f64 {
@@ -145,15 +145,17 @@ impl ReferenceScene<'_> {
         let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
         let [t_x, t_y, n] = self.wind_frame(up);
         let local = |d: DVec3| DVec3::new(d.dot(t_x), d.dot(t_y), d.dot(n));
-        let sun_dir = DVec3::from(self.sky.sun_dir());
-        let share = reflected_sun_with(
-            local(v),
-            local(sun_dir),
-            self.footprint.waves.sigma2,
-            SkyModel::sun_slope_variance(),
-            self.facet_fresnel(),
-        );
-        let sun = share * luminance(self.sky.sun_irradiance());
+        let (vl, ll) = (local(v), local(DVec3::from(self.sky.sun_dir())));
+        // The sun's glitter without Fresnel, masking and 1 / cos_v (glsl/shade.glsl
+        // sun_glitter_density): the slopes' density at the half vector over 4 h_z^4.
+        let sun = if vl.z > 0.0 && ll.z > 0.0 {
+            let h = (vl + ll).normalize();
+            let s2 = self.footprint.waves.sigma2.map(|s| s + SkyModel::sun_slope_variance());
+            let q = (h.x * h.x / s2[0] + h.y * h.y / s2[1]) / (h.z * h.z);
+            (-0.5 * q).exp() / (8.0 * PI * (s2[0] * s2[1]).sqrt() * h.z.powi(4)) * luminance(self.sky.sun_irradiance())
+        } else {
+            0.0
+        };
         let sky_floor = R0 * luminance(self.sky.sky_irradiance()) / PI;
         let ramp = 0.9 * RAY_HIT_SUN * sky_floor;
         let in_path = if ramp > 0.0 {
