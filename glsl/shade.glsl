@@ -112,7 +112,7 @@ float sun_visibility(ivec2 p, vec3 ray, bool covered) {
 // ray_hit_rest_position) a pixel takes. The step moves the shaded point by about a pixel; what
 // that changes beyond the picture's detail is the share of steep facets seen (a trochoid's
 // compressed crest no longer counts as much as its trough), and so the reflected sun, whose
-// glitter lives in the slopes' tail: in the default view +114%, +55% -> +71%, +13% against the
+// glitter lives in the slopes' tail: in the default view +114%, +55% -> +70%, +13% against the
 // truth at 10-20 and 20-50 m (docs/results.md, "Where the pixel's ray meets the sea"). Its cost
 // is one more loop over the trains, so it is taken only in the sun's path: where the sun's
 // glitter on the mean plane (all slopes in the BRDF) reaches RAY_HIT_SUN times the
