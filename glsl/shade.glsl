@@ -125,6 +125,9 @@ float sun_visibility(ivec2 p, vec3 ray, bool covered) {
 // f64 twin).
 const float RAY_HIT_SUN = 300.0;
 
+// Rec. 709's luminance weights, which the gate compares in.
+const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
+
 // The share of the sea's slope variance in the trains a pixel's normal can resolve at all (longer
 // than its lambda_cut), from the prefix sums of the rest: trains are sorted by wavelength, so a
 // binary search finds how many are too short.
@@ -158,12 +161,10 @@ float sun_glitter_density(vec3 v, vec3 up, vec3 sun_irradiance) {
     vec2 s2 = frame.wind.zw + vec2(frame.sun_radiance.w);
     float q = h.x * h.x / s2.x + h.y * h.y / s2.y;
     if (q >= 2.0 * EXP_UNDERFLOW * hz2) return 0.0;
-    const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
     return exp(-0.5 * q / hz2) / (8.0 * PI * sqrt(s2.x * s2.y) * hz2 * hz2) * dot(sun_irradiance, REC709);
 }
 
 float ray_hit_strength(vec3 v, vec3 up, SeaLight light, SampleScale s) {
-    const vec3 REC709 = vec3(0.2126, 0.7152, 0.0722);
     float sun = sun_glitter_density(v, up, light.sun);
     float sky_floor = FRESNEL_R0 * dot(light.sky_irradiance, REC709) / PI;
     float ramp = 0.9 * RAY_HIT_SUN * sky_floor;

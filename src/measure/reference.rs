@@ -9,7 +9,8 @@
 use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::sky::{SkyLight, SkyModel};
 use crate::model::waves::trochoid_slope_variance;
-use crate::render::footprint::{normal_weight, Footprint};
+use crate::output::luminance_rgb;
+use crate::render::footprint::{normal_weight, smallest_step, Footprint};
 use crate::render::frame::{GEOMETRY_STEPS, NORMAL_STEPS, SEA_ALBEDO};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
@@ -142,7 +143,6 @@ impl ReferenceScene<'_> {
     fn ray_hit_strength(&self, v: DVec3, up: DVec3, a_u: DVec2, a_v: DVec2) -> f64 {
         const RAY_HIT_SUN: f64 = 300.0;
         const RAY_HIT_SHARE: [f64; 2] = [0.4, 0.6];
-        let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
         let [t_x, t_y, n] = self.wind_frame(up);
         let local = |d: DVec3| DVec3::new(d.dot(t_x), d.dot(t_y), d.dot(n));
         let (vl, ll) = (local(v), local(DVec3::from(self.sky.sun_dir())));
@@ -152,11 +152,12 @@ impl ReferenceScene<'_> {
             let h = (vl + ll).normalize();
             let s2 = self.footprint.waves.sigma2.map(|s| s + SkyModel::sun_slope_variance());
             let q = (h.x * h.x / s2[0] + h.y * h.y / s2[1]) / (h.z * h.z);
-            (-0.5 * q).exp() / (8.0 * PI * (s2[0] * s2[1]).sqrt() * h.z.powi(4)) * luminance(self.sky.sun_irradiance())
+            (-0.5 * q).exp() / (8.0 * PI * (s2[0] * s2[1]).sqrt() * h.z.powi(4))
+                * luminance_rgb(self.sky.sun_irradiance())
         } else {
             0.0
         };
-        let sky_floor = R0 * luminance(self.sky.sky_irradiance()) / PI;
+        let sky_floor = R0 * luminance_rgb(self.sky.sky_irradiance()) / PI;
         let ramp = 0.9 * RAY_HIT_SUN * sky_floor;
         let in_path = if ramp > 0.0 {
             ((sun - 0.1 * RAY_HIT_SUN * sky_floor) / ramp).clamp(0.0, 1.0)
@@ -167,8 +168,7 @@ impl ReferenceScene<'_> {
         };
         // Trains no direction resolves: wavelength within the footprint's smallest phase step
         // (glsl/waves.glsl sample_scale's lambda_cut, at the normals' cut-off of one turn).
-        let diagonal = (a_u - a_v).length().max((a_u + a_v).length());
-        let lambda_cut = if diagonal > 0.0 { a_u.perp_dot(a_v).abs() / diagonal / NORMAL_STEPS[1] as f64 } else { 0.0 };
+        let lambda_cut = smallest_step(a_u, a_v) / NORMAL_STEPS[1] as f64;
         let waves = self.footprint.waves;
         let unresolved: f64 = waves
             .trains

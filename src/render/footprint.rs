@@ -31,6 +31,18 @@ pub fn normal_weight(k_turns: DVec2, a_u: DVec2, a_v: DVec2) -> f64 {
     box_transfer(k_turns.dot(a_u).abs()) * box_transfer(k_turns.dot(a_v).abs())
 }
 
+/// The smallest phase step any direction has across a footprint with sides a_u and a_v: the
+/// minimum over unit k of max(|k.a_u|, |k.a_v|), |a_u x a_v| over the longer of the diagonals
+/// a_u -+ a_v (glsl/waves.glsl sample_scale's q_min, which explains why).
+pub fn smallest_step(a_u: DVec2, a_v: DVec2) -> f64 {
+    let diagonal = (a_u - a_v).length().max((a_u + a_v).length());
+    if diagonal > 0.0 {
+        a_u.perp_dot(a_v).abs() / diagonal
+    } else {
+        0.0
+    }
+}
+
 /// A frame's camera and waves at one time, on an image of `width` x `height` pixels.
 pub struct Footprint<'a> {
     pub camera: &'a CameraFrame,

@@ -46,9 +46,7 @@ pub fn resolving_probes(
             let r = camera.ray(ndc);
             let hit = camera.sea_hit(r)?;
             let (qu, qv) = (CameraFrame::rest_derivative(&hit, r, dr_du), CameraFrame::rest_derivative(&hit, r, dr_dv));
-            let det = (qu.x * qv.y - qu.y * qv.x).abs();
-            let diagonal = (qu - qv).length().max((qu + qv).length());
-            let q_min = if diagonal > 0.0 { det / diagonal } else { 0.0 };
+            let q_min = super::footprint::smallest_step(qu, qv);
             (longest * unresolved > margin * q_min * cells).then(|| hit.point.truncate())
         })
         .collect()
