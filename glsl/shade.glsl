@@ -43,6 +43,10 @@ layout(constant_id = 9) const bool SHADOW = false;
 // each out where it changes nothing.
 layout(constant_id = 11) const bool NORMALS = true;
 layout(constant_id = 12) const bool AERIAL = true;
+// Whether the full method may step to where the pixel's ray meets the sea (ray_hit_strength):
+// specialize::plan leaves its gate and loop out where no pixel in view resolves enough of the
+// slopes (RAY_HIT_SHARE) for the step to be taken.
+layout(constant_id = 14) const bool RAY_HIT = true;
 layout(set = 0, binding = 8) uniform sampler2DShadow sun_shadow_map;
 layout(set = 0, binding = 9) uniform sampler2D scene_depth;
 
@@ -146,6 +150,7 @@ float resolvable_slope_share(SampleScale s) {
 // The step matters as much as the normal holds of the slopes: it is ramped in from 0.4 of their
 // variance to 0.6 (the default view's sun path holds 0.66-0.88 at 320x240, the high-altitude
 // preset's 0.10-0.34, an airliner's 0.02: the step changes little there and would cost the most).
+// frame::RAY_HIT_SHARE is the same.
 const vec2 RAY_HIT_SHARE = vec2(0.4, 0.6);
 
 // The sun's glitter on the mean plane, all slopes in the BRDF, without its Fresnel, masking and
@@ -211,7 +216,7 @@ void main() {
     SeaLight light = local_sea_light(up);
     // METHOD_FULL shades the point the pixel's ray meets on the surface it resolves (waves.glsl),
     // where the sun's glitter needs it.
-    if (METHOD == METHOD_FULL && resolves) {
+    if (RAY_HIT && METHOD == METHOD_FULL && resolves) {
         float strength = ray_hit_strength(v, up, light, pixel);
         x = ray_hit_rest_position(x, u, pixel, strength);
     }

@@ -35,7 +35,7 @@ fn omissions_keep_the_picture() {
         ("extreme/sun_just_below.toml", vec!["sun term"]),
         ("extreme/sun_night.toml", vec!["sun term", "sky term", "refracted term", "sky map", "sky behind the sea"]),
         ("extreme/camera_10km.toml", vec!["vertex displacement"]),
-        ("high_altitude.toml", vec!["vertex displacement"]),
+        ("high_altitude.toml", vec!["vertex displacement", "the step to where each pixel's ray meets the sea"]),
         ("orbit.toml", vec!["vertex displacement", "per-pixel wave normals"]),
         ("extreme/look_down_5cm.toml", vec!["aerial perspective"]),
     ];

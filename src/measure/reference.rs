@@ -8,10 +8,9 @@
 
 use crate::model::fresnel::{fresnel_exact, MeanFresnelTable, SEA_WATER_IOR};
 use crate::model::sky::{SkyLight, SkyModel};
-use crate::model::waves::trochoid_slope_variance;
 use crate::output::luminance_rgb;
 use crate::render::footprint::{normal_weight, smallest_step, Footprint};
-use crate::render::frame::{GEOMETRY_STEPS, NORMAL_STEPS, SEA_ALBEDO};
+use crate::render::frame::{GEOMETRY_STEPS, NORMAL_STEPS, RAY_HIT_SHARE, SEA_ALBEDO};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 
@@ -142,7 +141,6 @@ impl ReferenceScene<'_> {
     /// (glsl/shade.glsl ray_hit_strength, RAY_HIT_SUN and RAY_HIT_SHARE the same).
     fn ray_hit_strength(&self, v: DVec3, up: DVec3, a_u: DVec2, a_v: DVec2) -> f64 {
         const RAY_HIT_SUN: f64 = 300.0;
-        const RAY_HIT_SHARE: [f64; 2] = [0.4, 0.6];
         let [t_x, t_y, n] = self.wind_frame(up);
         let local = |d: DVec3| DVec3::new(d.dot(t_x), d.dot(t_y), d.dot(n));
         let (vl, ll) = (local(v), local(DVec3::from(self.sky.sun_dir())));
@@ -169,15 +167,7 @@ impl ReferenceScene<'_> {
         // Trains no direction resolves: wavelength within the footprint's smallest phase step
         // (glsl/waves.glsl sample_scale's lambda_cut, at the normals' cut-off of one turn).
         let lambda_cut = smallest_step(a_u, a_v) / NORMAL_STEPS[1] as f64;
-        let waves = self.footprint.waves;
-        let unresolved: f64 = waves
-            .trains
-            .iter()
-            .filter(|t| t.wavelength <= lambda_cut)
-            .map(|t| trochoid_slope_variance(t.k * t.amplitude))
-            .sum();
-        let total = waves.sigma2[0] + waves.sigma2[1];
-        let share = if total > 0.0 { (1.0 - unresolved / total).clamp(0.0, 1.0) } else { 0.0 };
+        let share = self.footprint.waves.resolvable_slope_share(lambda_cut);
         let t = ((share - RAY_HIT_SHARE[0]) / (RAY_HIT_SHARE[1] - RAY_HIT_SHARE[0])).clamp(0.0, 1.0);
         in_path * t * t * (3.0 - 2.0 * t)
     }

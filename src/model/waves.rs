@@ -202,6 +202,24 @@ pub fn cox_munk_total_variance(wind_speed: f64) -> f64 {
 }
 
 impl WaveSet {
+    /// The share of the sea's slope variance in the trains longer than `lambda_cut` (m), the ones
+    /// a pixel whose cut it is can resolve into its normal at all (glsl/shade.glsl
+    /// resolvable_slope_share: the shader sums the same trains' variance from its prefix table).
+    pub fn resolvable_slope_share(&self, lambda_cut: f64) -> f64 {
+        let unresolved: f64 = self
+            .trains
+            .iter()
+            .filter(|t| t.wavelength <= lambda_cut)
+            .map(|t| trochoid_slope_variance(t.k * t.amplitude))
+            .sum();
+        let total = self.sigma2[0] + self.sigma2[1];
+        if total > 0.0 {
+            (1.0 - unresolved / total).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
     /// The summed amplitude: no point of the surface rises higher above its rest plane (or sinks
     /// lower below it), whatever the phases.
     pub fn highest_crest(&self) -> f64 {

@@ -21,6 +21,10 @@ use glam::{DMat4, DVec2, DVec3, Mat4};
 /// turn kept 3-30% of the truth's local contrast (docs/results.md, "The detail a pixel can see").
 pub const GEOMETRY_STEPS: [f32; 2] = [0.125, 0.25];
 pub const NORMAL_STEPS: [f32; 2] = [1.0 / 64.0, 1.0];
+/// The full method's step to where a pixel's ray meets the sea is ramped in from this share of
+/// the sea's slope variance in the trains the pixel can resolve to the second (glsl/shade.glsl
+/// RAY_HIT_SHARE, the same): below the first it is not taken.
+pub const RAY_HIT_SHARE: [f64; 2] = [0.4, 0.6];
 /// Stereographic sky-map extent of the full method: u in [-R, R]^2 covers the horizon circle
 /// |u| = 1 and directions below it, to 22.6 degrees down along the axes (|u| = tan(45 + 22.6 / 2)
 /// = 1.5) and 39.6 in the corners, where its reflections that meet the sea read what they meet.

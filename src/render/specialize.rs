@@ -6,10 +6,10 @@
 use crate::model::scene::{Scene, ShadowMapMode, SkyKind};
 use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
-use crate::render::frame::{CameraFrame, GEOMETRY_STEPS, NORMAL_STEPS};
+use crate::render::frame::{CameraFrame, GEOMETRY_STEPS, NORMAL_STEPS, RAY_HIT_SHARE};
 use crate::render::passes::ocean::{Method, TrainReads};
 use crate::render::renderer::Options;
-use crate::render::sun_shadow::{displaced_probes, resolving_probes};
+use crate::render::sun_shadow::{displaced_probes, finest_pixel_step, resolving_probes};
 use serde::Serialize;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -140,6 +140,24 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     {
         options.shader.normals = false;
         omit("per-pixel wave normals (the shading pass's train loop)", too_short("a pixel", NORMAL_STEPS[1], "pixels"));
+    }
+    if options.shader.steps_to_ray_hit() && !options.shader.draws_nothing() {
+        // The finest footprint in view resolves the most; its cut taken GEOMETRY_MARGIN times
+        // finer still, as the probes are a sample of the screen.
+        let finest = finest_pixel_step(&camera, (width * k, height * k));
+        let share =
+            finest.map_or(0.0, |q| waves.resolvable_slope_share(q / (NORMAL_STEPS[1] as f64 * GEOMETRY_MARGIN)));
+        if share <= RAY_HIT_SHARE[0] {
+            options.shader.ray_hit = false;
+            omit(
+                "the step to where each pixel's ray meets the sea (its gate and train loop)",
+                format!(
+                    "no pixel in view can resolve more than {:.0}% of the slope variance, and the step starts at {:.0}%",
+                    100.0 * share,
+                    100.0 * RAY_HIT_SHARE[0]
+                ),
+            );
+        }
     }
     if physical && options.shader.aerial && !options.shader.draws_nothing() {
         let atm = scene.atmosphere();

@@ -35,21 +35,30 @@ pub fn resolving_probes(
     margin: f64,
 ) -> Vec<DVec2> {
     let Some(longest) = waves.trains.last().map(|t| t.wavelength) else { return Vec::new() };
+    probe_steps(camera, size, 2.0)
+        .filter_map(|(rest, q_min)| (longest * unresolved > margin * q_min * cells).then_some(rest))
+        .collect()
+}
+
+/// The smallest phase step (m) of samples one pixel apart at any probe on the screen that meets
+/// the sea: the finest footprint any pixel has. None where no probe meets the sea.
+pub fn finest_pixel_step(camera: &CameraFrame, size: (u32, u32)) -> Option<f64> {
+    probe_steps(camera, size, 1.0).map(|(_, q_min)| q_min).reduce(f64::min)
+}
+
+/// Each probe over NDC [-extent, extent] whose ray meets the sea: its rest position and the
+/// smallest phase step (m) of samples one pixel apart there (footprint::smallest_step).
+fn probe_steps(camera: &CameraFrame, size: (u32, u32), extent: f64) -> impl Iterator<Item = (DVec2, f64)> + '_ {
     let dr_du = camera.right * camera.tan_half_x * (2.0 / size.0 as f64);
     let dr_dv = -camera.up * camera.tan_half_y * (2.0 / size.1 as f64);
-    (0..PROBES * PROBES)
-        .filter_map(|i| {
-            let ndc = [
-                -2.0 + 4.0 * (i % PROBES) as f64 / (PROBES - 1) as f64,
-                -2.0 + 4.0 * (i / PROBES) as f64 / (PROBES - 1) as f64,
-            ];
-            let r = camera.ray(ndc);
-            let hit = camera.sea_hit(r)?;
-            let (qu, qv) = (CameraFrame::rest_derivative(&hit, r, dr_du), CameraFrame::rest_derivative(&hit, r, dr_dv));
-            let q_min = super::footprint::smallest_step(qu, qv);
-            (longest * unresolved > margin * q_min * cells).then(|| hit.point.truncate())
-        })
-        .collect()
+    let at = move |j: usize| -extent + 2.0 * extent * j as f64 / (PROBES - 1) as f64;
+    (0..PROBES * PROBES).filter_map(move |i| {
+        let ndc = [at(i % PROBES), at(i / PROBES)];
+        let r = camera.ray(ndc);
+        let hit = camera.sea_hit(r)?;
+        let (qu, qv) = (CameraFrame::rest_derivative(&hit, r, dr_du), CameraFrame::rest_derivative(&hit, r, dr_dv));
+        Some((hit.point.truncate(), super::footprint::smallest_step(qu, qv)))
+    })
 }
 
 /// The sun's orthographic view of the displaced sea.

@@ -101,6 +101,10 @@ pub struct ShaderConfig {
     /// (constant 13, glsl/glints.glsl), instead of its expected value. Only the full method has
     /// them; the renderer keeps them only with the sun term.
     pub glints: bool,
+    /// Whether the full method's shading pass may step to where a pixel's ray meets the sea
+    /// (constant 14, glsl/shade.glsl ray_hit_strength): its gate and its loop. Left out where no
+    /// pixel in view can resolve enough of the slopes for the step to be taken.
+    pub ray_hit: bool,
 }
 
 impl Default for ShaderConfig {
@@ -117,6 +121,7 @@ impl Default for ShaderConfig {
             normals: true,
             aerial: true,
             glints: true,
+            ray_hit: true,
         }
     }
 }
@@ -130,6 +135,12 @@ impl ShaderConfig {
     /// Whether the shading pass draws glints: asked for, the full method's, and with a sun term.
     pub fn draws_glints(&self) -> bool {
         self.glints && self.method == Method::Full && self.terms.sun
+    }
+
+    /// Whether the shading pass may take the step to where the pixel's ray meets the sea: the
+    /// full method's, with per-pixel normals to step over.
+    pub fn steps_to_ray_hit(&self) -> bool {
+        self.ray_hit && self.method == Method::Full && self.normals
     }
 
     /// Why a frame with this configuration has no use for the sun's shadow map (None: it has);
@@ -152,7 +163,7 @@ impl ShaderConfig {
     /// shading pass also whether its rows see only sea (6) and whether it counts trains (7); the
     /// sky's model (8) and the sun's shadows (9) for all; whether the grid is drawn from the sun
     /// (10, the shadow pass's vertex stage only); the shading pass's normals (11) and aerial
-    /// perspective (12); the glints (13).
+    /// perspective (12); the glints (13); the step to where the pixel's ray meets the sea (14).
     pub fn specialization(&self) -> Specialization {
         self.shade_specialization(false)
     }
@@ -182,6 +193,7 @@ impl ShaderConfig {
             self.normals as u32,
             self.aerial as u32,
             self.draws_glints() as u32,
+            self.steps_to_ray_hit() as u32,
         ])
     }
 
