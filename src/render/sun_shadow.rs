@@ -141,3 +141,40 @@ pub fn fit(
     ]);
     Some(SunView { view_proj, texel_m: texel })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{scene::Scene, waves};
+    use crate::render::footprint::{smallest_step, Footprint};
+
+    /// specialize::plan leaves the ray-hit step out by the probes' finest footprint, its cut taken
+    /// twice finer: every pixel's own footprint must then be no finer than half of it. Checked
+    /// on every fourth pixel of views that look ahead, down and up at the sky.
+    #[test]
+    fn no_pixel_is_finer_than_the_probes_find() {
+        let (w, h) = (160u32, 120u32);
+        for (pitch, expect_sea) in [(0.0, true), (-60.0, true), (50.0, false)] {
+            let mut scene = Scene::default();
+            scene.camera.pitch_deg = pitch;
+            let wave_set = waves::generate(&scene);
+            let camera = CameraFrame::new(&scene, &wave_set, w, h);
+            let finest = finest_pixel_step(&camera, (w, h));
+            assert_eq!(finest.is_some(), expect_sea, "pitch {pitch}: {finest:?}");
+            let footprint = Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: w, height: h };
+            let mut pixels = 0;
+            for py in (0..h).step_by(4) {
+                for px in (0..w).step_by(4) {
+                    let Some((_, a_u, a_v)) = footprint.rest_hit(footprint.pixel_ray(px as f64, py as f64)) else {
+                        continue;
+                    };
+                    pixels += 1;
+                    let step = smallest_step(a_u, a_v);
+                    let finest = finest.unwrap_or(f64::INFINITY);
+                    assert!(step >= 0.5 * finest, "pitch {pitch}, pixel ({px}, {py}): {step} m against {finest} m");
+                }
+            }
+            assert_eq!(pixels > 0, expect_sea, "pitch {pitch}: {pixels} sea pixels");
+        }
+    }
+}
