@@ -166,13 +166,18 @@ vec2 wind_axes2(vec2 dir, vec2 wind) {
     return vec2(along * along, across * across);
 }
 
+// Adds a train's share of the tangents d p / d x and d p / d y: d/dx of (dir h sin(theta),
+// h cos(theta)) with d theta / dx = -k dir, from c = k h cos(theta) and sn = k h sin(theta) (at
+// the train's weight). model::waves::add_tangents is its f64 twin.
+void add_tangents(inout vec3 t_x, inout vec3 t_y, vec2 dir, float c, float sn) {
+    t_x += vec3(-dir * (dir.x * c), dir.x * sn);
+    t_y += vec3(-dir * (dir.y * c), dir.y * sn);
+}
+
 // Adds a train resolved fully at the pixel: its slopes at x, nothing left to the BRDF.
 void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
     vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
-    // d/dx of (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir.
-    float c = wave.kh * sc.y, sn = wave.kh * sc.x;
-    r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
-    r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+    add_tangents(r.tangent_x, r.tangent_y, dir, wave.kh * sc.y, wave.kh * sc.x);
     count_train(true);
 }
 
@@ -181,9 +186,7 @@ void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
 // pixel's slope variance is the train's whatever its weight. `wind2`: wind_axes2 of its direction.
 void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, vec2 x, float wn) {
     vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
-    float c = wn * wave.kh * sc.y, sn = wn * wave.kh * sc.x;
-    r.tangent_x += vec3(-dir * (dir.x * c), dir.x * sn);
-    r.tangent_y += vec3(-dir * (dir.y * c), dir.y * sn);
+    add_tangents(r.tangent_x, r.tangent_y, dir, wn * wave.kh * sc.y, wn * wave.kh * sc.x);
     r.sigma2 += wind2 * trochoid_slope_variance(sqrt(max(1.0 - wn * wn, 0.0)) * wave.kh);
     // A sinusoid of slope k h has curvature k (k h) along the train: its variance (k^2 h)^2 / 2
     // (Train::curvature_power is its twin), the part of the amplitude left unresolved.
@@ -274,13 +277,11 @@ vec2 ray_hit_rest_position(vec2 x, vec3 u, SampleScale s, float strength) {
         float kh = normal_weight(s, wave.k) * wave.kh;
         vec2 dir = wave.k * inversesqrt(k2);
         vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
-        // h = k h / k, k = 2 pi |k_turns|; the tangents as add_weighted_train's.
+        // h = k h / k, k = 2 pi |k_turns|.
         float h = kh * inversesqrt(k2) * (0.5 / PI);
         slab += h;
         d += vec3(dir * (h * sc.x), h * sc.y);
-        float c = kh * sc.y, sn = kh * sc.x;
-        t_x += vec3(-dir * (dir.x * c), dir.x * sn);
-        t_y += vec3(-dir * (dir.y * c), dir.y * sn);
+        add_tangents(t_x, t_y, dir, kh * sc.y, kh * sc.x);
     }
     vec3 p = sea_point(x) + d;
     mat2 jacobian = mat2(dot(t_x, e1), dot(t_x, e2), dot(t_y, e1), dot(t_y, e2));

@@ -555,9 +555,7 @@ pub(crate) fn surface(waves: &WaveSet, t: f64, x: DVec2) -> (DVec3, DVec3, DVec3
         let d = DVec2::from(tr.direction);
         let (s, c) = (tr.phase_at(t) - tr.k * d.dot(x)).sin_cos();
         p += DVec3::new(d.x * tr.amplitude * s, d.y * tr.amplitude * s, tr.amplitude * c);
-        let (kc, ks) = (tr.k * tr.amplitude * c, tr.k * tr.amplitude * s);
-        tx += DVec3::new(-d.x * d.x * kc, -d.y * d.x * kc, d.x * ks);
-        ty += DVec3::new(-d.x * d.y * kc, -d.y * d.y * kc, d.y * ks);
+        super::waves::add_tangents(&mut tx, &mut ty, d, tr.k * tr.amplitude * c, tr.k * tr.amplitude * s);
     }
     (p, tx, ty)
 }

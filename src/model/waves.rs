@@ -2,6 +2,7 @@
 //! total slope variances and the mean-height offset. Deterministic from the scene's seed.
 
 use crate::model::scene::Scene;
+use glam::{DVec2, DVec3};
 use std::f64::consts::{PI, TAU};
 
 /// Standard gravity (m/s^2).
@@ -45,6 +46,14 @@ impl Train {
     pub fn curvature_power(&self) -> f64 {
         0.5 * (self.k * self.k * self.amplitude).powi(2)
     }
+}
+
+/// Adds a train's share of the surface's tangents d p / d x (tx) and d p / d y (ty): d/dx of
+/// (dir h sin(theta), h cos(theta)) with d theta / dx = -k dir, from the train's slope k h (at
+/// its weight) times the cosine and sine of its phase (glsl/waves.glsl add_tangents).
+pub fn add_tangents(tx: &mut DVec3, ty: &mut DVec3, dir: DVec2, slope_cos: f64, slope_sin: f64) {
+    *tx += DVec3::new(-dir.x * dir.x * slope_cos, -dir.y * dir.x * slope_cos, dir.x * slope_sin);
+    *ty += DVec3::new(-dir.x * dir.y * slope_cos, -dir.y * dir.y * slope_cos, dir.y * slope_sin);
 }
 
 /// 1 - sqrt(1 - a^2) in the cancellation-free form a^2 / (1 + sqrt(1 - a^2)), for 0 <= a <= 1.

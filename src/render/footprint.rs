@@ -5,11 +5,12 @@
 //! the f64 reference (`measure::reference`) to shade a pixel.
 //!
 //! Only valid where the grid is not displaced: the visible point is the ray's intersection with
-//! the rest sphere, moved for the full method to where the ray meets the trains the pixel resolves. The normal is in the tangent frame of the point below the eye, as the
-//! waves; `resolved_surface` tilts it by the sphere's normal there, as glsl/shade.glsl.
+//! the rest sphere, moved for the full method to where the ray meets the trains the pixel
+//! resolves. The normal is in the tangent frame of the point below the eye, as the waves;
+//! `resolved_surface` tilts it by the sphere's normal there, as glsl/shade.glsl.
 
 use super::frame::CameraFrame;
-use crate::model::waves::{trochoid_slope_variance, WaveSet};
+use crate::model::waves::{add_tangents, trochoid_slope_variance, WaveSet};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 
@@ -82,14 +83,14 @@ impl Footprint<'_> {
     ) -> Option<(DVec3, DVec3, [f64; 2])> {
         let ray = self.pixel_ray(px, py);
         let (x, a_u, a_v) = self.rest_hit(ray)?;
+        let v = -ray.normalize();
+        // The step only where the eye sees the rest point from above (the shader's v_up > 0).
         let x = match ray_hit_strength {
-            Some(strength) if v_up_positive(self, x, ray) => {
-                let strength = strength(-ray.normalize(), self.camera.sea_normal(x), a_u, a_v);
-                self.ray_hit(x, ray, a_u, a_v, strength)
+            Some(strength) if v.dot(self.camera.sea_normal(x)) > 0.0 => {
+                self.ray_hit(x, ray, a_u, a_v, strength(v, self.camera.sea_normal(x), a_u, a_v))
             }
             _ => x,
         };
-        let v = -ray.normalize();
         let up = self.camera.sea_normal(x);
         let v_up = v.dot(up);
         let wind = DVec2::from(self.waves.wind_direction);
@@ -103,9 +104,7 @@ impl Footprint<'_> {
             let wn = if v_up > 0.0 { normal_weight(k_turns, a_u, a_v) } else { 0.0 };
             let theta = t.omega * self.time_s + t.phase0 - t.k * dir.dot(x);
             let (s, c) = theta.sin_cos();
-            let (c, s) = (wn * kh * c, wn * kh * s);
-            tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
-            ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
+            add_tangents(&mut tx, &mut ty, dir, wn * kh * c, wn * kh * s);
             let (along, across) = (dir.dot(wind), dir.perp_dot(wind));
             // The variance the normal does not hold: of the amplitude sqrt(1 - wn^2) k h.
             let residual = trochoid_slope_variance((1.0 - wn * wn).max(0.0).sqrt() * kh);
@@ -152,9 +151,7 @@ impl Footprint<'_> {
             let h = wn * t.amplitude;
             slab += h;
             d += DVec3::new(dir.x * h * s, dir.y * h * s, h * c);
-            let (c, s) = (wn * t.k * t.amplitude * c, wn * t.k * t.amplitude * s);
-            tx += DVec3::new(-dir.x * dir.x * c, -dir.y * dir.x * c, dir.x * s);
-            ty += DVec3::new(-dir.x * dir.y * c, -dir.y * dir.y * c, dir.y * s);
+            add_tangents(&mut tx, &mut ty, dir, wn * t.k * t.amplitude * c, wn * t.k * t.amplitude * s);
         }
         FilteredPoint { point: self.camera.sea_point(x) + d, tangent_x: tx, tangent_y: ty, slab }
     }
@@ -168,11 +165,6 @@ pub struct FilteredPoint {
     pub tangent_y: DVec3,
     /// The sum of the weighted amplitudes (m): the surface lies within it of the rest sphere.
     pub slab: f64,
-}
-
-/// Whether the eye sees the rest sphere's point x from above (the shader's `v_up > 0`).
-fn v_up_positive(footprint: &Footprint, x: DVec2, ray: DVec3) -> bool {
-    -ray.normalize().dot(footprint.camera.sea_normal(x)) > 0.0
 }
 
 #[cfg(test)]
