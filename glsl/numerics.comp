@@ -30,7 +30,7 @@ void main() {
     case 0u: r.x = cos_times_lambda(a.x, a.y); break;                     // (cos, sin sqrt(2 sigma^2))
     case 1u: r.x = mean_fresnel(a.x, a.y); break;                          // (cos_v, sigma_v)
     case 2u: r.xy = sincos_turns(a.x); break;                              // turns
-    case 3u: r.x = trochoid_slope_variance(a.x); break;                    // k h
+    case 3u: r.x = trochoid_slope_variance(a.x * a.x); break;              // k h
     case 4u: r.xyz = reflected_sun(identity, a.xyz, b.xyz, vec2(a.w, b.w), frame.sun_irradiance.rgb); break;  // v, l, sigma^2
     case 5u: r.xy = reflected_u(identity, a.xyz, b.xy); break;             // v, zeta
     case 6u: {                                                             // (ndc, k turns)

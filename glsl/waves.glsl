@@ -149,9 +149,9 @@ struct SurfaceSample {
     float curvature;    // residual curvature power (1/m^2), for the glints only
 };
 
-// 1 - sqrt(1 - a^2) without cancellation: a^2 / (1 + sqrt(1 - a^2)). a = k h <= 1 by construction.
-float trochoid_slope_variance(float a) {
-    float a2 = a * a;
+// 1 - sqrt(1 - a^2) without cancellation, from a2 = a^2: a2 / (1 + sqrt(1 - a2)). a = k h <= 1 by
+// construction. It takes the square because the weighted loop has it without a root.
+float trochoid_slope_variance(float a2) {
     return a2 / (1.0 + sqrt(max(1.0 - a2, 0.0)));
 }
 
@@ -187,10 +187,14 @@ void add_resolved_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 x) {
 void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, vec2 x, float wn) {
     vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
     add_tangents(r.tangent_x, r.tangent_y, dir, wn * wave.kh * sc.y, wn * wave.kh * sc.x);
-    r.sigma2 += wind2 * trochoid_slope_variance(sqrt(max(1.0 - wn * wn, 0.0)) * wave.kh);
+    // The unresolved amplitude's square, (1 - wn^2) (k h)^2 (a square root per train less than
+    // forming the amplitude: 0.977x on the default view's shading, docs/performance.md).
+    float unresolved2 = (1.0 - wn * wn) * (wave.kh * wave.kh);
+    r.sigma2 += wind2 * trochoid_slope_variance(unresolved2);
     // A sinusoid of slope k h has curvature k (k h) along the train: its variance (k^2 h)^2 / 2
-    // (Train::curvature_power is its twin), the part of the amplitude left unresolved.
-    if (GLINTS) r.curvature += (1.0 - wn * wn) * 2.0 * PI * PI * dot(wave.k, wave.k) * wave.kh * wave.kh;
+    // (Train::curvature_power is its twin), the part of the amplitude left unresolved. k = 2 pi
+    // |k_turns|.
+    if (GLINTS) r.curvature += 2.0 * PI * PI * dot(wave.k, wave.k) * unresolved2;
     count_train(wn > 0.0);
 }
 
