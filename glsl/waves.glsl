@@ -188,7 +188,7 @@ void add_weighted_train(inout SurfaceSample r, Wave wave, vec2 dir, vec2 wind2, 
     vec2 sc = sincos_turns(wave.phase - dot(wave.k, x));
     add_tangents(r.tangent_x, r.tangent_y, dir, wn * wave.kh * sc.y, wn * wave.kh * sc.x);
     // The unresolved amplitude's square, (1 - wn^2) (k h)^2 (a square root per train less than
-    // forming the amplitude: 0.977x on the default view's shading, docs/performance.md).
+    // forming the amplitude: 0.977x on the default view's shading, docs/bench/realism_cost.md).
     float unresolved2 = (1.0 - wn * wn) * (wave.kh * wave.kh);
     r.sigma2 += wind2 * trochoid_slope_variance(unresolved2);
     // A sinusoid of slope k h has curvature k (k h) along the train: its variance (k^2 h)^2 / 2
