@@ -35,7 +35,7 @@ impl Train {
 
     /// This train's slope variance along and across the wind: (cos^2, sin^2) (1 - sqrt(1 - (k h)^2)).
     pub fn slope_variance(&self) -> [f64; 2] {
-        let v = trochoid_slope_variance(self.k * self.amplitude);
+        let v = trochoid_slope_variance((self.k * self.amplitude).powi(2));
         let (s, c) = self.angle_from_wind.sin_cos();
         [c * c * v, s * s * v]
     }
@@ -56,9 +56,10 @@ pub fn add_tangents(tx: &mut DVec3, ty: &mut DVec3, dir: DVec2, slope_cos: f64, 
     *ty += DVec3::new(-dir.x * dir.y * slope_cos, -dir.y * dir.y * slope_cos, dir.y * slope_sin);
 }
 
-/// 1 - sqrt(1 - a^2) in the cancellation-free form a^2 / (1 + sqrt(1 - a^2)), for 0 <= a <= 1.
-pub fn trochoid_slope_variance(a: f64) -> f64 {
-    let a2 = a * a;
+/// 1 - sqrt(1 - a^2) in the cancellation-free form a^2 / (1 + sqrt(1 - a^2)), for 0 <= a <= 1,
+/// from a2 = a^2 (glsl/waves.glsl trochoid_slope_variance takes the same: a weighted train's
+/// unresolved amplitude is at hand only as its square).
+pub fn trochoid_slope_variance(a2: f64) -> f64 {
     a2 / (1.0 + (1.0 - a2).max(0.0).sqrt())
 }
 
@@ -219,7 +220,7 @@ impl WaveSet {
             .trains
             .iter()
             .filter(|t| t.wavelength <= lambda_cut)
-            .map(|t| trochoid_slope_variance(t.k * t.amplitude))
+            .map(|t| trochoid_slope_variance((t.k * t.amplitude).powi(2)))
             .sum();
         let total = self.sigma2[0] + self.sigma2[1];
         if total > 0.0 {

@@ -84,11 +84,10 @@ impl Footprint<'_> {
         let ray = self.pixel_ray(px, py);
         let (x, a_u, a_v) = self.rest_hit(ray)?;
         let v = -ray.normalize();
+        let grid_up = self.camera.sea_normal(x);
         // The step only where the eye sees the rest point from above (the shader's v_up > 0).
         let x = match ray_hit_strength {
-            Some(strength) if v.dot(self.camera.sea_normal(x)) > 0.0 => {
-                self.ray_hit(x, ray, a_u, a_v, strength(v, self.camera.sea_normal(x), a_u, a_v))
-            }
+            Some(strength) if v.dot(grid_up) > 0.0 => self.ray_hit(x, ray, a_u, a_v, strength(v, grid_up, a_u, a_v)),
             _ => x,
         };
         let up = self.camera.sea_normal(x);
@@ -106,8 +105,9 @@ impl Footprint<'_> {
             let (s, c) = theta.sin_cos();
             add_tangents(&mut tx, &mut ty, dir, wn * kh * c, wn * kh * s);
             let (along, across) = (dir.dot(wind), dir.perp_dot(wind));
-            // The variance the normal does not hold: of the amplitude sqrt(1 - wn^2) k h.
-            let residual = trochoid_slope_variance((1.0 - wn * wn).max(0.0).sqrt() * kh);
+            // The variance the normal does not hold: of the amplitude sqrt(1 - wn^2) k h, from its
+            // square as the shader forms it.
+            let residual = trochoid_slope_variance((1.0 - wn * wn) * (kh * kh));
             sigma2[0] += along * along * residual;
             sigma2[1] += across * across * residual;
         }
