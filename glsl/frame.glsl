@@ -40,6 +40,9 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 sea_light[3];     // the sea-level light table's calibration below the eye (frame::sea_light_calibration):
                            // rgb sun, rgb sky irradiance, rgb 1 / the table's sky irradiance
     vec4 glints;           // x: the scene's time (s) modulo frame::GLINT_TIME_PERIOD_S; y: the sun disc's solid angle (sr)
+    mat4 host_clip;        // camera-relative world -> a host's clip space (embed::Ocean; glsl/composite.frag)
+    vec4 host;             // x: radiance scale to the host's unit; y: the host colour format's largest value;
+                           // z: the host's far-plane depth (0 reversed Z, 1 standard); w: unused
 } frame;
 
 // Whether the full method draws the reflected sun's glints (glsl/glints.glsl) instead of its

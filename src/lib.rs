@@ -20,6 +20,8 @@ pub mod app;
 
 pub mod window;
 
+pub mod embed;
+
 pub mod error;
 
 /// SPIR-V of every shader in glsl/, compiled by build.rs.

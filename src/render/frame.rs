@@ -79,6 +79,10 @@ pub struct FrameUniforms {
     pub eye_sky: [f32; 4],
     pub sea_light: [[f32; 4]; 3],
     pub glints: [f32; 4],
+    /// Camera-relative world to a host's clip space, and the host's radiance scale, colour
+    /// format's largest value and far-plane depth (embed::Ocean; zero outside a host's frame).
+    pub host_clip: [[f32; 4]; 4],
+    pub host: [f32; 4],
 }
 
 /// vec4s of the glint's masking table in the `Waves` block (glsl/masking.glsl).
@@ -562,6 +566,8 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
             0.0,
             0.0,
         ],
+        host_clip: [[0.0; 4]; 4],
+        host: [0.0; 4],
     };
     // No grid row: no sea anywhere in view.
     let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, height) };

@@ -75,6 +75,8 @@ pub struct FrameSlot<'g> {
     pub grid: GridIndices<'g>,
     /// Signalled when the window's image for this frame is acquired (window renderers only).
     pub image_available: Option<Owned<'g, vk::Semaphore>>,
+    /// Whether a frame was recorded into a host's command buffer since the slot was last taken.
+    pub host_recorded: bool,
 }
 
 impl<'g> FrameSlot<'g> {
@@ -88,6 +90,7 @@ impl<'g> FrameSlot<'g> {
             submission: None,
             grid: GridIndices::new(gpu),
             image_available: if window { Some(semaphore(device, &format!("image for frame {index}"))?) } else { None },
+            host_recorded: false,
         })
     }
 }

@@ -11,6 +11,7 @@ use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::FrameSlot;
 use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
+use crate::render::passes::composite::{CompositePass, HostFormats};
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::exposure::{ExposurePass, Tone};
 use crate::render::passes::eye_sky::EyeSkyPass;
@@ -21,13 +22,14 @@ use crate::render::passes::shade::ShadePass;
 use crate::render::passes::shadow::ShadowPass;
 use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::render::passes::tonemap::TonemapPass;
-use crate::render::passes::{Frame, Pass, Recorder};
+use crate::render::passes::{Frame, HostTargets, Pass, Recorder};
 use crate::render::resources::{ResourceSpec, Resources};
 use crate::render::timeline::{CpuSpans, GpuFrame, Submission};
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
 use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Wait;
+use crate::vk::external::ImageState;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::{Location, MemoryReport};
 use crate::vk::swapchain::SwapImage;
@@ -54,6 +56,9 @@ pub enum Output {
     /// Tone-mapped into a window's swapchain images of `format`; `encode_srgb`: the format is
     /// UNORM, so the shader applies the sRGB encoding.
     Window { format: vk::Format, encode_srgb: bool },
+    /// Composited into a host's HDR colour and depth attachments, in the host's command buffer
+    /// (embed::Ocean; passes/composite.rs).
+    Host(HostFormats),
 }
 
 /// How a renderer renders: the ocean shaders' specialization and the supersampling factor.
@@ -251,6 +256,7 @@ impl<'g> Renderer<'g> {
             anisotropy: scene.render.sky_anisotropy as f32,
             slots: frames_in_flight,
             readback: options.output == Output::Readback,
+            composite: matches!(options.output, Output::Host(_)),
             atmosphere: options.shader.sky_physical && !options.shader.draws_nothing(),
             shadow_map: options.shader.shadow.then_some(scene.render.shadow_map_size),
             eye_sky: options.shader.background,
@@ -286,10 +292,14 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }
         let tone = Tone::of(scene);
-        if tone.auto {
+        // A host's frame is tone-mapped by the host (its objects are in it too).
+        if tone.auto && !matches!(options.output, Output::Host(_)) {
             passes.push(Box::new(ExposurePass::new(device, &resources)?));
         }
         match options.output {
+            Output::Host(formats) => {
+                passes.push(Box::new(CompositePass::new(device, &resources, formats, options.shader.background)?));
+            }
             Output::Readback => {
                 passes.push(Box::new(TonemapPass::new(device, &resources, tone)?));
                 passes.push(Box::new(ReadbackPass));
@@ -490,6 +500,27 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
+    /// Takes a host's frame slot: the host has waited for the frame that last used it (a
+    /// precondition: embed::Ocean documents it). Keeps that frame's GPU times where its queries
+    /// have results, without waiting.
+    pub fn begin_host_frame(&mut self, slot: usize) -> Result<()> {
+        if slot >= self.slots.len() {
+            return Err(Error::Argument(format!(
+                "frame slot {slot} is out of range: this ocean has {} frames in flight (0 to {})",
+                self.slots.len(),
+                self.slots.len() - 1
+            )));
+        }
+        let s = &mut self.slots[slot];
+        if !std::mem::take(&mut s.host_recorded) {
+            return Ok(());
+        }
+        if let Some(scopes) = s.profiler.try_read_scopes(&self.gpu.device.raw)? {
+            self.last_pass_ms = scopes.iter().map(|s| (s.name, s.ms())).collect();
+        }
+        Ok(())
+    }
+
     /// Waits for the frame in `slot` (if one is pending) and keeps its GPU times.
     fn finish(&mut self, slot: usize) -> Result<()> {
         let s = &self.slots[slot];
@@ -511,6 +542,23 @@ impl<'g> Renderer<'g> {
     /// whatever can fail here leaves no image or semaphore signal pending: checks the scene
     /// against the renderer, builds the frame and writes the slot's uniforms and grid.
     pub fn prepare(&mut self, slot: usize, scene: &Scene, capture: Capture) -> Result<Prepared> {
+        self.prepare_with(slot, scene, capture, None)
+    }
+
+    /// `prepare` for a frame in a host's frame: `host` holds the camera-relative world to the
+    /// host's clip space and the host's radiance scale, colour maximum and far depth
+    /// (FrameUniforms::host_clip, host).
+    pub fn prepare_host(&mut self, slot: usize, scene: &Scene, host: ([[f32; 4]; 4], [f32; 4])) -> Result<Prepared> {
+        self.prepare_with(slot, scene, Capture::None, Some(host))
+    }
+
+    fn prepare_with(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        capture: Capture,
+        host: Option<([[f32; 4]; 4], [f32; 4])>,
+    ) -> Result<Prepared> {
         if Tone::of(scene) != self.tone {
             return Err(Error::Argument(format!(
                 "this renderer's tone mapping was built for {:?}, the scene asks {:?} (render.tone_curve, render.ev100)",
@@ -542,6 +590,10 @@ impl<'g> Renderer<'g> {
         let mut data =
             frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         data.uniforms.tone[1] = self.sky_map_extent;
+        if let Some((clip, values)) = host {
+            data.uniforms.host_clip = clip;
+            data.uniforms.host = values;
+        }
         if self.measures_glint_masking {
             let key = (scene.waves.clone(), scene.wind.clone(), scene.sun.clone());
             if self.glint_masking.as_ref().is_none_or(|(k, _)| *k != key) {
@@ -582,6 +634,45 @@ impl<'g> Renderer<'g> {
 
     /// Records the frame `prepared` for `slot` into the slot's command buffer.
     fn record(&mut self, slot: usize, prepared: Prepared, image: Option<SwapImage>) -> Result<FrameData> {
+        let cmd = self.slots[slot].commands.cmd;
+        self.slots[slot].commands.begin()?;
+        self.record_passes(cmd, slot, prepared, image, None)
+    }
+
+    /// Records the frame `prepared` for `slot` into a host's command buffer `cmd` (recording,
+    /// outside a rendering scope), compositing into the host's `targets`, which the host left
+    /// in the states `entry` (colour, depth). On exit both are attachments again: colour in
+    /// COLOR_ATTACHMENT_OPTIMAL after a COLOR_ATTACHMENT_OUTPUT write, depth in
+    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL after a LATE_FRAGMENT_TESTS write (docs/embedding.md).
+    pub fn record_for_host(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        prepared: Prepared,
+        targets: HostTargets,
+        entry: [ImageState; 2],
+    ) -> Result<FrameData> {
+        assert!(matches!(self.output, Output::Host(_)), "record_for_host() needs a host renderer");
+        for (image, state) in [(&targets.colour, entry[0]), (&targets.depth, entry[1])] {
+            self.tracker.external(image, state.layout, state.stage, state.access);
+        }
+        self.slots[slot].host_recorded = true;
+        let data = self.record_passes(cmd, slot, prepared, None, Some(targets))?;
+        // The host's images are the host's again: their handles may be reused for other images.
+        self.tracker.forget(targets.colour.raw);
+        self.tracker.forget(targets.depth.raw);
+        Ok(data)
+    }
+
+    /// Records the frame's passes into `cmd`.
+    fn record_passes(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        prepared: Prepared,
+        image: Option<SwapImage>,
+        host: Option<HostTargets>,
+    ) -> Result<FrameData> {
         let Prepared { data, capture, sky } = prepared;
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
         let air_current = self.sky_in_map.as_ref().is_some_and(|k| k.sky == sky.sky);
@@ -600,12 +691,11 @@ impl<'g> Renderer<'g> {
             sea_rows: data.sea_rows,
             sun_view: data.sun_view.is_some(),
             swap_image: image,
+            host,
         };
 
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        let cmd = s.commands.cmd;
-        s.commands.begin()?;
         s.profiler.reset(&device.raw, cmd);
         if let Some(image) = &image {
             self.tracker.acquired(image, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);

@@ -43,6 +43,8 @@ pub struct ResourceSpec {
     pub slots: u32,
     /// Whether frames are read back to the host (offscreen rendering).
     pub readback: bool,
+    /// Whether frames are composited into a host's frame (passes/composite.rs reads the depth).
+    pub composite: bool,
     /// Whether the sky is the physical atmosphere (its tables are made).
     pub atmosphere: bool,
     /// The sun's shadow map's texels per side, when it is drawn (else a 1x1 placeholder keeps
@@ -115,6 +117,8 @@ pub struct Resources<'g> {
     pub shadow_map: Image<'g>,
     /// Whether `shadow_map` is the real one.
     pub shadows: bool,
+    /// Whether a pass after the visibility pass reads `depth` (the shadows, or the composite).
+    pub depth_read: bool,
     /// Compares a depth against the shadow map's (1: lit), blended over 2 x 2 texels where the
     /// device filters depth linearly.
     pub shadow_sampler: Owned<'g, vk::Sampler>,
@@ -167,6 +171,7 @@ impl<'g> Resources<'g> {
             anisotropy,
             slots,
             readback,
+            composite,
             atmosphere,
             shadow_map,
             eye_sky,
@@ -286,6 +291,7 @@ impl<'g> Resources<'g> {
             depth,
             shadow_map: shadow_map_image,
             shadows: shadow_map.is_some(),
+            depth_read: shadow_map.is_some() || composite,
             shadow_sampler,
             depth_sampler,
             resolved,

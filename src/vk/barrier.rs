@@ -16,6 +16,17 @@ pub trait TrackedImage {
     fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange;
 }
 
+/// Levels [base, base + count) of the only layer of an image, in `aspect`.
+pub fn single_layer_levels(aspect: vk::ImageAspectFlags, base: u32, count: u32) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: base,
+        level_count: count,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
 impl TrackedImage for Image<'_> {
     fn raw(&self) -> vk::Image {
         self.raw
@@ -260,6 +271,20 @@ impl Tracker {
     /// needs a barrier from that stage (the dependency chain the acquire semaphore starts).
     pub fn acquired(&mut self, image: &impl TrackedImage, wait_stage: vk::PipelineStageFlags2) {
         let state = State { write_stage: wait_stage, ..State::NEW };
+        self.images.insert(image.raw(), vec![state; image.mip_levels() as usize]);
+    }
+
+    /// A host's image handed over for one frame: in `layout`, last accessed by the host's
+    /// commands at `stage` with `access`. The first access of ours waits for that (a write made
+    /// available, or reads a write of ours must not overtake) and moves it from that layout.
+    pub fn external(
+        &mut self,
+        image: &impl TrackedImage,
+        layout: vk::ImageLayout,
+        stage: vk::PipelineStageFlags2,
+        access: vk::AccessFlags2,
+    ) {
+        let state = State { layout, write_stage: stage, write_access: access, ..State::NEW };
         self.images.insert(image.raw(), vec![state; image.mip_levels() as usize]);
     }
 

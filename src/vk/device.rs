@@ -57,6 +57,25 @@ pub struct Device {
     pub swapchain: Option<khr::swapchain::Device>,
     /// Every pipeline is created through it; kept on disk between runs (pipeline_cache.rs).
     pub pipeline_cache: PipelineCache,
+    /// Whether the device is ours to destroy (false: a host's, borrowed by `from_host`).
+    owned: bool,
+}
+
+/// What a host enabled on the device it hands over: Vulkan has no query for the features a
+/// device was created with, so the host states them (a false statement is a broken
+/// precondition the validation layer reports, not something we can detect).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HostEnabled {
+    /// Vulkan 1.3's synchronization2 feature (required).
+    pub synchronization2: bool,
+    /// Vulkan 1.3's dynamicRendering feature (required).
+    pub dynamic_rendering: bool,
+    /// samplerAnisotropy (optional: the sky map is then filtered isotropically).
+    pub sampler_anisotropy: bool,
+    /// pipelineStatisticsQuery (optional: profiling only).
+    pub pipeline_statistics_query: bool,
+    /// VK_EXT_calibrated_timestamps (optional: GPU spans on the host's clock).
+    pub calibrated_timestamps: bool,
 }
 
 fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
@@ -191,6 +210,13 @@ fn calibrates_with_host(instance: &Instance, physical: vk::PhysicalDevice) -> bo
     }
 }
 
+/// Whether `physical` has everything the ocean needs (Vulkan 1.3, synchronization2,
+/// dynamicRendering, a graphics and compute queue, the formats' features); Err names the first
+/// thing it lacks.
+pub fn supports(instance: &Instance, physical: vk::PhysicalDevice) -> Result<()> {
+    check(instance, physical, None).map(|_| ())
+}
+
 impl Device {
     /// Picks discrete > integrated > virtual > CPU among devices that have what we need, or the
     /// first device whose name contains `name_filter` (case-insensitive).
@@ -231,6 +257,46 @@ impl Device {
         Self::open(instance, chosen, cache_dir, surface.is_some())
     }
 
+    /// A host's device, borrowed: never destroyed here. `physical` must be the device `raw` was
+    /// created from and `queue` a queue of `queue_family` on it; the ocean records into the
+    /// host's command buffers and never submits to it. Fails naming the first thing that the
+    /// physical device lacks or that the host did not enable.
+    pub fn from_host(
+        instance: &Instance,
+        physical: vk::PhysicalDevice,
+        raw: ash::Device,
+        queue_family: u32,
+        queue: vk::Queue,
+        enabled: HostEnabled,
+        cache_dir: Option<&Path>,
+    ) -> Result<Device> {
+        let c = check(instance, physical, None)?;
+        let missing = |feature: &str| Error::MissingFeature { device: c.name.clone(), feature: feature.into() };
+        if !enabled.synchronization2 {
+            return Err(missing("synchronization2 enabled on the host's device (VkPhysicalDeviceVulkan13Features)"));
+        }
+        if !enabled.dynamic_rendering {
+            return Err(missing("dynamicRendering enabled on the host's device (VkPhysicalDeviceVulkan13Features)"));
+        }
+        // SAFETY: `physical` comes from the host's instance (checked above through it).
+        let families = unsafe { instance.raw.get_physical_device_queue_family_properties(physical) };
+        let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+        let family = families
+            .get(queue_family as usize)
+            .filter(|f| f.queue_flags.contains(wanted))
+            .ok_or_else(|| missing(&format!("graphics and compute on queue family {queue_family}")))?;
+        let c = Candidate {
+            queue_family,
+            timestamp_valid_bits: family.timestamp_valid_bits,
+            anisotropy: c.anisotropy && enabled.sampler_anisotropy,
+            pipeline_statistics: c.pipeline_statistics && enabled.pipeline_statistics_query,
+            calibrated_timestamps: c.calibrated_timestamps && enabled.calibrated_timestamps,
+            ..c
+        };
+        let pipeline_cache = PipelineCache::open(&raw, &c.properties, cache_dir)?;
+        Ok(Self::assemble(instance, c, raw, queue, pipeline_cache, false, false))
+    }
+
     fn open(instance: &Instance, c: Candidate, cache_dir: Option<&Path>, present: bool) -> Result<Device> {
         let priorities = [1.0];
         let queue_info =
@@ -252,12 +318,6 @@ impl Device {
         let raw = unsafe { instance.raw.create_device(c.physical, &info, None) }.during("vkCreateDevice")?;
         // SAFETY: queue 0 of a family we created one queue in.
         let queue = unsafe { raw.get_device_queue(c.queue_family, 0) };
-        // SAFETY: plain query on a live physical device.
-        let memory_properties = unsafe { instance.raw.get_physical_device_memory_properties(c.physical) };
-        let debug_utils = instance.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
-        let swapchain = present.then(|| khr::swapchain::Device::new(&instance.raw, &raw));
-        let calibrated_timestamps =
-            c.calibrated_timestamps.then(|| ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
         let pipeline_cache = match PipelineCache::open(&raw, &c.properties, cache_dir) {
             Ok(cache) => cache,
             Err(e) => {
@@ -266,6 +326,25 @@ impl Device {
                 return Err(e);
             }
         };
+        Ok(Self::assemble(instance, c, raw, queue, pipeline_cache, present, true))
+    }
+
+    /// The device's wrapper around `raw`, with the extension functions it was opened with.
+    fn assemble(
+        instance: &Instance,
+        c: Candidate,
+        raw: ash::Device,
+        queue: vk::Queue,
+        pipeline_cache: PipelineCache,
+        present: bool,
+        owned: bool,
+    ) -> Device {
+        // SAFETY: plain query on a live physical device.
+        let memory_properties = unsafe { instance.raw.get_physical_device_memory_properties(c.physical) };
+        let debug_utils = instance.debug_utils.as_ref().map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
+        let swapchain = present.then(|| khr::swapchain::Device::new(&instance.raw, &raw));
+        let calibrated_timestamps =
+            c.calibrated_timestamps.then(|| ext::calibrated_timestamps::Device::new(&instance.raw, &raw));
         let device = Device {
             raw,
             physical: c.physical,
@@ -283,10 +362,13 @@ impl Device {
             debug_utils,
             swapchain,
             pipeline_cache,
+            owned,
         };
-        device.set_name(device.queue, "main queue");
-        device.set_name(device.pipeline_cache.raw, "pipeline cache");
-        Ok(device)
+        if owned {
+            device.set_name(device.queue, "main queue");
+        }
+        device.set_name(device.pipeline_cache.raw, "ocean pipeline cache");
+        device
     }
 
     /// Gives a Vulkan object a debug name (shown by validation messages, RenderDoc, Nsight).
@@ -308,11 +390,14 @@ impl Device {
 
 impl Drop for Device {
     fn drop(&mut self) {
-        // SAFETY: owners of child objects drop first (Gpu's field order), after wait_idle.
+        // SAFETY: owners of child objects drop first (Gpu's field order), after wait_idle; a
+        // host's device outlives this wrapper (a documented precondition of `from_host`).
         unsafe {
             let _ = self.raw.device_wait_idle();
             self.raw.destroy_pipeline_cache(self.pipeline_cache.raw, None);
-            self.raw.destroy_device(None);
+            if self.owned {
+                self.raw.destroy_device(None);
+            }
         }
     }
 }

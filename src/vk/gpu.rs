@@ -1,6 +1,6 @@
 //! The GPU context: instance, device and allocator, torn down in reverse creation order.
 
-use super::device::Device;
+use super::device::{Device, HostEnabled};
 use super::instance::Instance;
 use super::memory::Allocator;
 use super::surface::{self, Surface};
@@ -8,6 +8,24 @@ use super::validation::MessageCounts;
 use crate::error::Result;
 use std::cell::RefCell;
 use std::path::Path;
+
+/// A host's Vulkan objects, which the ocean borrows (embed::Ocean's creation).
+#[derive(Clone, Copy)]
+pub struct HostDevice<'a> {
+    pub entry: &'a ash::Entry,
+    pub instance: &'a ash::Instance,
+    pub physical_device: ash::vk::PhysicalDevice,
+    pub device: &'a ash::Device,
+    /// The family of the queue the host submits the ocean's commands on: graphics and compute.
+    pub queue_family: u32,
+    /// A queue of that family (named in debug tools; the ocean never submits to it).
+    pub queue: ash::vk::Queue,
+    /// What the host enabled on `device` (embed::requirements lists what is needed).
+    pub enabled: HostEnabled,
+    /// Whether the host enabled VK_EXT_debug_utils on its instance: the ocean's passes then
+    /// carry debug labels and its objects names.
+    pub debug_utils: bool,
+}
 
 pub struct Gpu {
     // Field order is drop order: allocator, then device, then instance.
@@ -46,6 +64,23 @@ impl Gpu {
         let cache_dir = super::pipeline_cache::default_dir();
         let device = Device::new(&instance, device_filter, cache_dir.as_deref(), Some(&surface))?;
         Ok(Gpu::assemble(instance, Some(surface), device))
+    }
+
+    /// A context on a host's instance and device, borrowed (never destroyed here): our
+    /// sub-allocator draws its blocks from the host's device. The host keeps both alive until
+    /// this context and everything made on it are dropped.
+    pub fn from_host(host: &HostDevice, cache_dir: Option<&Path>) -> Result<Gpu> {
+        let instance = Instance::from_host(host.entry.clone(), host.instance.clone(), host.debug_utils);
+        let device = Device::from_host(
+            &instance,
+            host.physical_device,
+            host.device.clone(),
+            host.queue_family,
+            host.queue,
+            host.enabled,
+            cache_dir,
+        )?;
+        Ok(Gpu::assemble(instance, None, device))
     }
 
     fn assemble(instance: Instance, surface: Option<Surface>, device: Device) -> Gpu {

@@ -15,6 +15,8 @@ pub struct Instance {
     messenger: vk::DebugUtilsMessengerEXT,
     /// Boxed so its address, given to the layer as user data, never moves.
     pub log: Box<ValidationLog>,
+    /// Whether this instance is ours to destroy (false: a host's, borrowed by `from_host`).
+    owned: bool,
 }
 
 impl Instance {
@@ -90,12 +92,30 @@ impl Instance {
         } else {
             (None, vk::DebugUtilsMessengerEXT::null())
         };
-        Ok(Instance { entry, raw, debug_utils, messenger, log })
+        Ok(Instance { entry, raw, debug_utils, messenger, log, owned: true })
+    }
+
+    /// A host's instance, borrowed: never destroyed here. `debug_utils`: the host enabled
+    /// VK_EXT_debug_utils on it (our passes then carry debug labels and names). Validation
+    /// messages go to the host's own messenger, so `log` stays empty.
+    pub fn from_host(entry: ash::Entry, raw: ash::Instance, debug_utils: bool) -> Instance {
+        let debug_utils = debug_utils.then(|| ext::debug_utils::Instance::new(&entry, &raw));
+        Instance {
+            entry,
+            raw,
+            debug_utils,
+            messenger: vk::DebugUtilsMessengerEXT::null(),
+            log: Box::default(),
+            owned: false,
+        }
     }
 }
 
 impl Drop for Instance {
     fn drop(&mut self) {
+        if !self.owned {
+            return; // the host's: it destroys it, after our device wrapper is gone
+        }
         // SAFETY: every child object (device, messenger) is destroyed before the instance; the
         // Device owner drops before this Instance.
         unsafe {

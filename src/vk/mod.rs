@@ -6,6 +6,7 @@ pub mod buffer;
 pub mod clock;
 pub mod commands;
 pub mod device;
+pub mod external;
 pub mod gpu;
 pub mod image;
 pub mod instance;

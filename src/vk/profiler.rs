@@ -170,35 +170,35 @@ impl<'g> Profiler<'g> {
     /// Every scope of the last submitted frame (after its fence signalled), with its timestamps
     /// and statistics; None when the frame recorded no scope.
     pub fn read_scopes(&self, device: &ash::Device) -> Result<Option<Vec<Scope>>> {
+        self.read_scopes_with(device, vk::QueryResultFlags::WAIT)
+    }
+
+    /// The same without waiting, for frames recorded into a host's command buffer: None until
+    /// every query of the frame has a result (a host may drop a recorded frame unsubmitted).
+    pub fn try_read_scopes(&self, device: &ash::Device) -> Result<Option<Vec<Scope>>> {
+        match self.read_scopes_with(device, vk::QueryResultFlags::empty()) {
+            Err(crate::error::Error::Vulkan { result: vk::Result::NOT_READY, .. }) => Ok(None),
+            other => other,
+        }
+    }
+
+    fn read_scopes_with(&self, device: &ash::Device, wait: vk::QueryResultFlags) -> Result<Option<Vec<Scope>>> {
         if self.names.is_empty() {
             return Ok(None);
         }
         let n = self.names.len();
         let mut ticks = vec![0u64; 2 * n];
         if let Some(pool) = &self.timestamps {
-            // SAFETY: the frame's fence was waited on; the queries were written.
-            unsafe {
-                device.get_query_pool_results(
-                    pool.raw,
-                    0,
-                    &mut ticks,
-                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-                )
-            }
-            .during("vkGetQueryPoolResults (timestamps)")?;
+            // SAFETY: the queries were reset in the frame's commands; without WAIT an unwritten one
+            // answers NOT_READY.
+            unsafe { device.get_query_pool_results(pool.raw, 0, &mut ticks, vk::QueryResultFlags::TYPE_64 | wait) }
+                .during("vkGetQueryPoolResults (timestamps)")?;
         }
         let mut counts = vec![[0u64; STATISTICS.len()]; n];
         if let Some(pool) = &self.statistics {
             // SAFETY: as above; each element holds one query's STATISTICS.len() counters.
-            unsafe {
-                device.get_query_pool_results(
-                    pool.raw,
-                    0,
-                    &mut counts,
-                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-                )
-            }
-            .during("vkGetQueryPoolResults (pipeline statistics)")?;
+            unsafe { device.get_query_pool_results(pool.raw, 0, &mut counts, vk::QueryResultFlags::TYPE_64 | wait) }
+                .during("vkGetQueryPoolResults (pipeline statistics)")?;
         }
         let mask = tick_mask(self.valid_bits);
         let ns = |t: u64| (t as f64 * self.period_ns).round() as u64;

@@ -2,7 +2,7 @@
 //! render-finished semaphore per image, acquire and present with their results mapped on purpose,
 //! and recreation (the old swapchain handed to the new one; its owner destroys it later).
 
-use super::barrier::TrackedImage;
+use super::barrier::{single_layer_levels, TrackedImage};
 use super::device::Device;
 use super::gpu::Gpu;
 use super::owned::Owned;
@@ -29,13 +29,7 @@ impl TrackedImage for SwapImage {
         1
     }
     fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: base,
-            level_count: count,
-            base_array_layer: 0,
-            layer_count: 1,
-        }
+        single_layer_levels(vk::ImageAspectFlags::COLOR, base, count)
     }
 }
 

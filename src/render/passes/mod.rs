@@ -4,6 +4,7 @@
 
 pub mod atmosphere;
 pub mod black;
+pub mod composite;
 pub mod display;
 pub mod exposure;
 pub mod eye_sky;
@@ -18,6 +19,7 @@ pub mod tonemap;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::vk::barrier::Tracker;
 use crate::vk::device::Device;
+use crate::vk::external::HostImage;
 use crate::vk::pipeline::Bindings;
 use crate::vk::swapchain::SwapImage;
 use ash::vk;
@@ -36,6 +38,15 @@ pub struct Frame {
     /// Whether the sun has a view of the displaced sea this frame (sun_shadow::fit).
     pub sun_view: bool,
     pub swap_image: Option<SwapImage>,
+    /// A host's attachments, when the frame is recorded into a host's frame (embed::Ocean).
+    pub host: Option<HostTargets>,
+}
+
+/// The host's attachments a frame draws into (passes/composite.rs).
+#[derive(Clone, Copy, Debug)]
+pub struct HostTargets {
+    pub colour: HostImage,
+    pub depth: HostImage,
 }
 
 pub struct Recorder<'a> {

@@ -308,8 +308,9 @@ impl Pass for OceanPass<'_> {
             .image_view(r.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            // The shading pass places each pixel's surface point from it for the sun's shadows.
-            .store_op(if r.shadows { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
+            // The shading pass places each pixel's surface point from it for the sun's shadows, and
+            // the composite each sea pixel's depth in a host's frame.
+            .store_op(if r.depth_read { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         let info = vk::RenderingInfo::default()

@@ -1,0 +1,331 @@
+//! The ocean as a library: drawn into a host's own Vulkan frame (docs/embedding.md).
+//!
+//! A host checks its physical device with [`check_physical_device`], enables what
+//! [`requirements`] lists, wraps its instance and device in a [`Gpu`] with [`Gpu::from_host`],
+//! and makes an [`Ocean`] on it. Each frame it calls [`Ocean::update`] with its camera, then
+//! [`Ocean::record`] into its own command buffer, after drawing its objects into its HDR colour
+//! and depth attachments; the ocean depth-tests against them. The host submits.
+
+pub mod camera;
+
+use crate::error::{Error, Result};
+use crate::model::scene::Scene;
+use crate::model::waves;
+use crate::render::passes::composite::HostFormats;
+use crate::render::passes::HostTargets;
+use crate::render::renderer::{Options, Output, Prepared, Renderer};
+use crate::vk::external::{hdr_format_max, ImageState, HOST_DEPTH_FORMATS};
+use crate::vk::gpu::Gpu;
+use crate::vk::memory::MemoryReport;
+use ash::vk;
+use camera::HostView;
+use glam::{DMat4, Mat4};
+
+pub use crate::vk::device::HostEnabled;
+pub use crate::vk::external::HostImage;
+pub use crate::vk::gpu::HostDevice;
+
+/// What a host enables for the ocean on its device (see docs/embedding.md).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Requirements {
+    /// The Vulkan version the device and the instance must offer.
+    pub api_version: u32,
+    /// Device extensions that must be enabled (none: Vulkan 1.3 core has what the ocean uses).
+    pub device_extensions: Vec<&'static std::ffi::CStr>,
+    /// Vulkan 1.3 features that must be enabled.
+    pub vulkan13_features: Vec<&'static str>,
+    /// Features used where enabled, left out where not (the host states which in
+    /// [`HostEnabled`]).
+    pub optional_features: Vec<&'static str>,
+    /// Device extensions used where enabled.
+    pub optional_device_extensions: Vec<&'static std::ffi::CStr>,
+}
+
+/// What the ocean needs of a device, for the host to enable before it creates it.
+pub fn requirements() -> Requirements {
+    Requirements {
+        api_version: vk::API_VERSION_1_3,
+        device_extensions: Vec::new(),
+        vulkan13_features: vec!["synchronization2", "dynamicRendering"],
+        optional_features: vec!["samplerAnisotropy", "pipelineStatisticsQuery"],
+        optional_device_extensions: vec![ash::ext::calibrated_timestamps::NAME],
+    }
+}
+
+/// Whether `physical` can run the ocean: Err names the first thing it lacks (a version, a
+/// feature, a queue, a format's feature).
+pub fn check_physical_device(entry: &ash::Entry, instance: &ash::Instance, physical: vk::PhysicalDevice) -> Result<()> {
+    let borrowed = crate::vk::instance::Instance::from_host(entry.clone(), instance.clone(), false);
+    crate::vk::device::supports(&borrowed, physical)
+}
+
+/// How the ocean is made for a host's frames.
+#[derive(Clone, Debug)]
+pub struct OceanDesc {
+    /// The sea, sun, sky and rendering settings (its camera is replaced by the host's each frame).
+    pub scene: Scene,
+    /// The targets' size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// The host's HDR colour and depth formats and its depth convention.
+    pub formats: HostFormats,
+    /// Frames the host records before waiting for the first: each has its own uniforms and grid.
+    pub frames_in_flight: u32,
+    /// Whether the sky is drawn where the host drew nothing (false: a host with its own sky).
+    pub sky: bool,
+    /// The host's radiance unit per kcd/m² (the ocean's own; 1000 for cd/m²). The ocean clamps
+    /// what it writes to the colour format's largest value.
+    pub radiance_scale: f32,
+}
+
+/// The most frames in flight an ocean keeps resources for.
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
+
+/// One frame's input: the scene's time and the host's camera.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInput {
+    /// Seconds: the waves' phase.
+    pub time_s: f64,
+    /// World (the ocean's: x east, y north, z up, metres, sea level at z = 0) to view space.
+    pub view: Mat4,
+    /// View space to Vulkan clip space (y down, depth in [0, 1], standard or reversed as the
+    /// ocean was made for; finite or infinite far plane).
+    pub projection: Mat4,
+}
+
+/// The host's attachments for one frame and the state it leaves them in.
+#[derive(Clone, Copy, Debug)]
+pub struct Targets {
+    pub colour: HostImage,
+    /// Usually [`ImageState::COLOR_ATTACHMENT`].
+    pub colour_entry: ImageState,
+    pub depth: HostImage,
+    /// Usually [`ImageState::DEPTH_ATTACHMENT`].
+    pub depth_entry: ImageState,
+}
+
+/// The ocean in a host's frame.
+pub struct Ocean<'g> {
+    gpu: &'g Gpu,
+    desc: OceanDesc,
+    /// None while the targets have no pixels (a minimized window): update and record do nothing.
+    renderer: Option<Renderer<'g>>,
+    /// Each slot's prepared frame between `update` and `record`.
+    prepared: Vec<Option<Prepared>>,
+    /// The camera of the last update, as the ocean draws it.
+    last_view: Option<HostView>,
+}
+
+impl<'g> Ocean<'g> {
+    /// Makes the ocean's pipelines and resources on the host's device. Fails naming a format the
+    /// ocean cannot write or test against, a frame count or size out of range, or what the
+    /// device lacks.
+    pub fn new(gpu: &'g Gpu, desc: OceanDesc) -> Result<Ocean<'g>> {
+        check_desc(gpu, &desc)?;
+        let mut ocean = Ocean { gpu, renderer: None, prepared: Vec::new(), last_view: None, desc };
+        ocean.build()?;
+        Ok(ocean)
+    }
+
+    fn build(&mut self) -> Result<()> {
+        self.renderer = None;
+        self.prepared = (0..self.desc.frames_in_flight).map(|_| None).collect();
+        if self.desc.width == 0 || self.desc.height == 0 {
+            return Ok(());
+        }
+        let mut options = Options {
+            output: Output::Host(self.desc.formats),
+            frames_in_flight: self.desc.frames_in_flight,
+            ..Options::default()
+        };
+        options.shader.background = self.desc.sky;
+        self.renderer = Some(Renderer::new(self.gpu, &self.desc.scene, self.desc.width, self.desc.height, options)?);
+        Ok(())
+    }
+
+    /// The targets' new size; zero in either pauses the ocean (update and record do nothing)
+    /// until a later resize. The host has waited for every frame in flight.
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<()> {
+        if (width, height) == (self.desc.width, self.desc.height) {
+            return Ok(());
+        }
+        let previous = (self.desc.width, self.desc.height);
+        (self.desc.width, self.desc.height) = (width, height);
+        check_desc(self.gpu, &self.desc).inspect_err(|_| (self.desc.width, self.desc.height) = previous)?;
+        self.build()
+    }
+
+    /// A new sea, sun, sky or settings. Where the pipelines depend on what changed (the sky's
+    /// model, the tone, the shadow map) they are rebuilt: the host has then waited for every
+    /// frame in flight.
+    pub fn set_scene(&mut self, scene: Scene) -> Result<()> {
+        scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
+        let rebuild = self.renderer.as_ref().is_some_and(|r| !r.fits(&scene));
+        self.desc.scene = scene;
+        if rebuild {
+            self.build()?;
+        }
+        Ok(())
+    }
+
+    /// Whether the ocean is paused (its targets have no pixels).
+    pub fn paused(&self) -> bool {
+        self.renderer.is_none()
+    }
+
+    /// The host's part of frame `slot`: reads the camera, writes the slot's uniforms and grid.
+    /// The host has waited for the frame that last used `slot` (its GPU times are then kept).
+    pub fn update(&mut self, slot: usize, input: &FrameInput) -> Result<()> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        let Some(renderer) = self.renderer.as_mut() else { return Ok(()) };
+        if !input.time_s.is_finite() {
+            return Err(Error::Argument(format!("time_s = {} is not finite", input.time_s)));
+        }
+        let aspect = self.desc.width as f64 / self.desc.height as f64;
+        let view = HostView::new(input.view.as_dmat4(), input.projection.as_dmat4(), aspect)?;
+        if view.reversed_z != self.desc.formats.reversed_z {
+            let (asked, made) = if view.reversed_z { ("reversed", "standard") } else { ("standard", "reversed") };
+            return Err(Error::Argument(format!(
+                "camera: the projection's depth is {asked}, the ocean was made for {made} depth (formats.reversed_z)"
+            )));
+        }
+        let mut scene = self.desc.scene.clone();
+        scene.render.time_s = input.time_s;
+        scene.camera.x_m = view.eye.x;
+        scene.camera.y_m = view.eye.y;
+        scene.camera.yaw_deg = view.yaw_deg;
+        scene.camera.pitch_deg = view.pitch_deg;
+        scene.camera.fov_y_deg = view.fov_y_deg;
+        // The ocean's camera height is above the water under the eye where a crest lifts it.
+        scene.camera.height_m = view.eye.z;
+        let water = waves::generate(&scene).water_height_at_origin(input.time_s).max(0.0);
+        scene.camera.height_m = view.eye.z - water;
+        scene.validate().map_err(|message| {
+            let under = if view.eye.z <= water {
+                format!("the eye at z = {:.3} m is under the water's surface ({water:.3} m there)", view.eye.z)
+            } else {
+                message
+            };
+            Error::Argument(format!("camera: {under}"))
+        })?;
+        let far = if view.reversed_z { 0.0 } else { 1.0 };
+        let max = hdr_format_max(self.desc.formats.colour).unwrap_or(65504.0);
+        let host = (mat4_f32(view.clip_from_relative), [self.desc.radiance_scale, max, far, 0.0]);
+        renderer.begin_host_frame(slot)?;
+        self.prepared[slot] = Some(renderer.prepare_host(slot, &scene, host)?);
+        self.last_view = Some(view);
+        Ok(())
+    }
+
+    /// Records frame `slot` into the host's command buffer `cmd` (recording, outside a rendering
+    /// scope), after the host drew into `targets`. On exit the colour is in
+    /// COLOR_ATTACHMENT_OPTIMAL, last written at COLOR_ATTACHMENT_OUTPUT, and the depth in
+    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL, last written at LATE_FRAGMENT_TESTS.
+    pub fn record(&mut self, cmd: vk::CommandBuffer, slot: usize, targets: &Targets) -> Result<()> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        let Some(renderer) = self.renderer.as_mut() else { return Ok(()) };
+        let extent = vk::Extent2D { width: self.desc.width, height: self.desc.height };
+        for (name, image, format) in
+            [("colour", &targets.colour, self.desc.formats.colour), ("depth", &targets.depth, self.desc.formats.depth)]
+        {
+            if image.extent != extent {
+                return Err(Error::Argument(format!(
+                    "the {name} target is {}x{}, the ocean draws {}x{} (resize first)",
+                    image.extent.width, image.extent.height, extent.width, extent.height
+                )));
+            }
+            if image.format != format {
+                return Err(Error::Argument(format!(
+                    "the {name} target is {:?}, the ocean was made for {format:?}",
+                    image.format
+                )));
+            }
+        }
+        let prepared = self.prepared[slot]
+            .take()
+            .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
+        let host = HostTargets { colour: targets.colour, depth: targets.depth };
+        renderer.record_for_host(cmd, slot, prepared, host, [targets.colour_entry, targets.depth_entry])?;
+        Ok(())
+    }
+
+    /// The camera of the last update, as the ocean draws it.
+    pub fn last_view(&self) -> Option<&HostView> {
+        self.last_view.as_ref()
+    }
+
+    /// GPU time per pass (ms) of the latest frame whose results were in when its slot was updated.
+    pub fn pass_ms(&self) -> &[(&'static str, f64)] {
+        self.renderer.as_ref().map_or(&[], |r| r.last_pass_ms())
+    }
+
+    /// The names of the ocean's passes in a frame, in order.
+    pub fn pass_names(&self) -> Vec<&'static str> {
+        self.renderer.as_ref().map_or_else(Vec::new, |r| r.pass_names())
+    }
+
+    /// What the ocean's sub-allocator holds on the host's device.
+    pub fn memory(&self) -> MemoryReport {
+        self.gpu.allocator.borrow().report()
+    }
+
+    pub fn desc(&self) -> &OceanDesc {
+        &self.desc
+    }
+}
+
+fn check_slot(slot: usize, frames: u32) -> Result<()> {
+    if slot >= frames as usize {
+        return Err(Error::Argument(format!(
+            "frame slot {slot} is out of range: this ocean has {frames} frames in flight (0 to {})",
+            frames - 1
+        )));
+    }
+    Ok(())
+}
+
+fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
+    desc.scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
+    if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&desc.frames_in_flight) {
+        return Err(Error::Argument(format!(
+            "frames_in_flight = {} is out of range [1, {MAX_FRAMES_IN_FLIGHT}]",
+            desc.frames_in_flight
+        )));
+    }
+    if !(desc.radiance_scale.is_finite() && desc.radiance_scale > 0.0) {
+        return Err(Error::Argument(format!("radiance_scale = {} must be finite and > 0", desc.radiance_scale)));
+    }
+    let formats = desc.formats;
+    if hdr_format_max(formats.colour).is_none() {
+        return Err(Error::Argument(format!(
+            "colour format {:?} is not one the ocean writes HDR radiance to (R16G16B16A16_SFLOAT, \
+             B10G11R11_UFLOAT_PACK32, R32G32B32A32_SFLOAT)",
+            formats.colour
+        )));
+    }
+    if !HOST_DEPTH_FORMATS.contains(&formats.depth) {
+        return Err(Error::Argument(format!(
+            "depth format {:?} is not one the ocean tests against ({HOST_DEPTH_FORMATS:?})",
+            formats.depth
+        )));
+    }
+    let device = &gpu.device;
+    for (format, needed, what) in [
+        (formats.colour, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "a colour attachment"),
+        (formats.depth, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "a depth attachment"),
+    ] {
+        // SAFETY: plain query on the host's physical device.
+        let props = unsafe { gpu.instance.raw.get_physical_device_format_properties(device.physical, format) };
+        if !props.optimal_tiling_features.contains(needed) {
+            return Err(Error::MissingFeature {
+                device: device.name.clone(),
+                feature: format!("{format:?} as {what}"),
+            });
+        }
+    }
+    Ok(())
+}
+
+fn mat4_f32(m: DMat4) -> [[f32; 4]; 4] {
+    m.as_mat4().to_cols_array_2d()
+}

@@ -1,0 +1,101 @@
+//! A host's images, handed to the ocean for one frame (embed::Ocean): the handles, the state the
+//! host leaves them in, and what each format means to us. All mapping of host formats lives here.
+
+use super::barrier::{single_layer_levels, TrackedImage};
+use ash::vk;
+
+/// A host's image: its handle, a view of its first level and layer, its format and extent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HostImage {
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+}
+
+impl TrackedImage for HostImage {
+    fn raw(&self) -> vk::Image {
+        self.raw
+    }
+    fn mip_levels(&self) -> u32 {
+        1
+    }
+    fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange {
+        single_layer_levels(aspect_of(self.format), base, count)
+    }
+}
+
+/// How a host leaves an image for the ocean: its layout, and the stages and accesses of the
+/// host's last use of it that the ocean's first access must wait for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageState {
+    pub layout: vk::ImageLayout,
+    pub stage: vk::PipelineStageFlags2,
+    pub access: vk::AccessFlags2,
+}
+
+impl ImageState {
+    /// A colour attachment the host rendered into (the HDR target's usual state on entry).
+    pub const COLOR_ATTACHMENT: ImageState = ImageState {
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        stage: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        access: vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+    };
+    /// A depth attachment the host rendered into (the depth target's usual state on entry).
+    pub const DEPTH_ATTACHMENT: ImageState = ImageState {
+        layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        stage: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+        ),
+        access: vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+    };
+}
+
+/// The aspects a layout transition of an image of `format` names: depth, with stencil where the
+/// format has it (both aspects change layout together without separateDepthStencilLayouts).
+pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
+    use vk::Format as F;
+    match format {
+        F::D16_UNORM | F::D32_SFLOAT | F::X8_D24_UNORM_PACK32 => vk::ImageAspectFlags::DEPTH,
+        F::D16_UNORM_S8_UINT | F::D24_UNORM_S8_UINT | F::D32_SFLOAT_S8_UINT => {
+            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+        }
+        _ => vk::ImageAspectFlags::COLOR,
+    }
+}
+
+/// The host depth formats the ocean depth-tests against.
+pub const HOST_DEPTH_FORMATS: [vk::Format; 5] = [
+    vk::Format::D32_SFLOAT,
+    vk::Format::D32_SFLOAT_S8_UINT,
+    vk::Format::D24_UNORM_S8_UINT,
+    vk::Format::X8_D24_UNORM_PACK32,
+    vk::Format::D16_UNORM,
+];
+
+/// The largest radiance an HDR colour format of the host holds (what the ocean clamps to so that
+/// no Inf reaches it), or None for a format the ocean does not write as HDR colour.
+pub fn hdr_format_max(format: vk::Format) -> Option<f32> {
+    use vk::Format as F;
+    match format {
+        // binary16's largest finite value.
+        F::R16G16B16A16_SFLOAT => Some(65504.0),
+        // The 11- and 10-bit floats' largest finite values are 65024 and 64512 (both exponent
+        // 15 with the mantissa full); the smaller bounds every channel.
+        F::B10G11R11_UFLOAT_PACK32 => Some(64512.0),
+        F::R32G32B32A32_SFLOAT => Some(f32::MAX),
+        _ => None,
+    }
+}
+
+/// Whether the ocean tone-maps into an LDR format of the host, and whether the shader applies
+/// the sRGB encoding (a UNORM format) or the format does on store (an SRGB one).
+pub fn ldr_encodes_srgb(format: vk::Format) -> Option<bool> {
+    use vk::Format as F;
+    match format {
+        F::R8G8B8A8_SRGB | F::B8G8R8A8_SRGB | F::A8B8G8R8_SRGB_PACK32 => Some(false),
+        F::R8G8B8A8_UNORM | F::B8G8R8A8_UNORM | F::A8B8G8R8_UNORM_PACK32 | F::A2B10G10R10_UNORM_PACK32 => Some(true),
+        _ => None,
+    }
+}
