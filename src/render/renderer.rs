@@ -298,7 +298,7 @@ impl<'g> Renderer<'g> {
         }
         match options.output {
             Output::Host(formats) => {
-                passes.push(Box::new(CompositePass::new(device, &resources, formats, options.shader.background)?));
+                passes.push(Box::new(CompositePass::new(device, &resources, formats, options.shader)?));
             }
             Output::Readback => {
                 passes.push(Box::new(TonemapPass::new(device, &resources, tone)?));

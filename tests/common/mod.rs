@@ -1,5 +1,8 @@
-//! Shared helpers for GPU tests: a validated context on the test device, renders with reports.
+//! Shared helpers for GPU tests: a validated context on the test device, renders with reports,
+//! and a headless host (host.rs).
 #![allow(dead_code)]
+
+pub mod host;
 
 use ocean::app::report::Report;
 use ocean::app::{render_on, RenderRequest};

@@ -5,12 +5,13 @@
 
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::render::resources::{Resources, FRAME_BINDING};
+use crate::render::passes::ocean::ShaderConfig;
+use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
 use crate::vk::owned::Owned;
-use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc, Specialization};
+use crate::vk::pipeline::{graphics_pipeline, Bindings, GraphicsDesc};
 use ash::vk;
 
 const RADIANCE_BINDING: u32 = 2;
@@ -37,8 +38,9 @@ impl CompositePass<'_> {
 }
 
 impl<'g> CompositePass<'g> {
-    /// `sky`: the sky is written where the host drew nothing (else those pixels keep the host's).
-    pub fn new(device: &'g Device, r: &Resources, formats: HostFormats, sky: bool) -> Result<Self> {
+    /// With `config.background`, the sky is written where the host drew nothing (else those
+    /// pixels keep the host's); `config.geometry` says whether the grid may be displaced.
+    pub fn new(device: &'g Device, r: &Resources, formats: HostFormats, config: ShaderConfig) -> Result<Self> {
         use vk::DescriptorType as D;
         let fragment = vk::ShaderStageFlags::FRAGMENT;
         let bindings = Bindings::new(
@@ -46,16 +48,17 @@ impl<'g> CompositePass<'g> {
             Self::NAME,
             &[
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, fragment),
+                (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, fragment),
                 (RADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, fragment),
                 (SEA_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, fragment),
             ],
         )?;
-        write_frame_uniforms(&bindings, r, false);
+        write_frame_uniforms(&bindings, r, true);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         // texelFetch ignores the samplers' filtering; any valid sampler does.
         bindings.write_image(RADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, r.output().view, read, r.sky_sampler.raw);
         bindings.write_image(SEA_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, r.depth.view, read, r.depth_sampler.raw);
-        let spec = Specialization::words(&[sky as u32]);
+        let spec = config.specialization();
         // Equal passes too: the sky's fragments lie exactly on the far plane the host cleared to.
         let compare = if formats.reversed_z { vk::CompareOp::GREATER_OR_EQUAL } else { vk::CompareOp::LESS_OR_EQUAL };
         let pipeline = graphics_pipeline(

@@ -1,0 +1,401 @@
+//! The ocean inside a host's frame (embed::Ocean): a headless host (tests/common/host.rs) draws
+//! occluders at known depths, then the ocean; the host's pixels in front of the sea are kept, the
+//! sea hides what lies behind its surface, its depth in the host's projection matches the f64
+//! sphere, the sky fills only what the host left empty, and validation with synchronization
+//! validation stays clean, with standard and reversed depth, finite and infinite far planes.
+
+mod common;
+
+use ash::vk;
+use common::host::{Host, COLOUR_FORMAT, DEPTH_FORMAT};
+use glam::{DMat4, DVec3, DVec4};
+use ocean::embed::{FrameInput, Ocean, OceanDesc, Targets};
+use ocean::model::scene::Scene;
+use ocean::render::passes::composite::HostFormats;
+use ocean::vk::external::ImageState;
+use ocean::vk::gpu::Gpu;
+
+const W: u32 = 160;
+const H: u32 = 120;
+const EYE_HEIGHT: f64 = 6.0;
+const FOV_Y: f64 = 60.0;
+const PITCH: f64 = -10.0;
+const FAR_M: f64 = 2000.0;
+/// How far (m) the sea's depth may place its surface above or below the f64 sphere: the grid's
+/// flat cells sag under the sphere by a few centimetres in the first row of cells below the limb
+/// that resolve a train (their vertices are interpolated rest positions); elsewhere the depth is
+/// the pixel's own ray's (glsl/composite.frag) and exact to f32 rounding.
+const SAG_M: f64 = 0.05;
+
+/// Vulkan's clip y points down: glam's right-handed projections with y negated.
+fn flip_y(p: DMat4) -> DMat4 {
+    DMat4::from_diagonal(DVec4::new(1.0, -1.0, 1.0, 1.0)) * p
+}
+
+fn projection(reversed: bool, infinite: bool) -> DMat4 {
+    let (fov, aspect, near) = (FOV_Y.to_radians(), W as f64 / H as f64, 0.1);
+    flip_y(match (reversed, infinite) {
+        (true, true) => DMat4::perspective_infinite_reverse_rh(fov, aspect, near),
+        (false, true) => DMat4::perspective_infinite_rh(fov, aspect, near),
+        (false, false) => DMat4::perspective_rh(fov, aspect, near, FAR_M),
+        // Depth 1 - z of the standard one.
+        (true, false) => {
+            let reverse = DMat4::from_cols(DVec4::X, DVec4::Y, DVec4::new(0.0, 0.0, -1.0, 0.0), DVec4::W + DVec4::Z);
+            reverse * DMat4::perspective_rh(fov, aspect, near, FAR_M)
+        }
+    })
+}
+
+fn view() -> DMat4 {
+    let p = PITCH.to_radians();
+    DMat4::look_to_rh(DVec3::new(0.0, 0.0, EYE_HEIGHT), DVec3::new(p.cos(), 0.0, p.sin()), DVec3::Z)
+}
+
+/// The clip depth of view depth `t` (m) under `projection` (view space looks down -z).
+fn depth_of(projection: DMat4, t: f64) -> f64 {
+    let c = projection * DVec4::new(0.0, 0.0, -t, 1.0);
+    c.z / c.w
+}
+
+/// The view depth of clip depth `d`: the inverse of `depth_of`.
+fn view_depth(projection: DMat4, d: f64) -> f64 {
+    let (zz, zw, wz, ww) = (projection.z_axis.z, projection.z_axis.w, projection.w_axis.z, projection.w_axis.w);
+    (d * ww - wz) / (d * zw - zz)
+}
+
+/// An occluder the host draws: a screen rectangle at one view depth, in one colour.
+struct Occluder {
+    rect: (u32, u32, u32, u32),
+    depth_m: f64,
+    colour: [f32; 4],
+}
+
+impl Occluder {
+    fn contains(&self, x: u32, y: u32) -> bool {
+        let (x0, y0, w, h) = self.rect;
+        x >= x0 && x < x0 + w && y >= y0 && y < y0 + h
+    }
+}
+
+const BACKGROUND: [f32; 4] = [0.5, 0.0, 0.5, 1.0];
+
+/// Draws the occluders (cleared rectangles at their depths), then the ocean, and reads back the
+/// host's colour (RGBA16F as f32) and depth.
+fn frame(
+    host: &Host,
+    ocean: &mut Ocean,
+    projection: DMat4,
+    reversed: bool,
+    occluders: &[Occluder],
+) -> (Vec<[f32; 4]>, Vec<f32>) {
+    use vk::{AccessFlags2 as A, ImageLayout as L, ImageUsageFlags as U, PipelineStageFlags2 as S};
+    let colour = host.image(COLOUR_FORMAT, W, H, U::COLOR_ATTACHMENT | U::TRANSFER_SRC);
+    let depth = host.image(DEPTH_FORMAT, W, H, U::DEPTH_STENCIL_ATTACHMENT | U::TRANSFER_SRC);
+    let pixels = (W * H) as usize;
+    let colour_out = host.readback(8 * pixels as u64);
+    let depth_out = host.readback(4 * pixels as u64);
+    let (c, d) = (colour.image, depth.image);
+    let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
+    let far = if reversed { 0.0 } else { 1.0 };
+
+    ocean.update(0, &FrameInput { time_s: 0.0, view: view().as_mat4(), projection: projection.as_mat4() }).unwrap();
+    host.begin();
+    host.barrier(
+        &c,
+        (L::UNDEFINED, S::NONE, A::NONE),
+        (L::COLOR_ATTACHMENT_OPTIMAL, S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+    );
+    host.barrier(
+        &d,
+        (L::UNDEFINED, S::NONE, A::NONE),
+        (L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL, tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+    );
+    let colour_attachment = [vk::RenderingAttachmentInfo::default()
+        .image_view(c.view)
+        .image_layout(L::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: BACKGROUND } })];
+    let depth_attachment = vk::RenderingAttachmentInfo::default()
+        .image_view(d.view)
+        .image_layout(L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: far, stencil: 0 } });
+    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: c.extent };
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(&colour_attachment)
+        .depth_attachment(&depth_attachment);
+    // SAFETY (test host): the attachments are in the layouts the barriers above moved them to.
+    unsafe {
+        host.device.cmd_begin_rendering(host.cmd, &info);
+        for o in occluders {
+            let clears = [
+                vk::ClearAttachment {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    color_attachment: 0,
+                    clear_value: vk::ClearValue { color: vk::ClearColorValue { float32: o.colour } },
+                },
+                vk::ClearAttachment {
+                    aspect_mask: vk::ImageAspectFlags::DEPTH,
+                    color_attachment: 0,
+                    clear_value: vk::ClearValue {
+                        depth_stencil: vk::ClearDepthStencilValue {
+                            depth: depth_of(projection, o.depth_m) as f32,
+                            stencil: 0,
+                        },
+                    },
+                },
+            ];
+            let (x, y, w, h) = o.rect;
+            let rect = vk::ClearRect {
+                rect: vk::Rect2D {
+                    offset: vk::Offset2D { x: x as i32, y: y as i32 },
+                    extent: vk::Extent2D { width: w, height: h },
+                },
+                base_array_layer: 0,
+                layer_count: 1,
+            };
+            host.device.cmd_clear_attachments(host.cmd, &clears, &[rect]);
+        }
+        host.device.cmd_end_rendering(host.cmd);
+    }
+    let targets = Targets {
+        colour: c,
+        colour_entry: ImageState::COLOR_ATTACHMENT,
+        depth: d,
+        depth_entry: ImageState::DEPTH_ATTACHMENT,
+    };
+    ocean.record(host.cmd, 0, &targets).unwrap();
+    // The ocean's exit state (docs/embedding.md), then the host's copies.
+    host.barrier(
+        &c,
+        (L::COLOR_ATTACHMENT_OPTIMAL, S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+        (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ),
+    );
+    host.barrier(
+        &d,
+        (L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL, tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+        (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ),
+    );
+    for (image, aspect, buffer) in
+        [(c, vk::ImageAspectFlags::COLOR, colour_out.0), (d, vk::ImageAspectFlags::DEPTH, depth_out.0)]
+    {
+        let region = vk::BufferImageCopy {
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_extent: vk::Extent3D { width: W, height: H, depth: 1 },
+            ..Default::default()
+        };
+        // SAFETY (test host): the image is in TRANSFER_SRC_OPTIMAL and the buffer holds it.
+        unsafe {
+            host.device.cmd_copy_image_to_buffer(host.cmd, image.raw, L::TRANSFER_SRC_OPTIMAL, buffer, &[region])
+        };
+    }
+    host.submit_and_wait();
+    let colour_bits: Vec<u16> = host.read(colour_out.1, 4 * pixels);
+    let colour_values =
+        colour_bits.chunks_exact(4).map(|p| std::array::from_fn(|i| half::f16::from_bits(p[i]).to_f32())).collect();
+    let depth_values: Vec<f32> = host.read(depth_out.1, pixels);
+    host.destroy_buffer(colour_out);
+    host.destroy_buffer(depth_out);
+    host.destroy_image(colour);
+    host.destroy_image(depth);
+    (colour_values, depth_values)
+}
+
+fn desc(scene: Scene, reversed: bool) -> OceanDesc {
+    OceanDesc {
+        scene,
+        width: W,
+        height: H,
+        formats: HostFormats { colour: COLOUR_FORMAT, depth: DEPTH_FORMAT, reversed_z: reversed },
+        frames_in_flight: 2,
+        sky: true,
+        radiance_scale: 1.0,
+    }
+}
+
+/// The f64 view depth where the ray through pixel (x, y)'s centre meets the glassy sea (the
+/// sphere of the planet's radius at sea level), and the height the ray falls per metre of view
+/// depth; None above the limb.
+fn sea_view_depth(scene: &Scene, projection: DMat4, x: u32, y: u32) -> Option<(f64, f64)> {
+    let ndc = DVec4::new((x as f64 + 0.5) / W as f64 * 2.0 - 1.0, (y as f64 + 0.5) / H as f64 * 2.0 - 1.0, 0.5, 1.0);
+    let v = view();
+    let p = (projection * v).inverse() * ndc;
+    let eye = DVec3::new(0.0, 0.0, EYE_HEIGHT);
+    let dir = (p.truncate() / p.w - eye).normalize();
+    let r = scene.planet.radius_m;
+    let b = dir.z * (r + EYE_HEIGHT);
+    let c = EYE_HEIGHT * (2.0 * r + EYE_HEIGHT);
+    let disc = b * b - c;
+    if b >= 0.0 || disc <= 0.0 {
+        return None;
+    }
+    let s = c / (-b + disc.sqrt());
+    let forward = -v.row(2).truncate();
+    Some((s * dir.dot(forward), -dir.z / dir.dot(forward)))
+}
+
+#[test]
+fn ocean_in_a_host_frame_keeps_the_host_in_front_and_hides_what_is_under_the_sea() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let glassy = Scene::load(std::path::Path::new("scenes/extreme/wind_0.toml")).unwrap();
+    // In front of the sea (the bottom rows see it 25-40 m away), behind it, and in the sky.
+    let green = [0.0, 3.0, 0.0, 1.0];
+    let blue = [0.0, 0.0, 4.0, 1.0];
+    let red = [2.0, 0.0, 0.0, 1.0];
+    let occluders = [
+        Occluder { rect: (10, 95, 40, 20), depth_m: 3.0, colour: green },
+        Occluder { rect: (100, 95, 40, 20), depth_m: 900.0, colour: blue },
+        Occluder { rect: (60, 4, 30, 10), depth_m: 1500.0, colour: red },
+    ];
+    for (reversed, infinite) in [(true, true), (false, false), (false, true), (true, false)] {
+        let what = format!("reversed {reversed}, infinite far {infinite}");
+        let p = projection(reversed, infinite);
+        let mut ocean = Ocean::new(&gpu, desc(glassy.clone(), reversed)).unwrap();
+        let (colour, depth) = frame(&host, &mut ocean, p, reversed, &occluders);
+        let far = if reversed { 0.0 } else { 1.0 };
+        let (mut sea, mut sky) = (0, 0);
+        let mut worst: f64 = 0.0;
+        for y in 0..H {
+            for x in 0..W {
+                let i = (y * W + x) as usize;
+                let (c, d) = (colour[i], depth[i] as f64);
+                assert!(c.iter().all(|v| v.is_finite()), "{what}: non-finite pixel at ({x}, {y})");
+                let truth = sea_view_depth(&glassy, p, x, y);
+                if let Some(o) = occluders.iter().find(|o| o.contains(x, y)) {
+                    let in_front = truth.is_none_or(|(t, _)| o.depth_m < t);
+                    if in_front {
+                        assert_eq!(
+                            c, o.colour,
+                            "{what}: the host's pixel at ({x}, {y}) in front of the sea was overwritten"
+                        );
+                        assert!(
+                            (d - depth_of(p, o.depth_m)).abs() < 1e-6,
+                            "{what}: the host's depth at ({x}, {y}) changed"
+                        );
+                        continue;
+                    }
+                    assert_ne!(c, o.colour, "{what}: the occluder under the sea at ({x}, {y}) shows through");
+                }
+                match truth {
+                    // Past a finite far plane the sea lies on it; near the limb the grid's
+                    // triangles chord the sphere.
+                    Some((t, sine)) if (infinite || t < 0.9 * FAR_M) && t < 500.0 => {
+                        // How far above or below the sphere the host's depth puts the sea: the
+                        // error along the ray times the ray's depression.
+                        let vertical = (view_depth(p, d) - t).abs() * sine;
+                        worst = worst.max(vertical);
+                        assert!(vertical < SAG_M, "{what}: sea at ({x}, {y}) {vertical} m off the f64 sphere");
+                        sea += 1;
+                    }
+                    Some(_) => {}
+                    None => {
+                        assert_eq!(d, far, "{what}: the sky at ({x}, {y}) is not at the far plane");
+                        assert_ne!(c, BACKGROUND, "{what}: the host's empty pixel at ({x}, {y}) did not get the sky");
+                        sky += 1;
+                    }
+                }
+            }
+        }
+        assert!(sea > 5000 && sky > 2000, "{what}: {sea} sea and {sky} sky pixels checked");
+        eprintln!("{what}: {sea} sea pixels within {worst:.1e} m of the f64 sphere; {sky} sky pixels");
+        let (errors, messages) = host.validation_errors();
+        assert_eq!(errors, 0, "{what}: validation errors {messages:?}");
+    }
+}
+
+#[test]
+fn a_wavy_sea_in_a_host_frame_stays_within_its_crests_and_validation_clean() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let scene = Scene::default();
+    let crest = ocean::model::waves::generate(&scene).highest_crest();
+    let p = projection(true, true);
+    let mut ocean = Ocean::new(&gpu, desc(scene.clone(), true)).unwrap();
+    let under = Occluder { rect: (60, 100, 40, 15), depth_m: 900.0, colour: [0.0, 0.0, 4.0, 1.0] };
+    let (colour, depth) = frame(&host, &mut ocean, p, true, std::slice::from_ref(&under));
+    let mut checked = 0;
+    for y in 0..H {
+        for x in 0..W {
+            let i = (y * W + x) as usize;
+            assert!(colour[i].iter().all(|v| v.is_finite() && *v >= 0.0), "non-finite or negative pixel at ({x}, {y})");
+            assert_ne!(colour[i], BACKGROUND, "the host's empty pixel at ({x}, {y}) got neither sea nor sky");
+            assert_ne!(colour[i], under.colour, "the occluder under the sea at ({x}, {y}) shows through");
+            // The displaced surface lies within the highest crest of the mean sphere (and the
+            // grid's sag); the crest's slope stretches that along a grazing ray.
+            if let Some((t, sine)) = sea_view_depth(&scene, p, x, y).filter(|&(t, _)| t < 200.0) {
+                let vertical = (view_depth(p, depth[i] as f64) - t).abs() * sine;
+                assert!(vertical < 2.0 * crest + SAG_M, "sea at ({x}, {y}) {vertical} m off the mean sphere");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 5000, "{checked} sea pixels checked");
+    let (errors, messages) = host.validation_errors();
+    assert_eq!(errors, 0, "validation errors {messages:?}");
+}
+
+#[test]
+fn misuse_gets_an_error_not_a_crash() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let scene = Scene::default();
+    let error = |d: OceanDesc| Ocean::new(&gpu, d).err().map(|e| e.to_string()).unwrap_or_default();
+    let mut d = desc(scene.clone(), true);
+    d.formats.colour = vk::Format::R8G8B8A8_UNORM;
+    assert!(error(d).contains("colour format R8G8B8A8_UNORM"));
+    let mut d = desc(scene.clone(), true);
+    d.formats.depth = vk::Format::R32_SFLOAT;
+    assert!(error(d).contains("depth format R32_SFLOAT"));
+    let mut d = desc(scene.clone(), true);
+    d.frames_in_flight = 0;
+    assert!(error(d).contains("frames_in_flight = 0"));
+    let mut d = desc(scene.clone(), true);
+    d.radiance_scale = f32::NAN;
+    assert!(error(d).contains("radiance_scale"));
+
+    let mut ocean = Ocean::new(&gpu, desc(scene, true)).unwrap();
+    let input = FrameInput { time_s: 0.0, view: view().as_mat4(), projection: projection(true, true).as_mat4() };
+    let message = |r: ocean::Result<()>| r.unwrap_err().to_string();
+    assert!(message(ocean.update(2, &input)).contains("frame slot 2 is out of range"));
+    let standard = FrameInput { projection: projection(false, true).as_mat4(), ..input };
+    assert!(message(ocean.update(0, &standard)).contains("made for reversed depth"));
+    let nan = FrameInput { view: glam::Mat4::from_cols_array(&[f32::NAN; 16]), ..input };
+    assert!(message(ocean.update(0, &nan)).contains("NaN"));
+    let under_water =
+        FrameInput { view: DMat4::look_to_rh(DVec3::new(0.0, 0.0, -1.0), DVec3::X, DVec3::Z).as_mat4(), ..input };
+    assert!(message(ocean.update(0, &under_water)).contains("under the water"));
+    let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
+    let depth = host.image(DEPTH_FORMAT, W / 2, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
+    let targets = Targets {
+        colour: colour.image,
+        colour_entry: ImageState::COLOR_ATTACHMENT,
+        depth: depth.image,
+        depth_entry: ImageState::DEPTH_ATTACHMENT,
+    };
+    assert!(message(ocean.record(host.cmd, 1, &targets)).contains("depth target is 80x120"));
+    let full_depth = host.image(DEPTH_FORMAT, W, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
+    let targets = Targets { depth: full_depth.image, ..targets };
+    assert!(message(ocean.record(host.cmd, 1, &targets)).contains("frame slot 1 was not updated"));
+    // Resized to nothing: paused, every call a no-op until it has pixels again.
+    ocean.resize(0, 0).unwrap();
+    assert!(ocean.paused());
+    ocean.update(0, &input).unwrap();
+    ocean.record(host.cmd, 0, &targets).unwrap();
+    ocean.resize(W, H).unwrap();
+    assert!(!ocean.paused());
+    for image in [colour, depth, full_depth] {
+        host.destroy_image(image);
+    }
+    let (errors, messages) = host.validation_errors();
+    assert_eq!(errors, 0, "validation errors {messages:?}");
+}
