@@ -79,17 +79,22 @@ impl Occluder {
 
 const BACKGROUND: [f32; 4] = [0.5, 0.0, 0.5, 1.0];
 
-/// Draws the occluders (cleared rectangles at their depths), then the ocean, and reads back the
-/// host's colour (RGBA16F as f32) and depth.
-fn frame(
-    host: &Host,
-    ocean: &mut Ocean,
-    projection: DMat4,
-    reversed: bool,
-    occluders: &[Occluder],
-) -> (Vec<[f32; 4]>, Vec<f32>) {
+/// What the host reads back of a frame: its colour (RGBA16F as f32), depth, and the LDR target
+/// (RGBA8) where the ocean tone-mapped into one.
+struct Readback {
+    colour: Vec<[f32; 4]>,
+    depth: Vec<f32>,
+    ldr: Option<Vec<u8>>,
+}
+
+/// Draws the occluders (cleared rectangles at their depths), then the ocean (tone-mapping into an
+/// LDR target where the ocean was made with its format), and reads back what it drew.
+fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occluders: &[Occluder]) -> Readback {
     use vk::{AccessFlags2 as A, ImageLayout as L, ImageUsageFlags as U, PipelineStageFlags2 as S};
-    let colour = host.image(COLOUR_FORMAT, W, H, U::COLOR_ATTACHMENT | U::TRANSFER_SRC);
+    let ldr_format = ocean.desc().formats.ldr;
+    let colour = host.image(COLOUR_FORMAT, W, H, U::COLOR_ATTACHMENT | U::TRANSFER_SRC | U::SAMPLED);
+    let ldr = ldr_format.map(|f| host.image(f, W, H, U::COLOR_ATTACHMENT | U::TRANSFER_SRC));
+    let ldr_out = ldr.as_ref().map(|_| host.readback(4 * (W * H) as u64));
     let depth = host.image(DEPTH_FORMAT, W, H, U::DEPTH_STENCIL_ATTACHMENT | U::TRANSFER_SRC);
     let pixels = (W * H) as usize;
     let colour_out = host.readback(8 * pixels as u64);
@@ -167,22 +172,27 @@ fn frame(
         colour_entry: ImageState::COLOR_ATTACHMENT,
         depth: d,
         depth_entry: ImageState::DEPTH_ATTACHMENT,
+        ldr: ldr.as_ref().map(|l| (l.image, ImageState { layout: L::UNDEFINED, stage: S::NONE, access: A::NONE })),
     };
     ocean.record(host.cmd, 0, &targets).unwrap();
-    // The ocean's exit state (docs/embedding.md), then the host's copies.
-    host.barrier(
-        &c,
-        (L::COLOR_ATTACHMENT_OPTIMAL, S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
-        (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ),
-    );
+    // The ocean's exit states (embed::Ocean::record), then the host's copies.
+    let colour_exit = match &ldr {
+        Some(_) => (L::SHADER_READ_ONLY_OPTIMAL, S::FRAGMENT_SHADER, A::NONE),
+        None => (L::COLOR_ATTACHMENT_OPTIMAL, S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+    };
+    host.barrier(&c, colour_exit, (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ));
+    if let Some(l) = &ldr {
+        let written = (L::COLOR_ATTACHMENT_OPTIMAL, S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+        host.barrier(&l.image, written, (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ));
+    }
     host.barrier(
         &d,
         (L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL, tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
         (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ),
     );
-    for (image, aspect, buffer) in
-        [(c, vk::ImageAspectFlags::COLOR, colour_out.0), (d, vk::ImageAspectFlags::DEPTH, depth_out.0)]
-    {
+    let ldr_copy = ldr.as_ref().zip(ldr_out.as_ref()).map(|(l, out)| (l.image, vk::ImageAspectFlags::COLOR, out.0));
+    let copies = [(c, vk::ImageAspectFlags::COLOR, colour_out.0), (d, vk::ImageAspectFlags::DEPTH, depth_out.0)];
+    for (image, aspect, buffer) in copies.into_iter().chain(ldr_copy) {
         let region = vk::BufferImageCopy {
             image_subresource: vk::ImageSubresourceLayers {
                 aspect_mask: aspect,
@@ -203,11 +213,17 @@ fn frame(
     let colour_values =
         colour_bits.chunks_exact(4).map(|p| std::array::from_fn(|i| half::f16::from_bits(p[i]).to_f32())).collect();
     let depth_values: Vec<f32> = host.read(depth_out.1, pixels);
+    let ldr_values = ldr_out.map(|out| {
+        let values = host.read(out.1, 4 * pixels);
+        host.destroy_buffer(out);
+        values
+    });
     host.destroy_buffer(colour_out);
     host.destroy_buffer(depth_out);
-    host.destroy_image(colour);
-    host.destroy_image(depth);
-    (colour_values, depth_values)
+    for image in [Some(colour), Some(depth), ldr].into_iter().flatten() {
+        host.destroy_image(image);
+    }
+    Readback { colour: colour_values, depth: depth_values, ldr: ldr_values }
 }
 
 fn desc(scene: Scene, reversed: bool) -> OceanDesc {
@@ -215,7 +231,7 @@ fn desc(scene: Scene, reversed: bool) -> OceanDesc {
         scene,
         width: W,
         height: H,
-        formats: HostFormats { colour: COLOUR_FORMAT, depth: DEPTH_FORMAT, reversed_z: reversed },
+        formats: HostFormats { colour: COLOUR_FORMAT, depth: DEPTH_FORMAT, reversed_z: reversed, ldr: None },
         frames_in_flight: 2,
         sky: true,
         radiance_scale: 1.0,
@@ -261,7 +277,7 @@ fn ocean_in_a_host_frame_keeps_the_host_in_front_and_hides_what_is_under_the_sea
         let what = format!("reversed {reversed}, infinite far {infinite}");
         let p = projection(reversed, infinite);
         let mut ocean = Ocean::new(&gpu, desc(glassy.clone(), reversed)).unwrap();
-        let (colour, depth) = frame(&host, &mut ocean, p, reversed, &occluders);
+        let Readback { colour, depth, .. } = frame(&host, &mut ocean, p, reversed, &occluders);
         let far = if reversed { 0.0 } else { 1.0 };
         let (mut sea, mut sky) = (0, 0);
         let mut worst: f64 = 0.0;
@@ -322,7 +338,7 @@ fn a_wavy_sea_in_a_host_frame_stays_within_its_crests_and_validation_clean() {
     let p = projection(true, true);
     let mut ocean = Ocean::new(&gpu, desc(scene.clone(), true)).unwrap();
     let under = Occluder { rect: (60, 100, 40, 15), depth_m: 900.0, colour: [0.0, 0.0, 4.0, 1.0] };
-    let (colour, depth) = frame(&host, &mut ocean, p, true, std::slice::from_ref(&under));
+    let Readback { colour, depth, .. } = frame(&host, &mut ocean, p, true, std::slice::from_ref(&under));
     let mut checked = 0;
     for y in 0..H {
         for x in 0..W {
@@ -381,6 +397,7 @@ fn misuse_gets_an_error_not_a_crash() {
         colour_entry: ImageState::COLOR_ATTACHMENT,
         depth: depth.image,
         depth_entry: ImageState::DEPTH_ATTACHMENT,
+        ldr: None,
     };
     assert!(message(ocean.record(host.cmd, 1, &targets)).contains("depth target is 80x120"));
     let full_depth = host.image(DEPTH_FORMAT, W, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
@@ -396,6 +413,33 @@ fn misuse_gets_an_error_not_a_crash() {
     for image in [colour, depth, full_depth] {
         host.destroy_image(image);
     }
+    let (errors, messages) = host.validation_errors();
+    assert_eq!(errors, 0, "validation errors {messages:?}");
+}
+
+#[test]
+fn the_ocean_tone_maps_the_host_frame_in_the_host_unit() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let mut scene = Scene::default();
+    scene.render.exposure = Some(0.4);
+    // The host works in cd/m^2: the ocean writes 1000 times its own kcd/m^2, held to binary16.
+    let mut d = desc(scene.clone(), true);
+    d.radiance_scale = 1000.0;
+    d.formats.ldr = Some(vk::Format::R8G8B8A8_UNORM);
+    let mut ocean = Ocean::new(&gpu, d).unwrap();
+    let box_in_front = Occluder { rect: (20, 90, 30, 20), depth_m: 4.0, colour: [900.0, 300.0, 100.0, 1.0] };
+    let shot = frame(&host, &mut ocean, projection(true, true), true, std::slice::from_ref(&box_in_front));
+    assert!(shot.colour.iter().flatten().all(|v| v.is_finite() && *v <= 65504.0));
+    // The CPU twin of the tone mapping, on the host's frame in kcd/m^2.
+    let kcd: Vec<[f32; 4]> = shot.colour.iter().map(|p| [p[0] / 1000.0, p[1] / 1000.0, p[2] / 1000.0, 1.0]).collect();
+    let expected = ocean::output::tonemap(&kcd, W, &scene.render);
+    let ldr = shot.ldr.expect("an LDR target");
+    let worst = ldr.iter().zip(&expected).map(|(a, b)| (*a as i32 - *b as i32).abs()).max().unwrap();
+    assert!(worst <= 1, "the LDR target differs from the CPU tone mapping by {worst} levels");
+    // The host's object is in the tone-mapped picture, warm as the host drew it.
+    let at = |x: u32, y: u32| &ldr[4 * (y * W + x) as usize..][..3];
+    assert!(at(30, 100)[0] > at(30, 100)[2] + 50, "the box's pixel {:?}", at(30, 100));
     let (errors, messages) = host.validation_errors();
     assert_eq!(errors, 0, "validation errors {messages:?}");
 }

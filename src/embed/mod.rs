@@ -14,7 +14,7 @@ use crate::model::waves;
 use crate::render::passes::composite::HostFormats;
 use crate::render::passes::HostTargets;
 use crate::render::renderer::{Options, Output, Prepared, Renderer};
-use crate::vk::external::{hdr_format_max, ImageState, HOST_DEPTH_FORMATS};
+use crate::vk::external::{hdr_format_max, ldr_encodes_srgb, ImageState, HOST_DEPTH_FORMATS};
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use ash::vk;
@@ -102,6 +102,9 @@ pub struct Targets {
     pub depth: HostImage,
     /// Usually [`ImageState::DEPTH_ATTACHMENT`].
     pub depth_entry: ImageState,
+    /// The LDR image the frame is tone-mapped into, where the ocean was made with an LDR format
+    /// (a swapchain image: entry [`ImageState::ACQUIRED`]); its old contents are not kept.
+    pub ldr: Option<(HostImage, ImageState)>,
 }
 
 /// The ocean in a host's frame.
@@ -218,9 +221,13 @@ impl<'g> Ocean<'g> {
     }
 
     /// Records frame `slot` into the host's command buffer `cmd` (recording, outside a rendering
-    /// scope), after the host drew into `targets`. On exit the colour is in
-    /// COLOR_ATTACHMENT_OPTIMAL, last written at COLOR_ATTACHMENT_OUTPUT, and the depth in
-    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL, last written at LATE_FRAGMENT_TESTS.
+    /// scope), after the host drew into `targets`. On exit:
+    /// - the depth is in DEPTH_STENCIL_ATTACHMENT_OPTIMAL, last written by the fragment tests
+    ///   (EARLY_FRAGMENT_TESTS | LATE_FRAGMENT_TESTS, DEPTH_STENCIL_ATTACHMENT_WRITE);
+    /// - without an LDR target the colour is in COLOR_ATTACHMENT_OPTIMAL, last written at
+    ///   COLOR_ATTACHMENT_OUTPUT (COLOR_ATTACHMENT_WRITE);
+    /// - with one, the colour is in SHADER_READ_ONLY_OPTIMAL, last read at FRAGMENT_SHADER, and the
+    ///   LDR image in COLOR_ATTACHMENT_OPTIMAL, last written at COLOR_ATTACHMENT_OUTPUT.
     pub fn record(&mut self, cmd: vk::CommandBuffer, slot: usize, targets: &Targets) -> Result<()> {
         check_slot(slot, self.desc.frames_in_flight)?;
         let Some(renderer) = self.renderer.as_mut() else { return Ok(()) };
@@ -241,11 +248,32 @@ impl<'g> Ocean<'g> {
                 )));
             }
         }
+        match (&targets.ldr, self.desc.formats.ldr) {
+            (Some((image, _)), Some(format)) => {
+                if image.extent != extent || image.format != format {
+                    return Err(Error::Argument(format!(
+                        "the LDR target is {:?} at {}x{}, the ocean was made for {format:?} at {}x{}",
+                        image.format, image.extent.width, image.extent.height, extent.width, extent.height
+                    )));
+                }
+            }
+            (None, Some(format)) => {
+                return Err(Error::Argument(format!(
+                    "the ocean was made to tone-map into {format:?}: no LDR target given"
+                )))
+            }
+            (Some(_), None) => {
+                return Err(Error::Argument("an LDR target was given to an ocean made without an LDR format".into()))
+            }
+            (None, None) => {}
+        }
         let prepared = self.prepared[slot]
             .take()
             .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
-        let host = HostTargets { colour: targets.colour, depth: targets.depth };
-        renderer.record_for_host(cmd, slot, prepared, host, [targets.colour_entry, targets.depth_entry])?;
+        let host =
+            HostTargets { colour: targets.colour, depth: targets.depth, ldr: targets.ldr.map(|(image, _)| image) };
+        let ldr_entry = targets.ldr.map_or(ImageState::ACQUIRED, |(_, state)| state);
+        renderer.record_for_host(cmd, slot, prepared, host, [targets.colour_entry, targets.depth_entry, ldr_entry])?;
         Ok(())
     }
 
@@ -309,11 +337,21 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
             formats.depth
         )));
     }
+    if let Some(ldr) = formats.ldr.filter(|&f| ldr_encodes_srgb(f).is_none()) {
+        return Err(Error::Argument(format!(
+            "LDR format {ldr:?} is not one the ocean tone-maps into (R8G8B8A8 or B8G8R8A8, UNORM or SRGB; \
+             A8B8G8R8 likewise; A2B10G10R10_UNORM)"
+        )));
+    }
     let device = &gpu.device;
+    let ldr = formats.ldr.map(|f| (f, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "an LDR colour attachment"));
     for (format, needed, what) in [
         (formats.colour, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "a colour attachment"),
         (formats.depth, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "a depth attachment"),
-    ] {
+    ]
+    .into_iter()
+    .chain(ldr)
+    {
         // SAFETY: plain query on the host's physical device.
         let props = unsafe { gpu.instance.raw.get_physical_device_format_properties(device.physical, format) };
         if !props.optimal_tiling_features.contains(needed) {

@@ -15,6 +15,7 @@ use crate::render::passes::composite::{CompositePass, HostFormats};
 use crate::render::passes::display::DisplayPass;
 use crate::render::passes::exposure::{ExposurePass, Tone};
 use crate::render::passes::eye_sky::EyeSkyPass;
+use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
@@ -29,7 +30,7 @@ use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
 use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Wait;
-use crate::vk::external::ImageState;
+use crate::vk::external::{ldr_encodes_srgb, ImageState};
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::{Location, MemoryReport};
 use crate::vk::swapchain::SwapImage;
@@ -292,13 +293,21 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(ResolvePass::new(device, &resources.hdr, resolved)?));
         }
         let tone = Tone::of(scene);
-        // A host's frame is tone-mapped by the host (its objects are in it too).
-        if tone.auto && !matches!(options.output, Output::Host(_)) {
+        // A host's frame is tone-mapped by the host, unless it asks the ocean to.
+        let tone_maps = !matches!(options.output, Output::Host(HostFormats { ldr: None, .. }));
+        if tone.auto && tone_maps {
             passes.push(Box::new(ExposurePass::new(device, &resources)?));
         }
         match options.output {
             Output::Host(formats) => {
                 passes.push(Box::new(CompositePass::new(device, &resources, formats, options.shader)?));
+                if let Some(format) = formats.ldr {
+                    let encode = ldr_encodes_srgb(format).ok_or_else(|| {
+                        Error::Argument(format!("LDR format {format:?} is not one the ocean tone-maps into"))
+                    })?;
+                    let pass = HostTonemapPass::new(device, &resources, format, encode, tone, frames_in_flight)?;
+                    passes.push(Box::new(pass));
+                }
             }
             Output::Readback => {
                 passes.push(Box::new(TonemapPass::new(device, &resources, tone)?));
@@ -641,26 +650,26 @@ impl<'g> Renderer<'g> {
 
     /// Records the frame `prepared` for `slot` into a host's command buffer `cmd` (recording,
     /// outside a rendering scope), compositing into the host's `targets`, which the host left
-    /// in the states `entry` (colour, depth). On exit both are attachments again: colour in
-    /// COLOR_ATTACHMENT_OPTIMAL after a COLOR_ATTACHMENT_OUTPUT write, depth in
-    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL after a LATE_FRAGMENT_TESTS write (docs/embedding.md).
+    /// in the states `entry` (colour, depth, LDR). The exit states are embed::Ocean::record's.
     pub fn record_for_host(
         &mut self,
         cmd: vk::CommandBuffer,
         slot: usize,
         prepared: Prepared,
         targets: HostTargets,
-        entry: [ImageState; 2],
+        entry: [ImageState; 3],
     ) -> Result<FrameData> {
         assert!(matches!(self.output, Output::Host(_)), "record_for_host() needs a host renderer");
-        for (image, state) in [(&targets.colour, entry[0]), (&targets.depth, entry[1])] {
-            self.tracker.external(image, state.layout, state.stage, state.access);
+        let ldr = targets.ldr.map(|image| (image, entry[2]));
+        for (image, state) in [(targets.colour, entry[0]), (targets.depth, entry[1])].into_iter().chain(ldr) {
+            self.tracker.external(&image, state.layout, state.stage, state.access);
         }
         self.slots[slot].host_recorded = true;
         let data = self.record_passes(cmd, slot, prepared, None, Some(targets))?;
         // The host's images are the host's again: their handles may be reused for other images.
-        self.tracker.forget(targets.colour.raw);
-        self.tracker.forget(targets.depth.raw);
+        for image in [Some(targets.colour), Some(targets.depth), targets.ldr].into_iter().flatten() {
+            self.tracker.forget(image.raw);
+        }
         Ok(data)
     }
 
@@ -685,6 +694,7 @@ impl<'g> Renderer<'g> {
         self.sky_in_map = Some(sky);
         let s = &self.slots[slot];
         let frame = Frame {
+            slot,
             uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
             grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
             sky_rows: data.sky_rows,

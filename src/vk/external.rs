@@ -50,6 +50,13 @@ impl ImageState {
         ),
         access: vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
     };
+    /// A swapchain image just acquired, its semaphore waited at COLOR_ATTACHMENT_OUTPUT (an LDR
+    /// target's usual state on entry; its contents are not kept).
+    pub const ACQUIRED: ImageState = ImageState {
+        layout: vk::ImageLayout::UNDEFINED,
+        stage: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        access: vk::AccessFlags2::NONE,
+    };
 }
 
 /// The aspects a layout transition of an image of `format` names: depth, with stencil where the

@@ -26,6 +26,9 @@ pub struct HostFormats {
     pub depth: vk::Format,
     /// Whether the host's depth is reversed (1 near, 0 far) or standard (0 near, 1 far).
     pub reversed_z: bool,
+    /// The LDR target's format, when the ocean also tone-maps the host's frame into one
+    /// (vk::external::ldr_encodes_srgb lists them).
+    pub ldr: Option<vk::Format>,
 }
 
 pub struct CompositePass<'g> {

@@ -8,6 +8,7 @@ pub mod composite;
 pub mod display;
 pub mod exposure;
 pub mod eye_sky;
+pub mod host_tonemap;
 pub mod ocean;
 pub mod readback;
 pub mod resolve;
@@ -27,6 +28,8 @@ use ash::vk;
 /// What one frame's passes use beside the shared resources: its slot's uniform windows and grid,
 /// and the window's image when the frame ends on screen.
 pub struct Frame {
+    /// The frame slot (frames in flight) the frame is recorded for.
+    pub slot: usize,
     /// Offsets of the dynamic uniform buffers, indexed by binding number.
     pub uniform_offsets: [u32; 2],
     /// The grid's index buffer and index count (none when no sea is in view).
@@ -47,6 +50,8 @@ pub struct Frame {
 pub struct HostTargets {
     pub colour: HostImage,
     pub depth: HostImage,
+    /// The LDR target the host's frame is tone-mapped into, when asked (passes/host_tonemap.rs).
+    pub ldr: Option<HostImage>,
 }
 
 pub struct Recorder<'a> {
@@ -103,6 +108,63 @@ pub fn dispatch_over(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings
     bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
     // SAFETY: as above.
     unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
+}
+
+/// A full-screen pipeline writing one colour attachment of `format`, no depth (the tone mappings
+/// into a window's or a host's LDR image).
+pub fn colour_only_pipeline<'g>(
+    device: &'g Device,
+    layout: vk::PipelineLayout,
+    name: &str,
+    fragment: &[u8],
+    specialization: &crate::vk::pipeline::Specialization,
+    format: vk::Format,
+) -> crate::error::Result<crate::vk::owned::Owned<'g, vk::Pipeline>> {
+    crate::vk::pipeline::graphics_pipeline(
+        device,
+        layout,
+        &crate::vk::pipeline::GraphicsDesc {
+            name,
+            vertex: crate::shaders::FULLSCREEN_VERT,
+            fragment: Some(fragment),
+            specialization: Some(specialization),
+            color_format: Some(format),
+            depth_format: vk::Format::UNDEFINED,
+            depth_write: false,
+            depth_compare: vk::CompareOp::ALWAYS,
+            depth_bias: None,
+        },
+    )
+}
+
+/// Records a full-screen triangle of `pipeline` (bound with `bindings`) over the whole of
+/// `view`, every pixel written (its old contents not loaded).
+pub fn draw_over(
+    rec: &Recorder,
+    pipeline: vk::Pipeline,
+    bindings: &Bindings,
+    view: vk::ImageView,
+    extent: vk::Extent2D,
+) {
+    let (device, cmd) = (&rec.device.raw, rec.cmd);
+    let color = [vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::DONT_CARE)
+        .store_op(vk::AttachmentStoreOp::STORE)];
+    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    let info = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&color);
+    // SAFETY: the caller declared the image COLOR_ATTACHMENT_OPTIMAL and what the set reads; the
+    // pipeline was built for the image's format and the set for the pipeline's layout.
+    unsafe {
+        device.cmd_begin_rendering(cmd, &info);
+        device.cmd_set_viewport(cmd, 0, &[whole_viewport(extent)]);
+        device.cmd_set_scissor(cmd, 0, &[area]);
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+        bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
+        device.cmd_draw(cmd, 3, 1, 0, 0);
+        device.cmd_end_rendering(cmd);
+    }
 }
 
 /// A viewport over a whole attachment of `extent`, depth over [0, 1].
