@@ -249,3 +249,34 @@ fn bad_view_input_is_one_clear_line() {
     assert!(!out.status.success(), "a view without a display must fail");
     assert!(err.contains("display") && !err.contains("panicked"), "{err}");
 }
+
+/// The example host (examples/host): its own window, swapchain, buoy and frame loop with the
+/// ocean embedded, resized half way, validation-clean; its last frame shows the buoy in the sea.
+#[test]
+fn the_example_host_draws_its_buoy_in_the_sea_through_a_resize() {
+    let display = Display::open();
+    // Built by `cargo test` beside the program: target/<profile>/examples/host.
+    let bin = Path::new(env!("CARGO_BIN_EXE_ocean")).with_file_name("examples").join("host");
+    let shot = scratch("example-host").join("host.png");
+    let out = Command::new(&bin)
+        .env("DISPLAY", &display.name)
+        .args(["--frames", "8", "--resize", "480x360", "--validation", "--width", "320", "--height", "240"])
+        .arg("--screenshot")
+        .arg(&shot)
+        .output()
+        .unwrap_or_else(|e| panic!("{}: {e}", bin.display()));
+    succeed(&out, "the example host");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("validation errors: 0"), "{stdout}");
+    let img = rgb(&shot);
+    assert_eq!(img.dimensions(), (480, 360), "the last frame after the resize");
+    // The buoy's paint, below the horizon (row 0.47 of the height): a deep orange, where the sea
+    // is blue-grey and its glitter white to pale gold.
+    let (w, h) = img.dimensions();
+    let orange = (h / 2..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| img.get_pixel(x, y))
+        .filter(|p| p[0] as i32 > p[1] as i32 + 60 && p[2] < 100)
+        .count();
+    assert!(orange > 100, "{orange} buoy pixels");
+}

@@ -14,7 +14,7 @@ use crate::model::waves;
 use crate::render::passes::composite::HostFormats;
 use crate::render::passes::HostTargets;
 use crate::render::renderer::{Options, Output, Prepared, Renderer};
-use crate::vk::external::{hdr_format_max, ldr_encodes_srgb, ImageState, HOST_DEPTH_FORMATS};
+use crate::vk::external::{hdr_format_max, ldr_encodes_srgb, HOST_DEPTH_FORMATS};
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use ash::vk;
@@ -22,7 +22,7 @@ use camera::HostView;
 use glam::{DMat4, Mat4};
 
 pub use crate::vk::device::HostEnabled;
-pub use crate::vk::external::HostImage;
+pub use crate::vk::external::{transition, HostImage, ImageState};
 pub use crate::vk::gpu::HostDevice;
 
 /// What a host enables for the ocean on its device (see docs/embedding.md).

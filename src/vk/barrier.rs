@@ -16,6 +16,26 @@ pub trait TrackedImage {
     fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange;
 }
 
+/// One image's barrier, from (layout, stages, accesses) to the same, on one queue family.
+pub fn image_barrier(
+    from: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .old_layout(from.0)
+        .src_stage_mask(from.1)
+        .src_access_mask(from.2)
+        .new_layout(to.0)
+        .dst_stage_mask(to.1)
+        .dst_access_mask(to.2)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(range)
+}
+
 /// Levels [base, base + count) of the only layer of an image, in `aspect`.
 pub fn single_layer_levels(aspect: vk::ImageAspectFlags, base: u32, count: u32) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
@@ -245,19 +265,12 @@ impl Tracker {
             }
             let mut state = prev;
             if let Some(dep) = advance(&mut state, next, true, discard) {
-                self.image_barriers.push(
-                    vk::ImageMemoryBarrier2::default()
-                        .src_stage_mask(dep.src_stage)
-                        .src_access_mask(dep.src_access)
-                        .dst_stage_mask(dep.dst_stage)
-                        .dst_access_mask(dep.dst_access)
-                        .old_layout(dep.old_layout)
-                        .new_layout(dep.new_layout)
-                        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                        .image(image.raw())
-                        .subresource_range(image.levels(level, end - level)),
-                );
+                self.image_barriers.push(image_barrier(
+                    (dep.old_layout, dep.src_stage, dep.src_access),
+                    (dep.new_layout, dep.dst_stage, dep.dst_access),
+                    image.raw(),
+                    image.levels(level, end - level),
+                ));
             }
             for l in level..end {
                 levels[l as usize] = state;

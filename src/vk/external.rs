@@ -1,7 +1,7 @@
 //! A host's images, handed to the ocean for one frame (embed::Ocean): the handles, the state the
 //! host leaves them in, and what each format means to us. All mapping of host formats lives here.
 
-use super::barrier::{single_layer_levels, TrackedImage};
+use super::barrier::{image_barrier, single_layer_levels, TrackedImage};
 use ash::vk;
 
 /// A host's image: its handle, a view of its first level and layer, its format and extent.
@@ -57,6 +57,29 @@ impl ImageState {
         stage: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
         access: vk::AccessFlags2::NONE,
     };
+}
+
+impl ImageState {
+    /// A state from its layout, stages and accesses.
+    pub const fn new(layout: vk::ImageLayout, stage: vk::PipelineStageFlags2, access: vk::AccessFlags2) -> ImageState {
+        ImageState { layout, stage, access }
+    }
+
+    /// The barrier that takes `image` from this state to `next`: `next`'s accesses wait for this
+    /// state's, and the layout changes between them.
+    pub fn barrier_to(&self, next: ImageState, image: &HostImage) -> vk::ImageMemoryBarrier2<'static> {
+        let (from, to) = ((self.layout, self.stage, self.access), (next.layout, next.stage, next.access));
+        image_barrier(from, to, image.raw, image.levels(0, 1))
+    }
+}
+
+/// Records the barriers taking each image from one state to the next, in one call (a host's
+/// transitions into and out of the states the ocean's contract names).
+pub fn transition(device: &ash::Device, cmd: vk::CommandBuffer, moves: &[(HostImage, ImageState, ImageState)]) {
+    let barriers: Vec<_> = moves.iter().map(|(image, from, to)| from.barrier_to(*to, image)).collect();
+    // SAFETY: the caller's `cmd` is recording outside a rendering scope and its images are live
+    // (a documented precondition of this helper, which only builds the barriers).
+    unsafe { device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barriers)) };
 }
 
 /// The aspects a layout transition of an image of `format` names: depth, with stencil where the

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use ash::vk;
+use ocean::embed::ImageState;
 use ocean::embed::{self, HostDevice, HostEnabled, HostImage};
 use ocean::vk::instance::Instance;
 
@@ -188,25 +189,8 @@ impl Host {
         from: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
         to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
     ) {
-        let barrier = [vk::ImageMemoryBarrier2::default()
-            .old_layout(from.0)
-            .src_stage_mask(from.1)
-            .src_access_mask(from.2)
-            .new_layout(to.0)
-            .dst_stage_mask(to.1)
-            .dst_access_mask(to.2)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(image.raw)
-            .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: ocean::vk::external::aspect_of(image.format),
-                base_mip_level: 0,
-                level_count: 1,
-                base_array_layer: 0,
-                layer_count: 1,
-            })];
-        let dependency = vk::DependencyInfo::default().image_memory_barriers(&barrier);
-        unsafe { self.device.cmd_pipeline_barrier2(self.cmd, &dependency) };
+        let state = |(layout, stage, access)| ImageState::new(layout, stage, access);
+        ocean::embed::transition(&self.device, self.cmd, &[(*image, state(from), state(to))]);
     }
 }
 
