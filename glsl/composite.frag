@@ -6,12 +6,9 @@
 // they pass only where the host drew nothing, and only when the host asked for the sky.
 #include "frame.glsl"
 #include "common.glsl"
-WAVES_BLOCK;
-#include "waves.glsl"
 
-// The ocean shaders' constants (ShaderConfig::specialization): whether the grid may be displaced,
-// and whether the sky is drawn where the host drew nothing (embed::OceanDesc::sky).
-layout(constant_id = 4) const bool GEOMETRY = true;
+// The ocean shaders' constant (ShaderConfig::specialization): whether the sky is drawn where the
+// host drew nothing (embed::OceanDesc::sky).
 layout(constant_id = 5) const bool BACKGROUND = true;
 layout(set = 0, binding = 2) uniform sampler2D radiance;
 // The visibility pass's depth (reversed Z, infinite far, frame.shadow.x the near plane): 0 where
@@ -23,15 +20,9 @@ void main() {
     ivec2 texel = ivec2(gl_FragCoord.xy);
     float depth = texelFetch(sea_depth, texel, 0).r;
     if (depth > 0.0) {
-        // camera_ray has unit length along the view, and the view depth is near / depth (> 0).
-        // Where the grid's cell resolves no train its triangles are undisplaced chords of the
-        // sphere, metres off it in the cells that reach the limb (as glsl/ocean.frag): the
-        // pixel's own ray then meets the sphere itself, its view depth the distance over |ray|.
-        vec3 ray = camera_ray(pixel_to_ndc(gl_FragCoord.xy));
-        bool displaced = GEOMETRY && sample_scale(ray, frame.grid.x, frame.filter_steps.xy).any;
-        float len = length(ray);   // >= 1
-        float view_depth = displaced ? frame.shadow.x / depth : sea_distance(onto_sea(ray / len)).x / len;
-        vec3 point = ray * view_depth;
+        // camera_ray has unit length along the view, and the view depth is near / depth (> 0;
+        // exact where the grid is undisplaced, glsl/ocean.frag).
+        vec3 point = camera_ray(pixel_to_ndc(gl_FragCoord.xy)) * (frame.shadow.x / depth);
         vec4 clip = frame.host_clip * vec4(point, 1.0);
         // The point lies in front of the eye (view depth >= near), so clip.w > 0 for any
         // perspective projection of the same camera; past a finite far plane it is the far plane.

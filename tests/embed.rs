@@ -21,11 +21,11 @@ const EYE_HEIGHT: f64 = 6.0;
 const FOV_Y: f64 = 60.0;
 const PITCH: f64 = -10.0;
 const FAR_M: f64 = 2000.0;
-/// How far (m) the sea's depth may place its surface above or below the f64 sphere: the grid's
-/// flat cells sag under the sphere by a few centimetres in the first row of cells below the limb
-/// that resolve a train (their vertices are interpolated rest positions); elsewhere the depth is
-/// the pixel's own ray's (glsl/composite.frag) and exact to f32 rounding.
-const SAG_M: f64 = 0.05;
+/// How far (m) the sea's depth may place its surface above or below the f64 sphere: where the
+/// grid is undisplaced the depth is the pixel's own ray's (glsl/ocean.frag), and the fully
+/// displaced cells are small enough that their flat triangles sag by millimetres; f32 depth
+/// rounds to millimetres at a few hundred metres.
+const SAG_M: f64 = 0.01;
 
 /// Vulkan's clip y points down: glam's right-handed projections with y negated.
 fn flip_y(p: DMat4) -> DMat4 {

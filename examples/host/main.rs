@@ -132,6 +132,17 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let mut ocean = Ocean::new(&gpu, desc)?;
     let buoy = BuoyPipeline::new(&host)?;
     let result = frame_loop(args, &mut event_loop, &mut events, &window, &host, &mut ocean, &buoy, &mut targets);
+    // What the ocean costs this host: its memory on our device, and its passes' GPU time.
+    let memory = ocean.memory();
+    let mib = |bytes: u64| bytes as f64 / (1 << 20) as f64;
+    println!(
+        "ocean memory: {:.1} MiB used in {} blocks ({:.1} MiB reserved)",
+        mib(memory.used_bytes),
+        memory.blocks,
+        mib(memory.reserved_bytes)
+    );
+    let passes: Vec<String> = ocean.pass_ms().iter().map(|(name, ms)| format!("{name} {ms:.2}")).collect();
+    println!("ocean passes (ms): {}", passes.join(", "));
     // Teardown in reverse creation order, after the device is idle.
     // SAFETY: nothing may be destroyed while the GPU still uses it.
     unsafe { host.device.device_wait_idle() }?;
