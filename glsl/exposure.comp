@@ -7,20 +7,24 @@
 // pixels (night, the cleared background, space around the planet seen from orbit) neither send
 // the logarithm to -inf nor dominate it: the meter reads the lit subject, as a photographer's
 // spot meter would. An image with nothing brighter has the key 1e-3 cd/m^2.
-layout(local_size_x = 256) in;
+// 8 x 8 invocations over the image's 2D grid of samples (a workgroup of 64 with neighbours
+// reading neighbouring texels, as tile-based GPUs prefer).
+layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 4, rgba16f) readonly uniform image2D hdr;
 layout(set = 0, binding = 7, std140) writeonly buffer MeasuredExposure { vec4 measured; } result;
 
 const float DARKEST_CD = 1e-3;
-shared float partial[256];
-shared uint counted[256];
+const uint LANES = 64u;
+shared float partial[LANES];
+shared uint counted[LANES];
 
 void main() {
     ivec2 size = imageSize(hdr);
     float sum = 0.0;
     uint n = 0u;
-    for (int y = 0; y < size.y; y += 4) {
-        for (int x = int(gl_LocalInvocationIndex) * 4; x < size.x; x += 256 * 4) {
+    ivec2 lane = ivec2(gl_LocalInvocationID.xy);
+    for (int y = lane.y * 4; y < size.y; y += 8 * 4) {
+        for (int x = lane.x * 4; x < size.x; x += 8 * 4) {
             vec3 L = imageLoad(hdr, ivec2(x, y)).rgb;
             float Y = 1000.0 * dot(max(L, vec3(0.0)), vec3(0.2126, 0.7152, 0.0722));   // cd/m^2
             bool lit = Y >= DARKEST_CD;
@@ -31,7 +35,7 @@ void main() {
     partial[gl_LocalInvocationIndex] = sum;
     counted[gl_LocalInvocationIndex] = n;
     barrier();
-    for (uint stride = 128u; stride > 0u; stride >>= 1) {
+    for (uint stride = LANES / 2u; stride > 0u; stride >>= 1) {
         if (gl_LocalInvocationIndex < stride) {
             partial[gl_LocalInvocationIndex] += partial[gl_LocalInvocationIndex + stride];
             counted[gl_LocalInvocationIndex] += counted[gl_LocalInvocationIndex + stride];

@@ -17,6 +17,7 @@ use crate::render::passes::exposure::{ExposurePass, Tone};
 use crate::render::passes::eye_sky::EyeSkyPass;
 use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
+use crate::render::passes::placeholders::PlaceholdersPass;
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::resolve::ResolvePass;
 use crate::render::passes::shade::ShadePass;
@@ -265,6 +266,9 @@ impl<'g> Renderer<'g> {
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
+        if !resources.placeholders().is_empty() {
+            passes.push(Box::new(PlaceholdersPass));
+        }
         if let Some(tables) = &resources.atmosphere {
             passes.push(Box::new(AtmospherePass::new(device, &resources, tables)?));
         }

@@ -229,7 +229,9 @@ impl<'g> Resources<'g> {
         let shadow_side = shadow_map.unwrap_or(1);
         let shadow_extent = vk::Extent2D { width: shadow_side, height: shadow_side };
         let name = if shadow_map.is_some() { "sun shadow map" } else { "sun shadow map (placeholder)" };
-        let shadow_map_image = Image::new(gpu, name, DEPTH_FORMAT, shadow_extent, 1, depth_usage)?;
+        // A placeholder is cleared once as an attachment (passes/placeholders.rs).
+        let shadow_usage = depth_usage;
+        let shadow_map_image = Image::new(gpu, name, DEPTH_FORMAT, shadow_extent, 1, shadow_usage)?;
         let resolved = if ssaa > 1 {
             Some(Image::new(gpu, "hdr resolved", HDR_FORMAT, extent, 1, I::STORAGE | I::SAMPLED | I::TRANSFER_SRC)?)
         } else {
@@ -264,7 +266,7 @@ impl<'g> Resources<'g> {
         } else {
             vk::Extent2D { width: 1, height: 1 }
         };
-        let aerial_usage = I::STORAGE | I::SAMPLED;
+        let aerial_usage = I::STORAGE | I::SAMPLED | I::TRANSFER_DST;
         let aerial_inscatter = Image::new(gpu, "aerial inscatter", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let aerial_transmittance = Image::new(gpu, "aerial transmittance", HDR_FORMAT, aerial_extent, 1, aerial_usage)?;
         let eye_extent = if atmosphere && eye_sky {
@@ -304,6 +306,21 @@ impl<'g> Resources<'g> {
             mean_fresnel,
             exposure,
         })
+    }
+
+    /// The 1x1 stand-ins that keep bindings valid where their passes are left out (their code is
+    /// specialized away, but a sampled image must still hold defined texels): cleared once.
+    pub fn placeholders(&self) -> Vec<&Image<'g>> {
+        let one = |image: &Image| image.extent.width == 1 && image.extent.height == 1;
+        let mut images: Vec<&Image<'g>> =
+            [&self.sky_map, &self.aerial_inscatter, &self.aerial_transmittance, &self.eye_sky]
+                .into_iter()
+                .filter(|i| one(i))
+                .collect();
+        if !self.shadows {
+            images.push(&self.shadow_map);
+        }
+        images
     }
 
     /// The HDR radiance at the output size: the resolved image with supersampling, else `hdr`.
@@ -365,7 +382,8 @@ fn single_level_sampler<'g>(
         .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
         .compare_enable(compare.is_some())
         .compare_op(compare.unwrap_or(vk::CompareOp::NEVER))
-        .max_lod(0.0);
+        // The images have one level; no clamp here (a clamped LOD costs on some GPUs).
+        .max_lod(vk::LOD_CLAMP_NONE);
     // SAFETY: valid create info on a live device; a linear filter is asked for depth only where
     // the device filters its depth format linearly.
     let sampler = unsafe { gpu.raw().create_sampler(&info, None) }.during("vkCreateSampler")?;

@@ -16,7 +16,7 @@ pub struct Commands<'g> {
     pending: Cell<bool>,
     // Drop order: the fence, then the pool (which frees `cmd`).
     fence: Owned<'g, vk::Fence>,
-    _pool: Owned<'g, vk::CommandPool>,
+    pool: Owned<'g, vk::CommandPool>,
 }
 
 /// A semaphore a submission waits on, and the stages that wait.
@@ -27,9 +27,8 @@ pub struct Wait {
 
 impl<'g> Commands<'g> {
     pub fn new(device: &'g Device, name: &str) -> Result<Self> {
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(device.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // One buffer per pool, reset with its pool (no per-buffer reset flag).
+        let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(device.queue_family);
         // SAFETY: valid create info on a live device.
         let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.during("vkCreateCommandPool")?;
         let pool = Owned::new(device, pool, name);
@@ -41,15 +40,22 @@ impl<'g> Commands<'g> {
         let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }.during("vkAllocateCommandBuffers")?[0];
         device.set_name(cmd, name);
         let fence = fence(device, &format!("{name} done"), false)?;
-        Ok(Commands { device, cmd, pending: Cell::new(false), fence, _pool: pool })
+        Ok(Commands { device, cmd, pending: Cell::new(false), fence, pool })
     }
 
     /// Begins a one-time recording.
     pub fn begin(&self) -> Result<()> {
         assert!(!self.pending.get(), "begin on a command buffer the GPU may still run: wait() first");
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the buffer is not pending (checked above: every submission is waited on first).
-        unsafe { self.device.raw.begin_command_buffer(self.cmd, &begin) }.during("vkBeginCommandBuffer")
+        // SAFETY: the pool's one buffer is not pending (checked above: every submission is
+        // waited on first).
+        unsafe {
+            self.device
+                .raw
+                .reset_command_pool(self.pool.raw, vk::CommandPoolResetFlags::empty())
+                .during("vkResetCommandPool")?;
+            self.device.raw.begin_command_buffer(self.cmd, &begin).during("vkBeginCommandBuffer")
+        }
     }
 
     /// Ends the recording and submits it: after `waits`, signalling `signal` and the fence.

@@ -59,6 +59,11 @@ impl Scope {
     }
 }
 
+/// Where a scope's timestamps are written: once every earlier command has completed (as
+/// ALL_COMMANDS would, which the best-practices checks flag for timestamps), so that a pass's
+/// span holds its own work and none of the pass before it.
+const SCOPE_EDGE: vk::PipelineStageFlags2 = vk::PipelineStageFlags2::BOTTOM_OF_PIPE;
+
 pub struct Profiler<'g> {
     timestamps: Option<Owned<'g, vk::QueryPool>>,
     statistics: Option<Owned<'g, vk::QueryPool>>,
@@ -132,7 +137,7 @@ impl<'g> Profiler<'g> {
         self.names.push(name);
         if let Some(pool) = &self.timestamps {
             // SAFETY: query 2*index was reset this frame.
-            unsafe { device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, pool.raw, 2 * index) };
+            unsafe { device.raw.cmd_write_timestamp2(cmd, SCOPE_EDGE, pool.raw, 2 * index) };
         }
         if let Some(pool) = &self.statistics {
             // SAFETY: query `index` was reset this frame and no other query of the pool is active.
@@ -148,9 +153,7 @@ impl<'g> Profiler<'g> {
         }
         if let Some(pool) = &self.timestamps {
             // SAFETY: query 2*index+1 was reset this frame.
-            unsafe {
-                device.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, pool.raw, 2 * index + 1)
-            };
+            unsafe { device.raw.cmd_write_timestamp2(cmd, SCOPE_EDGE, pool.raw, 2 * index + 1) };
         }
         if let Some(du) = &device.debug_utils {
             // SAFETY: matches the begin label above.

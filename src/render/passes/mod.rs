@@ -10,6 +10,7 @@ pub mod exposure;
 pub mod eye_sky;
 pub mod host_tonemap;
 pub mod ocean;
+pub mod placeholders;
 pub mod readback;
 pub mod resolve;
 pub mod shade;
