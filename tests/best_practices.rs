@@ -8,10 +8,8 @@ mod common;
 use ash::vk;
 use common::host::{Host, COLOUR_FORMAT, DEPTH_FORMAT};
 use glam::{Mat4, Vec3};
-use ocean::embed::{FrameInput, ImageState, Ocean, OceanDesc, Targets};
+use ocean::embed::{FrameInput, Gpu, HostFormats, ImageState, Ocean, OceanDesc, Targets};
 use ocean::model::scene::Scene;
-use ocean::render::passes::composite::HostFormats;
-use ocean::vk::gpu::Gpu;
 
 #[test]
 fn a_host_frame_passes_the_best_practices_checks() {

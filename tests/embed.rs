@@ -9,11 +9,8 @@ mod common;
 use ash::vk;
 use common::host::{Host, COLOUR_FORMAT, DEPTH_FORMAT};
 use glam::{DMat4, DVec3, DVec4};
-use ocean::embed::{FrameInput, Ocean, OceanDesc, Targets};
+use ocean::embed::{FrameInput, Gpu, HostFormats, ImageState, Ocean, OceanDesc, Targets};
 use ocean::model::scene::Scene;
-use ocean::render::passes::composite::HostFormats;
-use ocean::vk::external::ImageState;
-use ocean::vk::gpu::Gpu;
 
 const W: u32 = 160;
 const H: u32 = 120;

@@ -357,7 +357,7 @@ impl Swapchain {
         // SAFETY: queries on the live surface and device.
         let caps = unsafe { host.surface_fns.get_physical_device_surface_capabilities(host.physical, host.surface) }?;
         let formats = unsafe { host.surface_fns.get_physical_device_surface_formats(host.physical, host.surface) }?;
-        let supported = |f: vk::Format| ocean::vk::external::ldr_encodes_srgb(f).is_some();
+        let supported = |f: vk::Format| embed::ldr_encodes_srgb(f).is_some();
         let surface_format = formats
             .iter()
             .find(|f| f.format == vk::Format::B8G8R8A8_SRGB)

@@ -11,11 +11,9 @@
 use ash::vk;
 use clap::Parser;
 use glam::{Mat4, Vec3};
-use ocean::embed::{FrameInput, Ocean, OceanDesc, Targets};
+use ocean::embed::{FrameInput, Gpu, HostFormats, ImageState, Ocean, OceanDesc, Targets};
 use ocean::model::scene::Scene;
-use ocean::render::passes::composite::HostFormats;
-use ocean::vk::external::ImageState;
-use ocean::vk::gpu::Gpu;
+
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;

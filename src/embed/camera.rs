@@ -20,8 +20,11 @@ const ASPECT_TOLERANCE: f64 = 1e-4;
 pub struct HostView {
     /// The eye in the ocean's world (m).
     pub eye: DVec3,
+    /// The view's azimuth, counter-clockwise from +x (degrees).
     pub yaw_deg: f64,
+    /// The view's elevation, negative looking down (degrees).
     pub pitch_deg: f64,
+    /// The vertical field of view (degrees).
     pub fov_y_deg: f64,
     /// Camera-relative world (origin at the eye) to the host's clip space: what the host's
     /// projection and view do to world points, the eye's translation folded in.

@@ -5,25 +5,27 @@
 //! and makes an [`Ocean`] on it. Each frame it calls [`Ocean::update`] with its camera, then
 //! [`Ocean::record`] into its own command buffer, after drawing its objects into its HDR colour
 //! and depth attachments; the ocean depth-tests against them. The host submits.
+//!
+//! Everything a host needs is here or re-exported here.
+#![warn(missing_docs)]
 
 pub mod camera;
 
 use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::model::waves;
-use crate::render::passes::composite::HostFormats;
 use crate::render::passes::HostTargets;
 use crate::render::renderer::{Options, Output, Prepared, Renderer};
-use crate::vk::external::{hdr_format_max, ldr_encodes_srgb, HOST_DEPTH_FORMATS};
-use crate::vk::gpu::Gpu;
-use crate::vk::memory::MemoryReport;
+use crate::vk::external::{hdr_format_max, HOST_DEPTH_FORMATS};
 use ash::vk;
 use camera::HostView;
 use glam::{DMat4, Mat4};
 
+pub use crate::render::passes::composite::HostFormats;
 pub use crate::vk::device::HostEnabled;
-pub use crate::vk::external::{transition, HostImage, ImageState};
-pub use crate::vk::gpu::HostDevice;
+pub use crate::vk::external::{aspect_of, ldr_encodes_srgb, transition, HostImage, ImageState};
+pub use crate::vk::gpu::{Gpu, HostDevice};
+pub use crate::vk::memory::MemoryReport;
 
 /// What a host enables for the ocean on its device (see docs/embedding.md).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -64,8 +66,9 @@ pub fn check_physical_device(entry: &ash::Entry, instance: &ash::Instance, physi
 pub struct OceanDesc {
     /// The sea, sun, sky and rendering settings (its camera is replaced by the host's each frame).
     pub scene: Scene,
-    /// The targets' size in pixels.
+    /// The targets' width in pixels.
     pub width: u32,
+    /// The targets' height in pixels.
     pub height: u32,
     /// The host's HDR colour and depth formats and its depth convention.
     pub formats: HostFormats,
@@ -96,9 +99,11 @@ pub struct FrameInput {
 /// The host's attachments for one frame and the state it leaves them in.
 #[derive(Clone, Copy, Debug)]
 pub struct Targets {
+    /// The HDR colour attachment the host drew into.
     pub colour: HostImage,
     /// Usually [`ImageState::COLOR_ATTACHMENT`].
     pub colour_entry: ImageState,
+    /// The depth attachment the host drew into.
     pub depth: HostImage,
     /// Usually [`ImageState::DEPTH_ATTACHMENT`].
     pub depth_entry: ImageState,
@@ -297,6 +302,7 @@ impl<'g> Ocean<'g> {
         self.gpu.allocator.borrow().report()
     }
 
+    /// What the ocean was made for, with the size and scene of the latest resize and scene change.
     pub fn desc(&self) -> &OceanDesc {
         &self.desc
     }

@@ -7,9 +7,13 @@ use ash::vk;
 /// A host's image: its handle, a view of its first level and layer, its format and extent.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HostImage {
+    /// The image.
     pub raw: vk::Image,
+    /// A view of its first level and layer (its depth aspect, for a depth image).
     pub view: vk::ImageView,
+    /// The format it was created with.
     pub format: vk::Format,
+    /// Its size in pixels.
     pub extent: vk::Extent2D,
 }
 
@@ -29,8 +33,11 @@ impl TrackedImage for HostImage {
 /// host's last use of it that the ocean's first access must wait for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageState {
+    /// The image's layout.
     pub layout: vk::ImageLayout,
+    /// The stages of its last use (or of the semaphore wait that makes it available).
     pub stage: vk::PipelineStageFlags2,
+    /// The accesses of its last use (writes to make available; none for reads).
     pub access: vk::AccessFlags2,
 }
 

@@ -12,9 +12,13 @@ use std::path::Path;
 /// A host's Vulkan objects, which the ocean borrows (embed::Ocean's creation).
 #[derive(Clone, Copy)]
 pub struct HostDevice<'a> {
+    /// The loader the host's instance was created through.
     pub entry: &'a ash::Entry,
+    /// The host's instance (Vulkan 1.3).
     pub instance: &'a ash::Instance,
+    /// The physical device `device` was created from.
     pub physical_device: ash::vk::PhysicalDevice,
+    /// The host's device, with what `enabled` states enabled.
     pub device: &'a ash::Device,
     /// The family of the queue the host submits the ocean's commands on: graphics and compute.
     pub queue_family: u32,

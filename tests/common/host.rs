@@ -117,7 +117,7 @@ impl Host {
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
             .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: ocean::vk::external::aspect_of(format) & !vk::ImageAspectFlags::STENCIL,
+                aspect_mask: embed::aspect_of(format) & !vk::ImageAspectFlags::STENCIL,
                 base_mip_level: 0,
                 level_count: 1,
                 base_array_layer: 0,
