@@ -369,6 +369,16 @@ enum Bench {
         #[arg(long)]
         device: Option<String>,
     },
+    /// What drawing through `ocean::embed` (a host's frame: composited into its colour and depth,
+    /// tone-mapped into its LDR image) costs against `ocean render`'s own frame, interleaved.
+    Embed {
+        #[command(flatten)]
+        view: ViewArgs,
+        #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        #[arg(long, default_value = "docs/bench")]
+        out: PathBuf,
+    },
     /// What a moving sun costs: the default scene with the sun still and moving, frames interleaved.
     Sky {
         #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10000))]
@@ -758,6 +768,23 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 let files: Vec<String> = variant.iter().map(|v| format!("speed.{}.json", v.label)).collect();
                 ocean::say!("wrote {}/{} (compare with `ocean bench compare`)", out.display(), files.join(", "));
             }
+            Ok(())
+        }
+        Command::Bench {
+            bench: Bench::Embed { view: ViewArgs { scene, width, height, validation, device }, frames, out },
+        } => {
+            let (scene, name) = load_scene(scene)?;
+            let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
+            let t = ocean::measure::bench::embed::run(&gpu, &scene, &name, width, height, frames, &out)?;
+            ocean::say!(
+                "render {:.1} ms, embedded {:.1} ms a frame (ratio {:.3}, quartiles {:.3}-{:.3}); wrote {}/embed.md and embed.json",
+                t.render_ms["frame"],
+                t.embedded_ms["frame"],
+                t.ratio[1],
+                t.ratio[0],
+                t.ratio[2],
+                out.display()
+            );
             Ok(())
         }
         Command::Bench { bench: Bench::Sky { frames, out, device } } => {

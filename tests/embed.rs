@@ -440,3 +440,22 @@ fn the_ocean_tone_maps_the_host_frame_in_the_host_unit() {
     let (errors, messages) = host.validation_errors();
     assert_eq!(errors, 0, "validation errors {messages:?}");
 }
+
+/// `ocean bench embed`'s two frames (render's own and a host's through the API) on one device,
+/// validation-clean, with every pass of each timed.
+#[test]
+fn the_embed_bench_times_both_frames_validation_clean() {
+    let gpu = common::gpu();
+    let out = std::env::temp_dir().join(format!("ocean-embed-bench-{}", std::process::id()));
+    let t = ocean::measure::bench::embed::run(&gpu, &Scene::default(), "default", 96, 64, 1, &out).unwrap();
+    for pass in ["ocean", "shade", "composite", "host tonemap"] {
+        assert!(t.embedded_ms.get(pass).is_some_and(|ms| *ms > 0.0), "embedded {pass}: {:?}", t.embedded_ms);
+    }
+    assert!(t.render_ms.contains_key("tonemap") && !t.render_ms.contains_key("composite"), "{:?}", t.render_ms);
+    assert!(t.ratio.iter().all(|r| r.is_finite() && *r > 0.0), "{:?}", t.ratio);
+    let md = std::fs::read_to_string(out.join("embed.md")).unwrap();
+    assert!(md.contains("| composite |") && md.contains("Embedded over render"), "{md}");
+    let counts = gpu.validation_counts();
+    assert_eq!(counts.error_total(), 0, "validation errors {:?}", counts.errors);
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -23,7 +23,7 @@ use glam::{DMat4, Mat4};
 
 pub use crate::render::passes::composite::HostFormats;
 pub use crate::vk::device::HostEnabled;
-pub use crate::vk::external::{aspect_of, ldr_encodes_srgb, transition, HostImage, ImageState};
+pub use crate::vk::external::{aspect_of, clear_targets, ldr_encodes_srgb, transition, HostImage, ImageState};
 pub use crate::vk::gpu::{Gpu, HostDevice};
 pub use crate::vk::memory::MemoryReport;
 

@@ -89,6 +89,35 @@ pub fn transition(device: &ash::Device, cmd: vk::CommandBuffer, moves: &[(HostIm
     unsafe { device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barriers)) };
 }
 
+/// Clears a host's colour to black and its depth to `far` (0 reversed, 1 standard) in one
+/// rendering scope, both in their attachment layouts: a host frame that starts with the ocean,
+/// nothing of the host's own drawn (a bench, a test).
+pub fn clear_targets(device: &ash::Device, cmd: vk::CommandBuffer, colour: &HostImage, depth: &HostImage, far: f32) {
+    let colour_attachment = [vk::RenderingAttachmentInfo::default()
+        .image_view(colour.view)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)];
+    let depth_attachment = vk::RenderingAttachmentInfo::default()
+        .image_view(depth.view)
+        .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: far, stencil: 0 } });
+    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: colour.extent };
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(&colour_attachment)
+        .depth_attachment(&depth_attachment);
+    // SAFETY: the caller's `cmd` is recording outside a rendering scope and the images are in
+    // their attachment layouts (this helper's documented precondition).
+    unsafe {
+        device.cmd_begin_rendering(cmd, &info);
+        device.cmd_end_rendering(cmd);
+    }
+}
+
 /// The aspects a layout transition of an image of `format` names: depth, with stencil where the
 /// format has it (both aspects change layout together without separateDepthStencilLayouts).
 pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {

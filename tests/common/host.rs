@@ -183,30 +183,10 @@ impl Host {
         }
     }
 
-    /// Clears the colour to black and the depth to `far` in a rendering scope (the attachments in
-    /// their attachment layouts), as a host's frame begins.
+    /// Clears the colour to black and the depth to `far` (the attachments in their attachment
+    /// layouts), as a host's frame begins.
     pub fn clear(&self, colour: &HostImage, depth: &HostImage, far: f32) {
-        let colour_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(colour.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: far, stencil: 0 } });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: colour.extent };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colour_attachment)
-            .depth_attachment(&depth_attachment);
-        unsafe {
-            self.device.cmd_begin_rendering(self.cmd, &info);
-            self.device.cmd_end_rendering(self.cmd);
-        }
+        embed::clear_targets(&self.device, self.cmd, colour, depth, far);
     }
 
     pub fn barrier(

@@ -7,6 +7,7 @@
 //! measured in one run, so ratios hold on a noisy machine.
 
 pub mod compare;
+pub mod embed;
 pub mod error_detail;
 pub mod error_vs_time;
 pub mod flicker;

@@ -1,0 +1,224 @@
+//! What drawing through `ocean::embed` costs against `ocean render`'s own frame: the same scene
+//! and size, one frame of each in turn in one run, each after its warm-up. The embedded frame is
+//! a host's: its own HDR colour, depth and LDR images (made on the host's side of the same
+//! device), cleared, then the ocean composited and tone-mapped into them. Its GPU time is the
+//! ocean's passes (the host's clear and transitions are the host's); `render`'s is its passes
+//! up to the readback copy.
+
+use crate::app::median;
+use crate::embed::{
+    clear_targets, transition, FrameInput, HostDevice, HostEnabled, HostFormats, HostImage, ImageState, Ocean,
+    OceanDesc, Targets,
+};
+use crate::error::Result;
+use crate::model::scene::Scene;
+use crate::output::write_text;
+use crate::render::frame::CameraFrame;
+use crate::render::renderer::{Options, Renderer};
+use crate::vk::commands::Commands;
+use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT};
+use crate::vk::gpu::Gpu;
+use crate::vk::image::Image;
+use ash::vk;
+use glam::{DMat4, DVec3, DVec4};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The LDR format the embedded frame is tone-mapped into (the shader encodes sRGB, as `render`'s).
+const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
+#[derive(Debug, Serialize)]
+pub struct EmbedTiming {
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub frames: u32,
+    /// Median GPU ms per pass, and of the frame's sum, of each way.
+    pub render_ms: BTreeMap<String, f64>,
+    pub embedded_ms: BTreeMap<String, f64>,
+    /// Median and quartiles of the frame-by-frame ratio embedded / render.
+    pub ratio: [f64; 3],
+}
+
+/// The host's images for one frame, on the host's side of the device.
+struct HostTargets<'g> {
+    colour: Image<'g>,
+    depth: Image<'g>,
+    ldr: Image<'g>,
+}
+
+fn host_image(image: &Image) -> HostImage {
+    HostImage { raw: image.raw, view: image.view, format: image.format, extent: image.extent }
+}
+
+/// The scene's camera as a host's matrices: its view and a reversed-Z infinite projection (the
+/// ocean reads them back into the same camera).
+fn host_camera(scene: &Scene, width: u32, height: u32) -> (DMat4, DMat4) {
+    let c = &scene.camera;
+    let (pitch, yaw) = (c.pitch_deg.to_radians(), c.yaw_deg.to_radians());
+    let forward = DVec3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), pitch.sin());
+    let eye_height = {
+        let waves = crate::model::waves::generate(scene);
+        CameraFrame::new(scene, &waves, width, height).eye_height
+    };
+    let view = DMat4::look_to_rh(DVec3::new(c.x_m, c.y_m, eye_height), forward, DVec3::Z);
+    let aspect = width as f64 / height as f64;
+    let projection = DMat4::from_diagonal(DVec4::new(1.0, -1.0, 1.0, 1.0))
+        * DMat4::perspective_infinite_reverse_rh(c.fov_y_deg.to_radians(), aspect, 0.01);
+    (view, projection)
+}
+
+/// Times `frames` frames of each way after a warm-up, interleaved; writes embed.md and embed.json.
+pub fn run(
+    gpu: &Gpu,
+    scene: &Scene,
+    name: &str,
+    width: u32,
+    height: u32,
+    frames: u32,
+    out_dir: &Path,
+) -> Result<EmbedTiming> {
+    // The host's side: the ocean borrows the same instance and device, as a host's.
+    let host = HostDevice {
+        entry: &gpu.instance.entry,
+        instance: &gpu.instance.raw,
+        physical_device: gpu.device.physical,
+        device: &gpu.device.raw,
+        queue_family: gpu.device.queue_family,
+        queue: gpu.device.queue,
+        enabled: HostEnabled {
+            synchronization2: true,
+            dynamic_rendering: true,
+            sampler_anisotropy: gpu.device.anisotropy,
+            pipeline_statistics_query: false,
+            calibrated_timestamps: false,
+        },
+        debug_utils: gpu.instance.debug_utils.is_some(),
+    };
+    let borrowed = Gpu::from_host(&host, None)?;
+    let extent = vk::Extent2D { width, height };
+    use vk::ImageUsageFlags as U;
+    let targets = HostTargets {
+        colour: Image::new(gpu, "host colour", HDR_FORMAT, extent, 1, U::COLOR_ATTACHMENT | U::SAMPLED)?,
+        depth: Image::new(gpu, "host depth", DEPTH_FORMAT, extent, 1, U::DEPTH_STENCIL_ATTACHMENT)?,
+        ldr: Image::new(gpu, "host ldr", LDR_FORMAT, extent, 1, U::COLOR_ATTACHMENT)?,
+    };
+    let desc = OceanDesc {
+        scene: scene.clone(),
+        width,
+        height,
+        formats: HostFormats { colour: HDR_FORMAT, depth: DEPTH_FORMAT, reversed_z: true, ldr: Some(LDR_FORMAT) },
+        frames_in_flight: 1,
+        sky: true,
+        radiance_scale: 1.0,
+    };
+    let mut ocean = Ocean::new(&borrowed, desc)?;
+    let mut renderer = Renderer::new(gpu, scene, width, height, Options::default())?;
+    let commands = Commands::new(&gpu.device, "host frame")?;
+    let (view, projection) = host_camera(scene, width, height);
+    let input = FrameInput { time_s: scene.render.time_s, view: view.as_mat4(), projection: projection.as_mat4() };
+    let mut render_frames = Vec::new();
+    let mut embedded_frames = Vec::new();
+    for frame in 0..=frames {
+        let rendered = renderer.render(scene)?.pass_ms;
+        let embedded = embedded_frame(gpu, &commands, &mut ocean, &targets, &input)?;
+        if frame > 0 {
+            render_frames.push(rendered);
+            embedded_frames.push(embedded);
+        }
+    }
+    drop(ocean);
+    drop(borrowed);
+    let per_pass = |frames: &[Vec<(String, f64)>]| {
+        let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+        for f in frames {
+            for (name, ms) in f {
+                passes.entry(name.clone()).or_default().push(*ms);
+            }
+            passes.entry("frame".into()).or_default().push(f.iter().map(|(_, ms)| ms).sum());
+        }
+        passes
+            .into_iter()
+            .map(|(name, mut v)| {
+                v.sort_by(f64::total_cmp);
+                (name, median(&v))
+            })
+            .collect::<BTreeMap<_, _>>()
+    };
+    let total = |f: &Vec<(String, f64)>| f.iter().map(|(_, ms)| ms).sum::<f64>();
+    let mut ratios: Vec<f64> = render_frames.iter().zip(&embedded_frames).map(|(r, e)| total(e) / total(r)).collect();
+    ratios.sort_by(f64::total_cmp);
+    let quartile = |q: f64| ratios[((ratios.len() - 1) as f64 * q).round() as usize];
+    let timing = EmbedTiming {
+        scene: name.to_owned(),
+        width,
+        height,
+        frames,
+        render_ms: per_pass(&render_frames),
+        embedded_ms: per_pass(&embedded_frames),
+        ratio: [quartile(0.25), median(&ratios), quartile(0.75)],
+    };
+    std::fs::create_dir_all(out_dir).map_err(|e| crate::error::Error::io(out_dir, e))?;
+    write_text(&out_dir.join("embed.json"), &serde_json::to_string_pretty(&timing).expect("serializes"))?;
+    write_text(&out_dir.join("embed.md"), &markdown(&timing, &gpu.device.name))?;
+    Ok(timing)
+}
+
+/// One host frame: the host's images to attachments and cleared, the ocean updated and
+/// recorded, submitted and waited for; the ocean's pass times of that frame.
+fn embedded_frame(
+    gpu: &Gpu,
+    commands: &Commands,
+    ocean: &mut Ocean,
+    targets: &HostTargets,
+    input: &FrameInput,
+) -> Result<Vec<(String, f64)>> {
+    ocean.update(0, input)?;
+    commands.begin()?;
+    let cmd = commands.cmd;
+    let (colour, depth, ldr) = (host_image(&targets.colour), host_image(&targets.depth), host_image(&targets.ldr));
+    let undefined = |stage| ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
+    transition(
+        &gpu.device.raw,
+        cmd,
+        &[
+            (colour, undefined(vk::PipelineStageFlags2::FRAGMENT_SHADER), ImageState::COLOR_ATTACHMENT),
+            (depth, undefined(ImageState::DEPTH_ATTACHMENT.stage), ImageState::DEPTH_ATTACHMENT),
+        ],
+    );
+    clear_targets(&gpu.device.raw, cmd, &colour, &depth, 0.0);
+    let ldr_entry = undefined(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
+    let t = Targets {
+        colour,
+        colour_entry: ImageState::COLOR_ATTACHMENT,
+        depth,
+        depth_entry: ImageState::DEPTH_ATTACHMENT,
+        ldr: Some((ldr, ldr_entry)),
+    };
+    ocean.record(cmd, 0, &t)?;
+    commands.submit_and_wait()?;
+    // The frame is done: the next update of its slot reads its times.
+    ocean.update(0, input)?;
+    Ok(ocean.pass_ms().iter().map(|&(n, ms)| (n.to_owned(), ms)).collect())
+}
+
+fn markdown(t: &EmbedTiming, device: &str) -> String {
+    let mut md = format!(
+        "`ocean bench embed`: {} at {}x{} on {device}, {} frames of each after a warm-up, interleaved. \
+         GPU ms per pass (median); `render` is `ocean render`'s own frame, `embedded` a host's through \
+         `ocean::embed` (composited into the host's colour and depth, tone-mapped into its LDR image).\n\n\
+         | pass | render | embedded |\n|---|---|---|\n",
+        t.scene, t.width, t.height, t.frames
+    );
+    let names: std::collections::BTreeSet<&String> = t.render_ms.keys().chain(t.embedded_ms.keys()).collect();
+    for name in names.into_iter().filter(|n| *n != "frame") {
+        let cell = |m: &BTreeMap<String, f64>| m.get(name).map_or("—".to_owned(), |v| format!("{v:.2}"));
+        md += &format!("| {name} | {} | {} |\n", cell(&t.render_ms), cell(&t.embedded_ms));
+    }
+    md += &format!(
+        "| **frame** | **{:.1}** | **{:.1}** |\n\nEmbedded over render, frame by frame: median {:.3}, quartiles {:.3}–{:.3}.\n",
+        t.render_ms["frame"], t.embedded_ms["frame"], t.ratio[1], t.ratio[0], t.ratio[2]
+    );
+    md
+}
