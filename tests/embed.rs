@@ -459,3 +459,38 @@ fn the_embed_bench_times_both_frames_validation_clean() {
     assert_eq!(counts.error_total(), 0, "validation errors {:?}", counts.errors);
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A host changes the scene between frames: a new sun takes effect at the next update, a new sky
+/// model rebuilds the pipelines, both validation-clean.
+#[test]
+fn scene_changes_between_host_frames() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let scene = Scene::default();
+    let mut ocean = Ocean::new(&gpu, desc(scene.clone(), true)).unwrap();
+    let p = projection(true, true);
+    let sea_mean = |shot: &Readback| {
+        let rows = (H * 3 / 4)..H;
+        let pixels: Vec<f64> = rows
+            .flat_map(|y| (0..W).map(move |x| (y * W + x) as usize))
+            .map(|i| common::luminance(shot.colour[i]))
+            .collect();
+        pixels.iter().sum::<f64>() / pixels.len() as f64
+    };
+    let low_sun = sea_mean(&frame(&host, &mut ocean, p, true, &[]));
+    let mut noon = scene.clone();
+    noon.sun.elevation_deg = 60.0;
+    ocean.set_scene(noon.clone()).unwrap();
+    let high_sun = sea_mean(&frame(&host, &mut ocean, p, true, &[]));
+    assert!(high_sun > 2.0 * low_sun, "the sea under a 60-degree sun {high_sun} against 3 degrees {low_sun}");
+    let mut preetham = noon;
+    preetham.sky.model = ocean::model::scene::SkyKind::Preetham;
+    ocean.set_scene(preetham).unwrap();
+    let shot = frame(&host, &mut ocean, p, true, &[]);
+    assert!(shot.colour.iter().flatten().all(|v| v.is_finite()) && sea_mean(&shot) > 0.0);
+    let mut bad = scene;
+    bad.sun.elevation_deg = f64::NAN;
+    assert!(ocean.set_scene(bad).unwrap_err().to_string().contains("sun.elevation_deg"));
+    let (errors, messages) = host.validation_errors();
+    assert_eq!(errors, 0, "validation errors {messages:?}");
+}
