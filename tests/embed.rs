@@ -386,7 +386,7 @@ fn misuse_gets_an_error_not_a_crash() {
     assert!(message(ocean.update(0, &nan)).contains("NaN"));
     let under_water =
         FrameInput { view: DMat4::look_to_rh(DVec3::new(0.0, 0.0, -1.0), DVec3::X, DVec3::Z).as_mat4(), ..input };
-    assert!(message(ocean.update(0, &under_water)).contains("under the water"));
+    assert!(message(ocean.update(0, &under_water)).contains("not above the water"));
     let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
     let depth = host.image(DEPTH_FORMAT, W / 2, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
     let targets = Targets {
@@ -400,6 +400,11 @@ fn misuse_gets_an_error_not_a_crash() {
     let full_depth = host.image(DEPTH_FORMAT, W, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
     let targets = Targets { depth: full_depth.image, ..targets };
     assert!(message(ocean.record(host.cmd, 1, &targets)).contains("frame slot 1 was not updated"));
+    // A size the device cannot hold: an error, and the ocean says so until a resize succeeds.
+    assert!(ocean.resize(100_000, 10).is_err());
+    assert!(message(ocean.update(0, &input)).contains("no pipelines"));
+    ocean.resize(W, H).unwrap();
+    ocean.update(0, &input).unwrap();
     // Resized to nothing: paused, every call a no-op until it has pixels again.
     ocean.resize(0, 0).unwrap();
     assert!(ocean.paused());

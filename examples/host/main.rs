@@ -260,6 +260,15 @@ fn draw(
     let s = &targets.slots[slot];
     // SAFETY: the fence was submitted with the slot's last frame (or made signalled).
     unsafe { host.device.wait_for_fences(&[s.fence], true, u64::MAX) }?;
+    let aspect = targets.extent.width as f32 / targets.extent.height as f32;
+    // Vulkan's clip y points down; reversed Z with an infinite far plane.
+    let projection =
+        Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)) * Mat4::perspective_infinite_reverse_rh(1.0, aspect, 0.05);
+    let view = camera.view();
+    // The host's part of the frame, before acquiring (an error here leaves no image pending):
+    // the ocean's uniforms for this slot, whose last frame the fence above has seen finish.
+    ocean.update(slot, &FrameInput { time_s, view, projection })?;
+
     // SAFETY: a live swapchain; the slot's semaphore is unsignalled (its last wait completed).
     let index =
         match unsafe { host.swapchain.acquire_next_image(targets.raw, u64::MAX, s.image_available, vk::Fence::null()) }
@@ -270,14 +279,6 @@ fn draw(
         };
     // SAFETY: the slot's fence was waited: its command buffer is no longer in use.
     unsafe { host.device.reset_fences(&[s.fence]) }?;
-    let aspect = targets.extent.width as f32 / targets.extent.height as f32;
-    // Vulkan's clip y points down; reversed Z with an infinite far plane.
-    let projection =
-        Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)) * Mat4::perspective_infinite_reverse_rh(1.0, aspect, 0.05);
-    let view = camera.view();
-    // The host's part of the frame, before recording: the ocean's uniforms for this slot.
-    ocean.update(slot, &FrameInput { time_s, view, projection })?;
-
     let cmd = s.cmd;
     // SAFETY: the command buffer is idle (fence waited) and its pool resets buffers one by one.
     unsafe {

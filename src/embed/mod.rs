@@ -122,6 +122,9 @@ pub struct Ocean<'g> {
     prepared: Vec<Option<Prepared>>,
     /// The camera of the last update, as the ocean draws it.
     last_view: Option<HostView>,
+    /// Why the last rebuild (a resize or a scene change) failed: until one succeeds, the ocean
+    /// has no pipelines and every update and record says so.
+    broken: Option<String>,
 }
 
 impl<'g> Ocean<'g> {
@@ -130,13 +133,17 @@ impl<'g> Ocean<'g> {
     /// device lacks.
     pub fn new(gpu: &'g Gpu, desc: OceanDesc) -> Result<Ocean<'g>> {
         check_desc(gpu, &desc)?;
-        let mut ocean = Ocean { gpu, renderer: None, prepared: Vec::new(), last_view: None, desc };
+        let mut ocean = Ocean { gpu, renderer: None, prepared: Vec::new(), last_view: None, broken: None, desc };
         ocean.build()?;
         Ok(ocean)
     }
 
+    /// Makes the renderer for the current size and scene (the old one goes first: its memory is
+    /// freed before the new one's is taken). On failure the ocean is broken until a rebuild
+    /// succeeds.
     fn build(&mut self) -> Result<()> {
         self.renderer = None;
+        self.broken = None;
         self.prepared = (0..self.desc.frames_in_flight).map(|_| None).collect();
         if self.desc.width == 0 || self.desc.height == 0 {
             return Ok(());
@@ -147,14 +154,32 @@ impl<'g> Ocean<'g> {
             ..Options::default()
         };
         options.shader.background = self.desc.sky;
-        self.renderer = Some(Renderer::new(self.gpu, &self.desc.scene, self.desc.width, self.desc.height, options)?);
-        Ok(())
+        match Renderer::new(self.gpu, &self.desc.scene, self.desc.width, self.desc.height, options) {
+            Ok(renderer) => {
+                self.renderer = Some(renderer);
+                Ok(())
+            }
+            Err(e) => {
+                self.broken = Some(e.to_string());
+                Err(e)
+            }
+        }
+    }
+
+    /// Err while the last rebuild failed.
+    fn check_built(&self) -> Result<()> {
+        match &self.broken {
+            Some(why) => Err(Error::Argument(format!(
+                "the ocean has no pipelines: its last resize or scene change failed ({why}); resize or set a scene again"
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// The targets' new size; zero in either pauses the ocean (update and record do nothing)
     /// until a later resize. The host has waited for every frame in flight.
     pub fn resize(&mut self, width: u32, height: u32) -> Result<()> {
-        if (width, height) == (self.desc.width, self.desc.height) {
+        if (width, height) == (self.desc.width, self.desc.height) && self.broken.is_none() {
             return Ok(());
         }
         let previous = (self.desc.width, self.desc.height);
@@ -168,7 +193,7 @@ impl<'g> Ocean<'g> {
     /// frame in flight.
     pub fn set_scene(&mut self, scene: Scene) -> Result<()> {
         scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
-        let rebuild = self.renderer.as_ref().is_some_and(|r| !r.fits(&scene));
+        let rebuild = self.broken.is_some() || self.renderer.as_ref().is_some_and(|r| !r.fits(&scene));
         self.desc.scene = scene;
         if rebuild {
             self.build()?;
@@ -178,13 +203,16 @@ impl<'g> Ocean<'g> {
 
     /// Whether the ocean is paused (its targets have no pixels).
     pub fn paused(&self) -> bool {
-        self.renderer.is_none()
+        self.desc.width == 0 || self.desc.height == 0
     }
 
     /// The host's part of frame `slot`: reads the camera, writes the slot's uniforms and grid.
     /// The host has waited for the frame that last used `slot` (its GPU times are then kept).
     pub fn update(&mut self, slot: usize, input: &FrameInput) -> Result<()> {
         check_slot(slot, self.desc.frames_in_flight)?;
+        self.check_built()?;
+        // A failed update leaves no frame for `record` to take.
+        self.prepared[slot] = None;
         let Some(renderer) = self.renderer.as_mut() else { return Ok(()) };
         if !input.time_s.is_finite() {
             return Err(Error::Argument(format!("time_s = {} is not finite", input.time_s)));
@@ -210,7 +238,11 @@ impl<'g> Ocean<'g> {
         scene.camera.height_m = view.eye.z - water;
         scene.validate().map_err(|message| {
             let under = if view.eye.z <= water {
-                format!("the eye at z = {:.3} m is under the water's surface ({water:.3} m there)", view.eye.z)
+                format!(
+                    "the eye at z = {:.3} m is not above the water (the ocean draws from above mean sea level and \
+                     the water under the eye, here {water:.3} m)",
+                    view.eye.z
+                )
             } else {
                 message
             };
@@ -235,6 +267,7 @@ impl<'g> Ocean<'g> {
     ///   LDR image in COLOR_ATTACHMENT_OPTIMAL, last written at COLOR_ATTACHMENT_OUTPUT.
     pub fn record(&mut self, cmd: vk::CommandBuffer, slot: usize, targets: &Targets) -> Result<()> {
         check_slot(slot, self.desc.frames_in_flight)?;
+        self.check_built()?;
         let Some(renderer) = self.renderer.as_mut() else { return Ok(()) };
         let extent = vk::Extent2D { width: self.desc.width, height: self.desc.height };
         for (name, image, format) in
@@ -351,8 +384,14 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
     }
     let device = &gpu.device;
     let ldr = formats.ldr.map(|f| (f, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "an LDR colour attachment"));
+    // With an LDR target the ocean samples the host's colour to tone-map it.
+    let colour_needs = if formats.ldr.is_some() {
+        vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE
+    } else {
+        vk::FormatFeatureFlags::COLOR_ATTACHMENT
+    };
     for (format, needed, what) in [
-        (formats.colour, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "a colour attachment"),
+        (formats.colour, colour_needs, "a colour attachment (sampled, with an LDR target)"),
         (formats.depth, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "a depth attachment"),
     ]
     .into_iter()

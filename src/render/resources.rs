@@ -194,8 +194,8 @@ impl<'g> Resources<'g> {
         }
         let render_extent = vk::Extent2D { width: render_w as u32, height: render_h as u32 };
         let pixels = width as u64 * height as u64;
-        // The tone-mapped pixels are one storage buffer.
-        if 4 * pixels > limits.max_storage_buffer_range as u64 {
+        // The tone-mapped pixels read back are one storage buffer.
+        if readback && 4 * pixels > limits.max_storage_buffer_range as u64 {
             return Err(Error::Argument(format!(
                 "image size {width}x{height} needs a {} MiB storage buffer; {} allows {} MiB",
                 (4 * pixels) >> 20,

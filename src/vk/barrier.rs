@@ -78,6 +78,8 @@ pub enum Access {
     ClearWrite,
     FragmentSampled,
     ColorAttachmentWrite,
+    /// A colour attachment loaded (LOAD_OP_LOAD, or blended) and written.
+    ColorAttachmentReadWrite,
     DepthAttachmentReadWrite,
     HostRead,
     /// Handed to the presentation engine (a swapchain image after the frame's last write); the
@@ -99,7 +101,7 @@ impl Access {
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
             Access::ClearWrite => S::CLEAR,
             Access::FragmentSampled => S::FRAGMENT_SHADER,
-            Access::ColorAttachmentWrite => S::COLOR_ATTACHMENT_OUTPUT,
+            Access::ColorAttachmentWrite | Access::ColorAttachmentReadWrite => S::COLOR_ATTACHMENT_OUTPUT,
             Access::DepthAttachmentReadWrite => S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
             Access::HostRead => S::HOST,
             Access::Present => S::NONE,
@@ -119,6 +121,7 @@ impl Access {
             Access::TransferWrite | Access::ClearWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
             Access::ColorAttachmentWrite => A::COLOR_ATTACHMENT_WRITE,
+            Access::ColorAttachmentReadWrite => A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
             Access::DepthAttachmentReadWrite => A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
             Access::HostRead => A::HOST_READ,
             Access::Present => A::NONE,
@@ -134,7 +137,7 @@ impl Access {
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
             Access::TransferWrite | Access::ClearWrite => L::TRANSFER_DST_OPTIMAL,
             Access::FragmentSampled => L::SHADER_READ_ONLY_OPTIMAL,
-            Access::ColorAttachmentWrite => L::COLOR_ATTACHMENT_OPTIMAL,
+            Access::ColorAttachmentWrite | Access::ColorAttachmentReadWrite => L::COLOR_ATTACHMENT_OPTIMAL,
             // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
             Access::DepthAttachmentReadWrite => L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
             Access::HostRead | Access::ComputeUniformRead | Access::FragmentUniformRead => L::GENERAL,
@@ -150,6 +153,7 @@ impl Access {
                 | Access::TransferWrite
                 | Access::ClearWrite
                 | Access::ColorAttachmentWrite
+                | Access::ColorAttachmentReadWrite
                 | Access::DepthAttachmentReadWrite
         )
     }

@@ -92,7 +92,8 @@ impl Pass for CompositePass<'_> {
         t.image(r.output(), 0, 1, Access::FragmentSampled, false);
         t.image(&r.depth, 0, 1, Access::FragmentSampled, false);
         if let Some(host) = &f.host {
-            t.image(&host.colour, 0, 1, Access::ColorAttachmentWrite, false);
+            // Loaded: the pixels the sea and sky do not cover keep the host's colour.
+            t.image(&host.colour, 0, 1, Access::ColorAttachmentReadWrite, false);
             t.image(&host.depth, 0, 1, Access::DepthAttachmentReadWrite, false);
         }
     }
