@@ -321,8 +321,7 @@ fn ocean_in_a_host_frame_keeps_the_host_in_front_and_hides_what_is_under_the_sea
         }
         assert!(sea > 5000 && sky > 2000, "{what}: {sea} sea and {sky} sky pixels checked");
         eprintln!("{what}: {sea} sea pixels within {worst:.1e} m of the f64 sphere; {sky} sky pixels");
-        let (errors, messages) = host.validation_errors();
-        assert_eq!(errors, 0, "{what}: validation errors {messages:?}");
+        host.assert_clean(&what);
     }
 }
 
@@ -353,8 +352,7 @@ fn a_wavy_sea_in_a_host_frame_stays_within_its_crests_and_validation_clean() {
         }
     }
     assert!(checked > 5000, "{checked} sea pixels checked");
-    let (errors, messages) = host.validation_errors();
-    assert_eq!(errors, 0, "validation errors {messages:?}");
+    host.assert_clean("the host's frames");
 }
 
 #[test]
@@ -415,8 +413,7 @@ fn misuse_gets_an_error_not_a_crash() {
     for image in [colour, depth, full_depth] {
         host.destroy_image(image);
     }
-    let (errors, messages) = host.validation_errors();
-    assert_eq!(errors, 0, "validation errors {messages:?}");
+    host.assert_clean("the host's frames");
 }
 
 #[test]
@@ -442,8 +439,7 @@ fn the_ocean_tone_maps_the_host_frame_in_the_host_unit() {
     // The host's object is in the tone-mapped picture, warm as the host drew it.
     let at = |x: u32, y: u32| &ldr[4 * (y * W + x) as usize..][..3];
     assert!(at(30, 100)[0] > at(30, 100)[2] + 50, "the box's pixel {:?}", at(30, 100));
-    let (errors, messages) = host.validation_errors();
-    assert_eq!(errors, 0, "validation errors {messages:?}");
+    host.assert_clean("the host's frames");
 }
 
 /// `ocean bench embed`'s two frames (render's own and a host's through the API) on one device,
@@ -496,6 +492,5 @@ fn scene_changes_between_host_frames() {
     let mut bad = scene;
     bad.sun.elevation_deg = f64::NAN;
     assert!(ocean.set_scene(bad).unwrap_err().to_string().contains("sun.elevation_deg"));
-    let (errors, messages) = host.validation_errors();
-    assert_eq!(errors, 0, "validation errors {messages:?}");
+    host.assert_clean("the host's frames");
 }

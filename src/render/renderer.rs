@@ -516,14 +516,8 @@ impl<'g> Renderer<'g> {
     /// Takes a host's frame slot: the host has waited for the frame that last used it (a
     /// precondition: embed::Ocean documents it). Keeps that frame's GPU times where its queries
     /// have results, without waiting.
+    /// `slot` is in range (embed::Ocean checks it).
     pub fn begin_host_frame(&mut self, slot: usize) -> Result<()> {
-        if slot >= self.slots.len() {
-            return Err(Error::Argument(format!(
-                "frame slot {slot} is out of range: this ocean has {} frames in flight (0 to {})",
-                self.slots.len(),
-                self.slots.len() - 1
-            )));
-        }
         let s = &mut self.slots[slot];
         if !std::mem::take(&mut s.host_recorded) {
             return Ok(());

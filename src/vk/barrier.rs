@@ -287,8 +287,7 @@ impl Tracker {
     /// frame's submission waits on at `wait_stage` makes it available there, so the first access
     /// needs a barrier from that stage (the dependency chain the acquire semaphore starts).
     pub fn acquired(&mut self, image: &impl TrackedImage, wait_stage: vk::PipelineStageFlags2) {
-        let state = State { write_stage: wait_stage, ..State::NEW };
-        self.images.insert(image.raw(), vec![state; image.mip_levels() as usize]);
+        self.external(image, vk::ImageLayout::UNDEFINED, wait_stage, vk::AccessFlags2::NONE);
     }
 
     /// A host's image handed over for one frame: in `layout`, last accessed by the host's

@@ -83,9 +83,10 @@ impl Host {
         }
     }
 
-    pub fn validation_errors(&self) -> (u32, Vec<String>) {
+    /// Fails on any validation error so far, naming `what` and the message ids.
+    pub fn assert_clean(&self, what: &str) {
         let counts = self.instance.log.snapshot();
-        (counts.error_total(), counts.errors.keys().cloned().collect())
+        assert_eq!(counts.error_total(), 0, "{what}: validation errors {:?}", counts.errors);
     }
 
     fn memory_type(&self, bits: u32, flags: vk::MemoryPropertyFlags) -> u32 {

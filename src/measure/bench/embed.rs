@@ -120,12 +120,16 @@ pub fn run(
     let input = FrameInput { time_s: scene.render.time_s, view: view.as_mat4(), projection: projection.as_mat4() };
     let mut render_frames = Vec::new();
     let mut embedded_frames = Vec::new();
-    for frame in 0..=frames {
-        let rendered = renderer.render(scene)?.pass_ms;
-        let embedded = embedded_frame(gpu, &commands, &mut ocean, &targets, &input)?;
-        if frame > 0 {
-            render_frames.push(rendered);
-            embedded_frames.push(embedded);
+    // An embedded frame's times are read at its slot's next update: the times a frame returns
+    // are the frame before's, so the loop runs one frame further and drops the warm-up's.
+    for frame in 0..=frames + 1 {
+        let rendered = (frame <= frames).then(|| renderer.render(scene)).transpose()?;
+        let previous = embedded_frame(gpu, &commands, &mut ocean, &targets, &input, frame > frames)?;
+        if let Some(rendered) = rendered.filter(|_| frame > 0) {
+            render_frames.push(rendered.pass_ms);
+        }
+        if frame > 1 {
+            embedded_frames.push(previous);
         }
     }
     drop(ocean);
@@ -165,16 +169,22 @@ pub fn run(
     Ok(timing)
 }
 
-/// One host frame: the host's images to attachments and cleared, the ocean updated and
-/// recorded, submitted and waited for; the ocean's pass times of that frame.
+/// One host frame: the ocean updated (which reads the frame before's pass times, returned),
+/// then unless `times_only`, the host's images to attachments and cleared, the ocean recorded,
+/// submitted and waited for.
 fn embedded_frame(
     gpu: &Gpu,
     commands: &Commands,
     ocean: &mut Ocean,
     targets: &HostTargets,
     input: &FrameInput,
+    times_only: bool,
 ) -> Result<Vec<(String, f64)>> {
     ocean.update(0, input)?;
+    let previous = ocean.pass_ms().iter().map(|&(n, ms)| (n.to_owned(), ms)).collect();
+    if times_only {
+        return Ok(previous);
+    }
     commands.begin()?;
     let cmd = commands.cmd;
     let (colour, depth, ldr) = (host_image(&targets.colour), host_image(&targets.depth), host_image(&targets.ldr));
@@ -198,9 +208,7 @@ fn embedded_frame(
     };
     ocean.record(cmd, 0, &t)?;
     commands.submit_and_wait()?;
-    // The frame is done: the next update of its slot reads its times.
-    ocean.update(0, input)?;
-    Ok(ocean.pass_ms().iter().map(|&(n, ms)| (n.to_owned(), ms)).collect())
+    Ok(previous)
 }
 
 fn markdown(t: &EmbedTiming, device: &str) -> String {

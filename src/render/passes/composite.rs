@@ -6,7 +6,7 @@
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::passes::ocean::ShaderConfig;
-use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
+use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
@@ -51,12 +51,11 @@ impl<'g> CompositePass<'g> {
             Self::NAME,
             &[
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, fragment),
-                (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, fragment),
                 (RADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, fragment),
                 (SEA_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, fragment),
             ],
         )?;
-        write_frame_uniforms(&bindings, r, true);
+        write_frame_uniforms(&bindings, r, false);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         // texelFetch ignores the samplers' filtering; any valid sampler does.
         bindings.write_image(RADIANCE_BINDING, D::COMBINED_IMAGE_SAMPLER, r.output().view, read, r.sky_sampler.raw);
