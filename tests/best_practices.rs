@@ -28,13 +28,14 @@ fn a_host_frame_passes_the_best_practices_checks() {
         height: h,
         formats: HostFormats {
             colour: COLOUR_FORMAT,
-            depth: DEPTH_FORMAT,
+            depth: Some(DEPTH_FORMAT),
             reversed_z: true,
             ldr: Some(vk::Format::R8G8B8A8_UNORM),
         },
         frames_in_flight: 2,
         sky: true,
         radiance_scale: 1.0,
+        shading: Default::default(),
     };
     let mut ocean = Ocean::new(&gpu, desc).unwrap();
     use vk::ImageUsageFlags as U;
@@ -46,7 +47,12 @@ fn a_host_frame_passes_the_best_practices_checks() {
     let view = Mat4::look_to_rh(Vec3::new(0.0, 0.0, 6.0), Vec3::new(1.0, 0.0, -0.05).normalize(), Vec3::Z);
     for frame in 0..3 {
         let slot = frame % 2;
-        ocean.update(slot, &FrameInput { time_s: frame as f64 / 30.0, view, projection }).unwrap();
+        ocean
+            .update(
+                slot,
+                &FrameInput { time_s: frame as f64 / 30.0, view: view.as_dmat4(), projection: projection.as_dmat4() },
+            )
+            .unwrap();
         host.begin();
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
@@ -64,8 +70,7 @@ fn a_host_frame_passes_the_best_practices_checks() {
         let targets = Targets {
             colour: colour.image,
             colour_entry: ImageState::COLOR_ATTACHMENT,
-            depth: depth.image,
-            depth_entry: ImageState::DEPTH_ATTACHMENT,
+            depth: Some((depth.image, ImageState::DEPTH_ATTACHMENT)),
             ldr: Some((ldr.image, ImageState::new(L::UNDEFINED, S::COLOR_ATTACHMENT_OUTPUT, A::NONE))),
         };
         ocean.record(host.cmd, slot, &targets).unwrap();

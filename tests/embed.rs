@@ -100,7 +100,7 @@ fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occl
     let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
     let far = if reversed { 0.0 } else { 1.0 };
 
-    ocean.update(0, &FrameInput { time_s: 0.0, view: view().as_mat4(), projection: projection.as_mat4() }).unwrap();
+    ocean.update(0, &FrameInput { time_s: 0.0, view: view(), projection }).unwrap();
     host.begin();
     host.barrier(
         &c,
@@ -167,8 +167,7 @@ fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occl
     let targets = Targets {
         colour: c,
         colour_entry: ImageState::COLOR_ATTACHMENT,
-        depth: d,
-        depth_entry: ImageState::DEPTH_ATTACHMENT,
+        depth: Some((d, ImageState::DEPTH_ATTACHMENT)),
         ldr: ldr.as_ref().map(|l| (l.image, ImageState { layout: L::UNDEFINED, stage: S::NONE, access: A::NONE })),
     };
     ocean.record(host.cmd, 0, &targets).unwrap();
@@ -228,10 +227,11 @@ fn desc(scene: Scene, reversed: bool) -> OceanDesc {
         scene,
         width: W,
         height: H,
-        formats: HostFormats { colour: COLOUR_FORMAT, depth: DEPTH_FORMAT, reversed_z: reversed, ldr: None },
+        formats: HostFormats { colour: COLOUR_FORMAT, depth: Some(DEPTH_FORMAT), reversed_z: reversed, ldr: None },
         frames_in_flight: 2,
         sky: true,
         radiance_scale: 1.0,
+        shading: Default::default(),
     }
 }
 
@@ -365,7 +365,7 @@ fn misuse_gets_an_error_not_a_crash() {
     d.formats.colour = vk::Format::R8G8B8A8_UNORM;
     assert!(error(d).contains("colour format R8G8B8A8_UNORM"));
     let mut d = desc(scene.clone(), true);
-    d.formats.depth = vk::Format::R32_SFLOAT;
+    d.formats.depth = Some(vk::Format::R32_SFLOAT);
     assert!(error(d).contains("depth format R32_SFLOAT"));
     let mut d = desc(scene.clone(), true);
     d.frames_in_flight = 0;
@@ -375,28 +375,26 @@ fn misuse_gets_an_error_not_a_crash() {
     assert!(error(d).contains("radiance_scale"));
 
     let mut ocean = Ocean::new(&gpu, desc(scene, true)).unwrap();
-    let input = FrameInput { time_s: 0.0, view: view().as_mat4(), projection: projection(true, true).as_mat4() };
+    let input = FrameInput { time_s: 0.0, view: view(), projection: projection(true, true) };
     let message = |r: ocean::Result<()>| r.unwrap_err().to_string();
     assert!(message(ocean.update(2, &input)).contains("frame slot 2 is out of range"));
-    let standard = FrameInput { projection: projection(false, true).as_mat4(), ..input };
+    let standard = FrameInput { projection: projection(false, true), ..input };
     assert!(message(ocean.update(0, &standard)).contains("made for reversed depth"));
-    let nan = FrameInput { view: glam::Mat4::from_cols_array(&[f32::NAN; 16]), ..input };
+    let nan = FrameInput { view: DMat4::from_cols_array(&[f64::NAN; 16]), ..input };
     assert!(message(ocean.update(0, &nan)).contains("NaN"));
-    let under_water =
-        FrameInput { view: DMat4::look_to_rh(DVec3::new(0.0, 0.0, -1.0), DVec3::X, DVec3::Z).as_mat4(), ..input };
+    let under_water = FrameInput { view: DMat4::look_to_rh(DVec3::new(0.0, 0.0, -1.0), DVec3::X, DVec3::Z), ..input };
     assert!(message(ocean.update(0, &under_water)).contains("not above the water"));
     let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
     let depth = host.image(DEPTH_FORMAT, W / 2, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
     let targets = Targets {
         colour: colour.image,
         colour_entry: ImageState::COLOR_ATTACHMENT,
-        depth: depth.image,
-        depth_entry: ImageState::DEPTH_ATTACHMENT,
+        depth: Some((depth.image, ImageState::DEPTH_ATTACHMENT)),
         ldr: None,
     };
     assert!(message(ocean.record(host.cmd, 1, &targets)).contains("depth target is 80x120"));
     let full_depth = host.image(DEPTH_FORMAT, W, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
-    let targets = Targets { depth: full_depth.image, ..targets };
+    let targets = Targets { depth: Some((full_depth.image, ImageState::DEPTH_ATTACHMENT)), ..targets };
     assert!(message(ocean.record(host.cmd, 1, &targets)).contains("frame slot 1 was not updated"));
     // A size the device cannot hold: an error, and the ocean says so until a resize succeeds.
     assert!(ocean.resize(100_000, 10).is_err());

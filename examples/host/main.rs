@@ -122,10 +122,16 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         scene: scene.clone(),
         width: targets.extent.width,
         height: targets.extent.height,
-        formats: HostFormats { colour: HDR_FORMAT, depth: DEPTH_FORMAT, reversed_z: true, ldr: Some(targets.format) },
+        formats: HostFormats {
+            colour: HDR_FORMAT,
+            depth: Some(DEPTH_FORMAT),
+            reversed_z: true,
+            ldr: Some(targets.format),
+        },
         frames_in_flight: FRAMES_IN_FLIGHT as u32,
         sky: true,
         radiance_scale: 1.0,
+        shading: Default::default(),
     };
     let mut ocean = Ocean::new(&gpu, desc)?;
     let buoy = BuoyPipeline::new(&host)?;
@@ -267,7 +273,7 @@ fn draw(
     let view = camera.view();
     // The host's part of the frame, before acquiring (an error here leaves no image pending):
     // the ocean's uniforms for this slot, whose last frame the fence above has seen finish.
-    ocean.update(slot, &FrameInput { time_s, view, projection })?;
+    ocean.update(slot, &FrameInput { time_s, view: view.as_dmat4(), projection: projection.as_dmat4() })?;
 
     // SAFETY: a live swapchain; the slot's semaphore is unsignalled (its last wait completed).
     let index =
@@ -309,8 +315,7 @@ fn draw(
         &Targets {
             colour: hdr,
             colour_entry: ImageState::COLOR_ATTACHMENT,
-            depth,
-            depth_entry: ImageState::DEPTH_ATTACHMENT,
+            depth: Some((depth, ImageState::DEPTH_ATTACHMENT)),
             ldr: Some((swap_image, ImageState::ACQUIRED)),
         },
     )?;

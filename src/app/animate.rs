@@ -3,11 +3,12 @@
 //! written as DIR/frame_00000.png (and .exr). Every file is written atomically, so a frame that
 //! exists is whole: an interrupted run resumes where it stopped.
 
+use crate::app::host::OffscreenHost;
 use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::output::progress::Progress;
 use crate::output::{self, write_text};
-use crate::render::renderer::{Options, Renderer};
+use crate::render::renderer::Options;
 use crate::vk::gpu::Gpu;
 use std::path::{Path, PathBuf};
 
@@ -76,13 +77,9 @@ pub fn animate(gpu: &Gpu, request: &AnimateRequest) -> Result<AnimateReport> {
     let before = gpu.validation_counts().error_total();
     let mut scene = request.scene.clone();
     let start = scene.render.time_s;
-    let wave_set = crate::model::waves::generate(&scene);
-    let options = if request.specialize {
-        crate::render::specialize::plan(&scene, &wave_set, request.width, request.height, request.options).0
-    } else {
-        request.options
-    };
-    let mut renderer = Renderer::new(gpu, &scene, request.width, request.height, options)?;
+    // Specialized for the first frame's scene: the camera does not move, only the waves.
+    let shading = super::shading(&request.options, request.specialize);
+    let mut host = OffscreenHost::new(gpu, &scene, request.width, request.height, shading)?;
     // Frames already written are whole (written atomically): only the others are rendered, and
     // the progress and its time left count only those.
     let wanted = |i: u64| {
@@ -97,7 +94,7 @@ pub fn animate(gpu: &Gpu, request: &AnimateRequest) -> Result<AnimateReport> {
     for (done, &i) in todo.iter().enumerate() {
         // Time from the index, not by accumulating steps: frame i is exact however long the run.
         scene.render.time_s = start + i as f64 / request.fps;
-        let frame = renderer.render(&scene)?;
+        let frame = host.render(&scene)?;
         nonfinite += output::stats(&frame.hdr).nonfinite_pixels;
         if done > 0 {
             gpu_ms.push(frame.pass_ms.iter().map(|(_, ms)| ms).sum::<f64>());
@@ -108,7 +105,7 @@ pub fn animate(gpu: &Gpu, request: &AnimateRequest) -> Result<AnimateReport> {
         }
         progress.set(done as u64 + 1, None);
     }
-    drop(renderer);
+    drop(host);
     gpu_ms.sort_by(f64::total_cmp);
     let report = AnimateReport {
         device: gpu.device.name.clone(),

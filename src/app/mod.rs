@@ -3,16 +3,18 @@
 //! `profile`).
 
 pub mod animate;
+pub mod host;
 pub mod profile;
 pub mod report;
 
+use crate::app::host::OffscreenHost;
 use crate::app::report::{GridReport, Report, ShadowMapReport, WaveReport};
+use crate::embed::Shading;
 use crate::error::Result;
 use crate::model::scene::Scene;
 use crate::output;
-use crate::render::passes::shade::train_reads_on;
 use crate::render::passes::shadow::ShadowPass;
-use crate::render::renderer::{Options, RenderedFrame, Renderer};
+use crate::render::renderer::{Options, RenderedFrame};
 use crate::vk::gpu::Gpu;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -62,44 +64,51 @@ pub fn render(request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
     Ok((report, frame))
 }
 
-/// Renders on an existing context (tests share one).
+/// How the ocean shades for `options` (the commands' flags), specialized for the scene's camera
+/// where asked.
+pub fn shading(options: &Options, specialize: bool) -> Shading {
+    Shading {
+        shader: options.shader,
+        ssaa: options.ssaa,
+        specialize_for_scene_camera: specialize,
+        statistics: options.statistics,
+    }
+}
+
+/// Renders on an existing context (tests share one), through the ocean library as any host would
+/// (host::OffscreenHost).
 pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
     let scene = &request.scene;
     let before = gpu.validation_counts();
     let wave_set = crate::model::waves::generate(scene);
-    let (mut options, omitted) = if request.specialize {
-        crate::render::specialize::plan(scene, &wave_set, request.width, request.height, request.options)
-    } else {
-        (request.options, Vec::new())
-    };
-    // The report names the loop the device actually runs.
-    options.shader.train_reads = train_reads_on(&gpu.device, options.shader.train_reads);
-    let mut omitted = omitted;
-    let (frame, memory, fastest, timings, statistics, shadows) = {
-        let mut renderer = Renderer::new(gpu, scene, request.width, request.height, options)?;
-        let mut frame = renderer.render(scene)?;
+    let shading = shading(&request.options, request.specialize);
+    let (frame, memory, fastest, timings, statistics, shadows, omitted, pipelines) = {
+        let mut host = OffscreenHost::new(gpu, scene, request.width, request.height, shading)?;
+        let mut frame = host.render(scene)?;
         let mut timings = Vec::new();
         for _ in 1..request.frames {
-            frame = renderer.render(scene)?;
+            frame = host.render(scene)?;
             timings.push(frame.pass_ms.clone());
         }
         let fastest = pass_statistic(&timings, minimum);
         if !timings.is_empty() {
             frame.pass_ms = pass_statistic(&timings, median);
         }
+        let ocean = host.ocean();
+        let mut omitted = ocean.omitted().to_vec();
         if request.frames > 1 {
-            for pass in renderer.skipped_last_frame() {
+            for pass in ocean.skipped_last_frame() {
                 omitted.push(crate::render::specialize::Omission {
                     what: format!("{pass} in frames 2 to {}", request.frames),
                     why: "its result was still current: the sun, the sky and the view did not change".into(),
                 });
             }
         }
-        let statistics = renderer.last_gpu_frame().filter(|_| options.statistics).map(|f| {
+        let statistics = host.gpu_frame().filter(|_| shading.statistics).map(|f| {
             f.passes.iter().filter_map(|p| p.statistics.map(|s| (p.name.to_owned(), s))).collect::<BTreeMap<_, _>>()
         });
-        let shadows = renderer.pass_names().contains(&ShadowPass::NAME);
-        (frame, renderer.memory(), fastest, timings, statistics, shadows)
+        let shadows = ocean.pass_names().contains(&ShadowPass::NAME);
+        (frame, ocean.memory(), fastest, timings, statistics, shadows, omitted, ocean.pipelines())
     };
     let mut gpu_ms_frames: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     for frame_ms in &timings {
@@ -107,7 +116,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
             gpu_ms_frames.entry(pass.clone()).or_default().push(*ms);
         }
     }
-    let statistics_note = match (&statistics, options.statistics) {
+    let statistics_note = match (&statistics, shading.statistics) {
         (_, false) => None,
         (Some(map), true) if !map.is_empty() => None,
         _ => Some(format!("{} has no pipeline statistics queries: none reported", gpu.device.name)),
@@ -139,7 +148,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         pipeline_cache: gpu.device.pipeline_cache.report.clone(),
         eye_height_m: frame.frame.camera.eye_height,
         omitted,
-        pipelines: crate::render::specialize::pipelines(&options),
+        pipelines,
         grid: GridReport {
             columns: frame.frame.grid.columns,
             rows: frame.frame.grid.rows,

@@ -4,12 +4,14 @@
 //! fragment or invocation, the trains the shading pass evaluates per sea pixel (counted by the
 //! shader in one extra frame, specialized to count), and the shading pass against its floor.
 
+use crate::app::host::OffscreenHost;
+use crate::embed::{Shading, TrainCounts};
 use crate::error::{Error, Result};
 use crate::measure::floor::{delivered_gflops, shade_work};
 use crate::measure::samples::{new_run_id, TimedScene};
 use crate::model::scene::Scene;
 use crate::output::trace::{Trace, Track};
-use crate::render::renderer::{Options, Renderer, TrainCounts};
+use crate::render::renderer::Options;
 use crate::render::timeline::{Alignment, CpuSpans, GpuFrame, Span};
 use crate::vk::clock::host_now_ns;
 use crate::vk::gpu::Gpu;
@@ -134,37 +136,36 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
     let scene = &request.scene;
     let (width, height) = (request.width, request.height);
     let wave_set = setup.time("scene and waves", || crate::model::waves::generate(scene));
-    let (mut options, _) = if request.specialize {
-        crate::render::specialize::plan(scene, &wave_set, width, height, request.options)
-    } else {
-        (request.options, Vec::new())
-    };
-    options.shader.train_reads = crate::render::passes::shade::train_reads_on(&gpu.device, options.shader.train_reads);
-    options.statistics = true;
+    let mut shading = super::shading(&request.options, request.specialize);
+    shading.statistics = true;
     let mut notes = Vec::new();
     if !gpu.device.pipeline_statistics {
         notes.push(format!("{} has no pipeline statistics queries: left out", gpu.device.name));
     }
-    // The device's delivered rate, measured before the frames (as `bench speed` does).
-    let gflops = if options.shader.draws_nothing() { None } else { Some(delivered_gflops(gpu, 3)?) };
     let mut trace = Trace::new("ocean", origin as f64);
     trace.track(CPU_TRACK, "CPU main thread", 0);
     trace.track(GPU_TRACK, &format!("GPU queue ({})", gpu.device.name), 1);
     let mut timed = TimedScene::new(&request.scene_name, scene, width, height, "default");
     let mut last_stats: BTreeMap<String, PipelineStatistics> = BTreeMap::new();
     let mut alignment = Alignment::NoTimestamps;
-    {
-        let mut renderer =
-            setup.time("pipelines and resources", || Renderer::new(gpu, scene, width, height, options))?;
+    let mut gflops = None;
+    let pipelines = {
+        let mut host =
+            setup.time("pipelines and resources", || OffscreenHost::new(gpu, scene, width, height, shading))?;
+        // The device's delivered rate, measured before the frames (as `bench speed` does), where
+        // the specialized frame shades anything.
+        if !host.ocean().shader().draws_nothing() {
+            gflops = Some(delivered_gflops(gpu, 3)?);
+        }
         for span in &setup.spans {
             trace.span(CPU_TRACK, &span.name, "setup", span.begin_ns, span.end_ns, Map::new());
         }
         let mut frame = None;
         for i in 0..request.frames {
-            let rendered = renderer.render(scene)?;
+            let rendered = host.render(scene)?;
             let warmup = i < request.warmup;
-            let gpu_frame = renderer.last_gpu_frame().cloned();
-            add_frame(&mut trace, i, warmup, &renderer.cpu_spans().spans, gpu_frame.as_ref());
+            let gpu_frame = host.gpu_frame().cloned();
+            add_frame(&mut trace, i, warmup, &host.cpu_spans().spans, gpu_frame.as_ref());
             if let Some(f) = &gpu_frame {
                 alignment = f.alignment;
                 if !warmup {
@@ -185,12 +186,13 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
                 trace.span(CPU_TRACK, &span.name, "files", span.begin_ns, span.end_ns, Map::new());
             }
         }
-    }
+        host.ocean().pipelines()
+    };
     if alignment == Alignment::NoTimestamps {
         notes.push(format!("{}: {}", gpu.device.name, alignment.describe()));
     }
     // One more frame, specialized to count the trains the shading pass evaluates.
-    let counts = count_trains(gpu, scene, width, height, options)?;
+    let counts = count_trains(gpu, scene, width, height, shading)?;
     let passes: Vec<PassProfile> = timed
         .frames_ms
         .iter()
@@ -224,7 +226,7 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
         timestamp_period_ns: gpu.device.properties.limits.timestamp_period,
         timestamp_valid_bits: gpu.device.timestamp_valid_bits,
         clock: alignment.describe(),
-        pipelines: crate::render::specialize::pipelines(&options),
+        pipelines,
         passes,
         total,
         derived,
@@ -302,14 +304,14 @@ fn count_trains(
     scene: &Scene,
     width: u32,
     height: u32,
-    mut options: Options,
+    mut shading: Shading,
 ) -> Result<Option<TrainCounts>> {
-    if options.shader.draws_nothing() {
+    if shading.shader.draws_nothing() {
         return Ok(None);
     }
-    options.shader.count_trains = true;
-    options.statistics = false;
-    let mut renderer = Renderer::new(gpu, scene, width, height, options)?;
-    renderer.render(scene)?;
-    renderer.train_counts()
+    shading.shader.count_trains = true;
+    shading.statistics = false;
+    let mut host = OffscreenHost::new(gpu, scene, width, height, shading)?;
+    host.render(scene)?;
+    host.ocean().train_counts()
 }

@@ -7,6 +7,7 @@
 //! far plane; a negative-height viewport is not supported.
 
 use crate::error::{Error, Result};
+use crate::model::scene::Scene;
 use glam::{DMat4, DVec3, DVec4};
 
 /// Largest |sin| of a roll the ocean accepts as level (the projected grid and its row splits
@@ -129,6 +130,34 @@ impl HostView {
     }
 }
 
+/// The view and projection that draw `scene` from its own camera, as a host would hand them:
+/// the eye `camera.height_m` above the water under it at `render.time_s` (frame::CameraFrame's
+/// rule), Vulkan's clip y down, `reversed_z` or standard depth, an infinite far plane. `aspect`
+/// is the targets' width over height. The commands draw scene files through this.
+pub fn scene_view(scene: &Scene, aspect: f64, reversed_z: bool) -> (DMat4, DMat4) {
+    let c = &scene.camera;
+    let water = crate::model::waves::generate(scene).water_height_at_origin(scene.render.time_s);
+    let eye = DVec3::new(c.x_m, c.y_m, c.height_m + water.max(0.0));
+    let (yaw, pitch) = (c.yaw_deg.to_radians(), c.pitch_deg.to_radians());
+    // The basis HostView reads back: level right from the yaw alone, so that a view straight
+    // down keeps its azimuth (look_to with +z up would have no right axis there).
+    let right = DVec3::new(yaw.sin(), -yaw.cos(), 0.0);
+    let forward = DVec3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), pitch.sin());
+    let up = right.cross(forward);
+    let rotation = DMat4::from_cols(right.extend(0.0), up.extend(0.0), (-forward).extend(0.0), DVec4::W).transpose();
+    let view = rotation * DMat4::from_translation(-eye);
+    let fov = c.fov_y_deg.to_radians();
+    // Near the eye, well inside the sea's nearest point (the eye is above the water).
+    let near = 1e-3;
+    let flip_y = DMat4::from_diagonal(DVec4::new(1.0, -1.0, 1.0, 1.0));
+    let projection = if reversed_z {
+        DMat4::perspective_infinite_reverse_rh(fov, aspect, near)
+    } else {
+        DMat4::perspective_infinite_rh(fov, aspect, near)
+    };
+    (view, flip_y * projection)
+}
+
 /// Whether depth is reversed, and the far plane's view depth (None: infinite), from how clip
 /// depth runs along the principal axis: z(t) = (a t + b) / (c t) for a point at view depth t.
 fn depth_convention(clip: DMat4, forward: DVec3) -> Result<(bool, Option<f64>)> {
@@ -202,6 +231,22 @@ mod tests {
             let host = p * v * world.extend(1.0);
             let ours = h.clip_from_relative * (world - eye).extend(1.0);
             assert!((host - ours).length() < 1e-9 * host.length());
+        }
+    }
+
+    #[test]
+    fn reads_back_a_scene_camera() {
+        for (yaw, pitch) in [(0.0, -10.0), (135.0, -90.0), (-60.0, 30.0), (200.0, -45.5)] {
+            let mut scene = Scene::default();
+            (scene.camera.yaw_deg, scene.camera.pitch_deg, scene.camera.x_m) = (yaw, pitch, 1.0e5);
+            for reversed in [false, true] {
+                let (v, p) = scene_view(&scene, 4.0 / 3.0, reversed);
+                let h = HostView::new(v, p, 4.0 / 3.0).unwrap();
+                let wrapped = (h.yaw_deg - yaw).rem_euclid(360.0);
+                assert!(wrapped.min(360.0 - wrapped) < 1e-9 && (h.pitch_deg - pitch).abs() < 1e-9, "{h:?}");
+                assert!((h.fov_y_deg - scene.camera.fov_y_deg).abs() < 1e-9 && h.reversed_z == reversed);
+                assert!((h.eye.x - 1.0e5).abs() < 1e-9 && h.far_m.is_none());
+            }
         }
     }
 

@@ -14,14 +14,19 @@ pub mod camera;
 use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::model::waves;
+use crate::render::frame::FrameData;
 use crate::render::passes::HostTargets;
-use crate::render::renderer::{Options, Output, Prepared, Renderer};
+use crate::render::renderer::{HostOutput, Options, Output, Prepared, Renderer};
+use crate::render::specialize::{self, Omission};
 use crate::vk::external::{hdr_format_max, HOST_DEPTH_FORMATS};
 use ash::vk;
 use camera::HostView;
-use glam::{DMat4, Mat4};
+use glam::DMat4;
 
 pub use crate::render::passes::composite::HostFormats;
+pub use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
+pub use crate::render::renderer::TrainCounts;
+pub use crate::render::timeline::{GpuFrame, GpuSpan};
 pub use crate::vk::device::HostEnabled;
 pub use crate::vk::external::{aspect_of, clear_targets, ldr_encodes_srgb, transition, HostImage, ImageState};
 pub use crate::vk::gpu::{Gpu, HostDevice};
@@ -79,7 +84,35 @@ pub struct OceanDesc {
     /// The host's radiance unit per kcd/m² (the ocean's own; 1000 for cd/m²). The ocean clamps
     /// what it writes to the colour format's largest value.
     pub radiance_scale: f32,
+    /// How the ocean shades ([`Shading::default`]: the product's method and terms).
+    pub shading: Shading,
 }
+
+/// How the ocean shades, beyond the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shading {
+    /// The method, its terms and what the shaders include (its `background` is [`OceanDesc::sky`]'s).
+    pub shader: ShaderConfig,
+    /// Samples per pixel along each axis (1: none); above 1 only for hosts without depth (the
+    /// sea's depth is one per pixel).
+    pub ssaa: u32,
+    /// Leave out what the scene seen from its own camera does not need ([`Ocean::omitted`] says
+    /// what and why). For a still camera (offline renders): updates must then keep the scene's
+    /// camera, as a moved one may need what was left out.
+    pub specialize_for_scene_camera: bool,
+    /// Pipeline statistics per pass, where the device has them (profiling; see
+    /// [`Ocean::last_gpu_frame`]).
+    pub statistics: bool,
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Shading { shader: ShaderConfig::default(), ssaa: 1, specialize_for_scene_camera: false, statistics: false }
+    }
+}
+
+/// The most samples per pixel along each axis [`Shading::ssaa`] takes.
+pub const MAX_SSAA: u32 = 16;
 
 /// The most frames in flight an ocean keeps resources for.
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
@@ -89,11 +122,13 @@ pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
 pub struct FrameInput {
     /// Seconds: the waves' phase.
     pub time_s: f64,
-    /// World (the ocean's: x east, y north, z up, metres, sea level at z = 0) to view space.
-    pub view: Mat4,
+    /// World (the ocean's: x east, y north, z up, metres, sea level at z = 0) to view space, in
+    /// f64 so that an eye far from the origin keeps the short waves' phases (`as_dmat4()` an f32
+    /// one).
+    pub view: DMat4,
     /// View space to Vulkan clip space (y down, depth in [0, 1], standard or reversed as the
     /// ocean was made for; finite or infinite far plane).
-    pub projection: Mat4,
+    pub projection: DMat4,
 }
 
 /// The host's attachments for one frame and the state it leaves them in.
@@ -103,10 +138,10 @@ pub struct Targets {
     pub colour: HostImage,
     /// Usually [`ImageState::COLOR_ATTACHMENT`].
     pub colour_entry: ImageState,
-    /// The depth attachment the host drew into.
-    pub depth: HostImage,
-    /// Usually [`ImageState::DEPTH_ATTACHMENT`].
-    pub depth_entry: ImageState,
+    /// The depth attachment the host drew into and its state (usually
+    /// [`ImageState::DEPTH_ATTACHMENT`]), where the ocean was made with a depth format; None for a
+    /// host that draws no objects.
+    pub depth: Option<(HostImage, ImageState)>,
     /// The LDR image the frame is tone-mapped into, where the ocean was made with an LDR format
     /// (a swapchain image: entry [`ImageState::ACQUIRED`]); its old contents are not kept.
     pub ldr: Option<(HostImage, ImageState)>,
@@ -118,10 +153,16 @@ pub struct Ocean<'g> {
     desc: OceanDesc,
     /// None while the targets have no pixels (a minimized window): update and record do nothing.
     renderer: Option<Renderer<'g>>,
+    /// The renderer's options: the desc's shading, specialized where asked.
+    options: Options,
+    /// What specialization left out, and why.
+    omitted: Vec<Omission>,
     /// Each slot's prepared frame between `update` and `record`.
     prepared: Vec<Option<Prepared>>,
     /// The camera of the last update, as the ocean draws it.
     last_view: Option<HostView>,
+    /// The frame the last record drew, as the ocean built it.
+    last_frame: Option<FrameData>,
     /// Why the last rebuild (a resize or a scene change) failed: until one succeeds, the ocean
     /// has no pipelines and every update and record says so.
     broken: Option<String>,
@@ -133,9 +174,45 @@ impl<'g> Ocean<'g> {
     /// device lacks.
     pub fn new(gpu: &'g Gpu, desc: OceanDesc) -> Result<Ocean<'g>> {
         check_desc(gpu, &desc)?;
-        let mut ocean = Ocean { gpu, renderer: None, prepared: Vec::new(), last_view: None, broken: None, desc };
+        let mut ocean = Ocean {
+            gpu,
+            renderer: None,
+            options: Options::default(),
+            omitted: Vec::new(),
+            prepared: Vec::new(),
+            last_view: None,
+            last_frame: None,
+            broken: None,
+            desc,
+        };
         ocean.build()?;
         Ok(ocean)
+    }
+
+    /// The renderer's options for the desc: its shading, specialized for its scene where asked.
+    fn plan(&self) -> (Options, Vec<Omission>) {
+        let desc = &self.desc;
+        let mut shader = desc.shading.shader;
+        shader.background = desc.sky;
+        // The loop the device runs, so that `shader()` names it.
+        shader.train_reads = crate::render::passes::shade::train_reads_on(&self.gpu.device, shader.train_reads);
+        let options = Options {
+            shader,
+            ssaa: desc.shading.ssaa,
+            output: Output::Host(HostOutput {
+                formats: desc.formats,
+                radiance_scale: desc.radiance_scale,
+                sky: desc.sky,
+            }),
+            frames_in_flight: desc.frames_in_flight,
+            statistics: desc.shading.statistics,
+            ..Options::default()
+        };
+        if !desc.shading.specialize_for_scene_camera || desc.width == 0 || desc.height == 0 {
+            return (options, Vec::new());
+        }
+        let wave_set = waves::generate(&desc.scene);
+        specialize::plan(&desc.scene, &wave_set, desc.width, desc.height, options)
     }
 
     /// Makes the renderer for the current size and scene (the old one goes first: its memory is
@@ -144,17 +221,13 @@ impl<'g> Ocean<'g> {
     fn build(&mut self) -> Result<()> {
         self.renderer = None;
         self.broken = None;
+        self.last_frame = None;
         self.prepared = (0..self.desc.frames_in_flight).map(|_| None).collect();
+        (self.options, self.omitted) = self.plan();
         if self.desc.width == 0 || self.desc.height == 0 {
             return Ok(());
         }
-        let mut options = Options {
-            output: Output::Host(self.desc.formats),
-            frames_in_flight: self.desc.frames_in_flight,
-            ..Options::default()
-        };
-        options.shader.background = self.desc.sky;
-        match Renderer::new(self.gpu, &self.desc.scene, self.desc.width, self.desc.height, options) {
+        match Renderer::new(self.gpu, &self.desc.scene, self.desc.width, self.desc.height, self.options) {
             Ok(renderer) => {
                 self.renderer = Some(renderer);
                 Ok(())
@@ -189,14 +262,21 @@ impl<'g> Ocean<'g> {
     }
 
     /// A new sea, sun, sky or settings. Where the pipelines depend on what changed (the sky's
-    /// model, the tone, the shadow map) they are rebuilt: the host has then waited for every
-    /// frame in flight.
+    /// model, the tone, the shadow map, what a scene specialized for its camera leaves out) they
+    /// are rebuilt: the host has then waited for every frame in flight.
     pub fn set_scene(&mut self, scene: Scene) -> Result<()> {
         scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
-        let rebuild = self.broken.is_some() || self.renderer.as_ref().is_some_and(|r| !r.fits(&scene));
-        self.desc.scene = scene;
+        let previous = std::mem::replace(&mut self.desc.scene, scene);
+        let fits = self.renderer.as_ref().is_some_and(|r| r.fits(&self.desc.scene));
+        let rebuild = self.broken.is_some()
+            || !fits && self.renderer.is_some()
+            || self.desc.shading.specialize_for_scene_camera && self.plan().0 != self.options;
         if rebuild {
-            self.build()?;
+            if let Err(e) = self.build() {
+                // The scene is kept: the next resize or scene change tries again.
+                let _ = previous;
+                return Err(e);
+            }
         }
         Ok(())
     }
@@ -207,7 +287,8 @@ impl<'g> Ocean<'g> {
     }
 
     /// The host's part of frame `slot`: reads the camera, writes the slot's uniforms and grid.
-    /// The host has waited for the frame that last used `slot` (its GPU times are then kept).
+    /// The host has waited for the frame that last used `slot` (its GPU times are then kept, if
+    /// [`Ocean::finished`] did not keep them already).
     pub fn update(&mut self, slot: usize, input: &FrameInput) -> Result<()> {
         check_slot(slot, self.desc.frames_in_flight)?;
         self.check_built()?;
@@ -218,7 +299,7 @@ impl<'g> Ocean<'g> {
             return Err(Error::Argument(format!("time_s = {} is not finite", input.time_s)));
         }
         let aspect = self.desc.width as f64 / self.desc.height as f64;
-        let view = HostView::new(input.view.as_dmat4(), input.projection.as_dmat4(), aspect)?;
+        let view = HostView::new(input.view, input.projection, aspect)?;
         if view.reversed_z != self.desc.formats.reversed_z {
             let (asked, made) = if view.reversed_z { ("reversed", "standard") } else { ("standard", "reversed") };
             return Err(Error::Argument(format!(
@@ -248,6 +329,9 @@ impl<'g> Ocean<'g> {
             };
             Error::Argument(format!("camera: {under}"))
         })?;
+        if self.desc.shading.specialize_for_scene_camera {
+            check_same_camera(&self.desc.scene.camera, &scene.camera)?;
+        }
         let far = if view.reversed_z { 0.0 } else { 1.0 };
         let max = hdr_format_max(self.desc.formats.colour).unwrap_or(65504.0);
         let host = (mat4_f32(view.clip_from_relative), [self.desc.radiance_scale, max, far, 0.0]);
@@ -270,49 +354,68 @@ impl<'g> Ocean<'g> {
         self.check_built()?;
         let Some(renderer) = self.renderer.as_mut() else { return Ok(()) };
         let extent = vk::Extent2D { width: self.desc.width, height: self.desc.height };
-        for (name, image, format) in
-            [("colour", &targets.colour, self.desc.formats.colour), ("depth", &targets.depth, self.desc.formats.depth)]
-        {
-            if image.extent != extent {
-                return Err(Error::Argument(format!(
-                    "the {name} target is {}x{}, the ocean draws {}x{} (resize first)",
-                    image.extent.width, image.extent.height, extent.width, extent.height
-                )));
-            }
-            if image.format != format {
-                return Err(Error::Argument(format!(
-                    "the {name} target is {:?}, the ocean was made for {format:?}",
-                    image.format
-                )));
-            }
-        }
-        match (&targets.ldr, self.desc.formats.ldr) {
-            (Some((image, _)), Some(format)) => {
-                if image.extent != extent || image.format != format {
-                    return Err(Error::Argument(format!(
-                        "the LDR target is {:?} at {}x{}, the ocean was made for {format:?} at {}x{}",
-                        image.format, image.extent.width, image.extent.height, extent.width, extent.height
-                    )));
+        let formats = self.desc.formats;
+        let given = [
+            ("colour", Some(&targets.colour), Some(formats.colour)),
+            ("depth", targets.depth.as_ref().map(|(i, _)| i), formats.depth),
+            ("LDR", targets.ldr.as_ref().map(|(i, _)| i), formats.ldr),
+        ];
+        for (name, image, format) in given {
+            match (image, format) {
+                (Some(image), Some(format)) => {
+                    if image.extent != extent {
+                        return Err(Error::Argument(format!(
+                            "the {name} target is {}x{}, the ocean draws {}x{} (resize first)",
+                            image.extent.width, image.extent.height, extent.width, extent.height
+                        )));
+                    }
+                    if image.format != format {
+                        return Err(Error::Argument(format!(
+                            "the {name} target is {:?}, the ocean was made for {format:?}",
+                            image.format
+                        )));
+                    }
                 }
+                (None, Some(format)) => {
+                    return Err(Error::Argument(format!(
+                        "the ocean was made with a {name} target of {format:?}: none given"
+                    )))
+                }
+                (Some(_), None) => {
+                    return Err(Error::Argument(format!(
+                        "a {name} target was given to an ocean made without a {name} format"
+                    )))
+                }
+                (None, None) => {}
             }
-            (None, Some(format)) => {
-                return Err(Error::Argument(format!(
-                    "the ocean was made to tone-map into {format:?}: no LDR target given"
-                )))
-            }
-            (Some(_), None) => {
-                return Err(Error::Argument("an LDR target was given to an ocean made without an LDR format".into()))
-            }
-            (None, None) => {}
         }
         let prepared = self.prepared[slot]
             .take()
             .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
-        let host =
-            HostTargets { colour: targets.colour, depth: targets.depth, ldr: targets.ldr.map(|(image, _)| image) };
+        let host = HostTargets {
+            colour: targets.colour,
+            depth: targets.depth.map(|(image, _)| image),
+            ldr: targets.ldr.map(|(image, _)| image),
+        };
+        let depth_entry = targets.depth.map_or(ImageState::DEPTH_ATTACHMENT, |(_, state)| state);
         let ldr_entry = targets.ldr.map_or(ImageState::ACQUIRED, |(_, state)| state);
-        renderer.record_for_host(cmd, slot, prepared, host, [targets.colour_entry, targets.depth_entry, ldr_entry])?;
+        let entry = [targets.colour_entry, depth_entry, ldr_entry];
+        self.last_frame = Some(renderer.record_for_host(cmd, slot, prepared, host, entry)?);
         Ok(())
+    }
+
+    /// Optional, for profiling: the host has just submitted frame `slot`. The clocks are sampled
+    /// now, so that [`Ocean::last_gpu_frame`] places the frame's passes on the host's clock.
+    pub fn submitted(&mut self, slot: usize) -> Result<()> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        self.renderer.as_mut().map_or(Ok(()), |r| r.host_submitted(slot))
+    }
+
+    /// Optional: the host has waited for frame `slot` (its fence). Its GPU times are kept now
+    /// rather than at the slot's next update.
+    pub fn finished(&mut self, slot: usize) -> Result<()> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        self.renderer.as_mut().map_or(Ok(()), |r| r.host_finished(slot))
     }
 
     /// The camera of the last update, as the ocean draws it.
@@ -320,14 +423,55 @@ impl<'g> Ocean<'g> {
         self.last_view.as_ref()
     }
 
-    /// GPU time per pass (ms) of the latest frame whose results were in when its slot was updated.
+    /// The frame the last record drew, as the ocean built it: its camera, grid, sky and uniforms.
+    pub fn last_frame(&self) -> Option<&FrameData> {
+        self.last_frame.as_ref()
+    }
+
+    /// GPU time per pass (ms) of the latest frame whose results were kept (see [`Ocean::finished`]).
     pub fn pass_ms(&self) -> &[(&'static str, f64)] {
         self.renderer.as_ref().map_or(&[], |r| r.last_pass_ms())
+    }
+
+    /// The latest kept frame's passes on the host's clock, with their pipeline statistics where
+    /// [`Shading::statistics`] asked for them: for frames the host noted with
+    /// [`Ocean::submitted`] and [`Ocean::finished`].
+    pub fn last_gpu_frame(&self) -> Option<&GpuFrame> {
+        self.renderer.as_ref().and_then(|r| r.last_gpu_frame())
+    }
+
+    /// The trains the latest finished frame's shading pass evaluated, for an ocean whose shader
+    /// counts them ([`ShaderConfig::count_trains`]; profiling only).
+    pub fn train_counts(&self) -> Result<Option<TrainCounts>> {
+        self.renderer.as_ref().map_or(Ok(None), |r| r.train_counts())
     }
 
     /// The names of the ocean's passes in a frame, in order.
     pub fn pass_names(&self) -> Vec<&'static str> {
         self.renderer.as_ref().map_or_else(Vec::new, |r| r.pass_names())
+    }
+
+    /// The passes the last recorded frame left out because their results were still current
+    /// (the sky's tables and map under the same sun and sky, what depends on an unchanged view).
+    pub fn skipped_last_frame(&self) -> &[&'static str] {
+        self.renderer.as_ref().map_or(&[], |r| r.skipped_last_frame())
+    }
+
+    /// What the shading left out for the scene seen from its camera
+    /// ([`Shading::specialize_for_scene_camera`]), and why.
+    pub fn omitted(&self) -> &[Omission] {
+        &self.omitted
+    }
+
+    /// The shader configuration the pipelines were made with: the desc's, specialized where
+    /// asked, with the wave-table reads the device runs.
+    pub fn shader(&self) -> ShaderConfig {
+        self.options.shader
+    }
+
+    /// The names of the pipelines the ocean's frame uses (its passes' shaders and variants).
+    pub fn pipelines(&self) -> Vec<String> {
+        specialize::pipelines(&self.options)
     }
 
     /// What the ocean's sub-allocator holds on the host's device.
@@ -338,6 +482,28 @@ impl<'g> Ocean<'g> {
     /// What the ocean was made for, with the size and scene of the latest resize and scene change.
     pub fn desc(&self) -> &OceanDesc {
         &self.desc
+    }
+}
+
+/// Err unless `camera` is the scene's own (an ocean specialized for the scene's camera).
+fn check_same_camera(planned: &crate::model::scene::Camera, camera: &crate::model::scene::Camera) -> Result<()> {
+    // The matrices' f64 round trip moves a value by a few ulps; a moved camera by far more.
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
+    let pairs = [
+        ("x_m", planned.x_m, camera.x_m),
+        ("y_m", planned.y_m, camera.y_m),
+        ("height_m", planned.height_m, camera.height_m),
+        // The yaw read back from the matrices is within (-180, 180].
+        ("yaw_deg", planned.yaw_deg, camera.yaw_deg + 360.0 * ((planned.yaw_deg - camera.yaw_deg) / 360.0).round()),
+        ("pitch_deg", planned.pitch_deg, camera.pitch_deg),
+        ("fov_y_deg", planned.fov_y_deg, camera.fov_y_deg),
+    ];
+    match pairs.iter().find(|(_, a, b)| !same(*a, *b)) {
+        Some((key, a, b)) => Err(Error::Argument(format!(
+            "camera: this ocean was specialized for the scene's camera ({key} = {a}), the frame's has {key} = {b} \
+             (shading.specialize_for_scene_camera: a moving camera needs it off)"
+        ))),
+        None => Ok(()),
     }
 }
 
@@ -370,10 +536,19 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
             formats.colour
         )));
     }
-    if !HOST_DEPTH_FORMATS.contains(&formats.depth) {
+    if let Some(depth) = formats.depth.filter(|d| !HOST_DEPTH_FORMATS.contains(d)) {
         return Err(Error::Argument(format!(
-            "depth format {:?} is not one the ocean tests against ({HOST_DEPTH_FORMATS:?})",
-            formats.depth
+            "depth format {depth:?} is not one the ocean tests against ({HOST_DEPTH_FORMATS:?})"
+        )));
+    }
+    let ssaa = desc.shading.ssaa;
+    if !(1..=MAX_SSAA).contains(&ssaa) {
+        return Err(Error::Argument(format!("shading.ssaa = {ssaa} is out of range [1, {MAX_SSAA}]")));
+    }
+    if ssaa > 1 && formats.depth.is_some() {
+        return Err(Error::Argument(format!(
+            "shading.ssaa = {ssaa} needs a host without depth (formats.depth = None): the sea's depth is one per \
+             output pixel"
         )));
     }
     if let Some(ldr) = formats.ldr.filter(|&f| ldr_encodes_srgb(f).is_none()) {
@@ -384,18 +559,17 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
     }
     let device = &gpu.device;
     let ldr = formats.ldr.map(|f| (f, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "an LDR colour attachment"));
+    let depth = formats.depth.map(|f| (f, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "a depth attachment"));
     // With an LDR target the ocean samples the host's colour to tone-map it.
     let colour_needs = if formats.ldr.is_some() {
         vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE
     } else {
         vk::FormatFeatureFlags::COLOR_ATTACHMENT
     };
-    for (format, needed, what) in [
-        (formats.colour, colour_needs, "a colour attachment (sampled, with an LDR target)"),
-        (formats.depth, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "a depth attachment"),
-    ]
-    .into_iter()
-    .chain(ldr)
+    for (format, needed, what) in [(formats.colour, colour_needs, "a colour attachment (sampled, with an LDR target)")]
+        .into_iter()
+        .chain(depth)
+        .chain(ldr)
     {
         // SAFETY: plain query on the host's physical device.
         let props = unsafe { gpu.instance.raw.get_physical_device_format_properties(device.physical, format) };

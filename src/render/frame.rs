@@ -371,6 +371,7 @@ pub fn sea_only_rows(camera: &CameraFrame, height: u32) -> u32 {
 }
 
 /// Everything derived from a scene for one frame.
+#[derive(Clone)]
 pub struct FrameData {
     pub uniforms: FrameUniforms,
     pub waves: Box<GpuWaves>,

@@ -9,9 +9,7 @@ use crate::vk::buffer::Buffer;
 use crate::vk::commands::Commands;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
-use crate::vk::owned::Owned;
 use crate::vk::profiler::Profiler;
-use crate::vk::sync::semaphore;
 use ash::vk;
 
 /// Most grid nodes a frame may draw: 2^24 nodes need 400 MB of indices; finer grids are an error.
@@ -73,15 +71,13 @@ pub struct FrameSlot<'g> {
     /// When the slot's last frame was submitted, and the clocks then (for its GPU spans).
     pub submission: Option<Submission>,
     pub grid: GridIndices<'g>,
-    /// Signalled when the window's image for this frame is acquired (window renderers only).
-    pub image_available: Option<Owned<'g, vk::Semaphore>>,
     /// Whether a frame was recorded into a host's command buffer since the slot was last taken.
     pub host_recorded: bool,
 }
 
 impl<'g> FrameSlot<'g> {
     /// `statistics`: pipeline statistics per timestamp scope too, where the device has them.
-    pub fn new(gpu: &'g Gpu, index: usize, timestamp_scopes: u32, statistics: bool, window: bool) -> Result<Self> {
+    pub fn new(gpu: &'g Gpu, index: usize, timestamp_scopes: u32, statistics: bool) -> Result<Self> {
         let device = &gpu.device;
         Ok(FrameSlot {
             index,
@@ -89,7 +85,6 @@ impl<'g> FrameSlot<'g> {
             profiler: Profiler::new(device, timestamp_scopes, statistics)?,
             submission: None,
             grid: GridIndices::new(gpu),
-            image_available: if window { Some(semaphore(device, &format!("image for frame {index}"))?) } else { None },
             host_recorded: false,
         })
     }

@@ -12,9 +12,9 @@ use crate::render::in_flight::FrameSlot;
 use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::composite::{CompositePass, HostFormats};
-use crate::render::passes::display::DisplayPass;
 use crate::render::passes::exposure::{ExposurePass, Tone};
 use crate::render::passes::eye_sky::EyeSkyPass;
+use crate::render::passes::host_copy::HostCopyPass;
 use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::placeholders::PlaceholdersPass;
@@ -28,13 +28,12 @@ use crate::render::passes::{Frame, HostTargets, Pass, Recorder};
 use crate::render::resources::{ResourceSpec, Resources};
 use crate::render::timeline::{CpuSpans, GpuFrame, Submission};
 use crate::vk::barrier::{Access, Tracker};
-use crate::vk::buffer::Buffer;
 use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Wait;
+use crate::vk::device::HDR_FORMAT;
 use crate::vk::external::{ldr_encodes_srgb, ImageState};
 use crate::vk::gpu::Gpu;
-use crate::vk::memory::{Location, MemoryReport};
-use crate::vk::swapchain::SwapImage;
+use crate::vk::memory::MemoryReport;
 use ash::vk;
 
 /// A rendered frame, read back to the CPU.
@@ -51,20 +50,36 @@ pub struct RenderedFrame {
 }
 
 /// Where a frame ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Output {
     /// Tone-mapped into a host buffer and read back with the HDR radiance.
     Readback,
-    /// Tone-mapped into a window's swapchain images of `format`; `encode_srgb`: the format is
-    /// UNORM, so the shader applies the sRGB encoding.
-    Window { format: vk::Format, encode_srgb: bool },
     /// Composited into a host's HDR colour and depth attachments, in the host's command buffer
-    /// (embed::Ocean; passes/composite.rs).
-    Host(HostFormats),
+    /// (embed::Ocean; passes/composite.rs, or passes/host_copy.rs).
+    Host(HostOutput),
+}
+
+/// A host's targets and the unit it wants radiance in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HostOutput {
+    pub formats: HostFormats,
+    /// The host's radiance unit per kcd/m^2 (embed::OceanDesc::radiance_scale).
+    pub radiance_scale: f32,
+    /// Whether the ocean writes the sky where the host drew nothing (embed::OceanDesc::sky); a
+    /// night the scene leaves dark (specialize::plan) is then written black.
+    pub sky: bool,
+}
+
+impl HostOutput {
+    /// Whether compositing changes no value, so that a copy does it: no depth (no host objects),
+    /// the sky everywhere the sea is not, the ocean's own format and unit.
+    fn copies(&self) -> bool {
+        self.formats.depth.is_none() && self.sky && self.formats.colour == HDR_FORMAT && self.radiance_scale == 1.0
+    }
 }
 
 /// How a renderer renders: the ocean shaders' specialization and the supersampling factor.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     pub shader: ShaderConfig,
     /// Samples per pixel along each axis (1: none).
@@ -92,20 +107,9 @@ impl Default for Options {
     }
 }
 
-/// What a window frame copies out for the host besides showing it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Capture {
-    None,
-    /// The swapchain image as shown (8-bit, in the swapchain's format).
-    Shown,
-    /// The linear HDR radiance (RGBA16F).
-    Radiance,
-}
-
 /// A frame's host-side work, done: see `Renderer::prepare`.
 pub struct Prepared {
     data: FrameData,
-    capture: Capture,
     /// The sun and sky the frame's sky map must hold.
     sky: MapKey,
 }
@@ -119,21 +123,6 @@ struct MapKey {
     /// The sky with the planet under it (Scene::atmosphere's ground).
     sky: (Sky, Planet),
     slopes: [u32; 4],
-}
-
-/// Pixels copied out of a window frame, row-major from the top-left.
-pub enum Captured {
-    /// RGBA8 as shown (BGRA swapchain formats already swizzled).
-    Shown {
-        width: u32,
-        height: u32,
-        rgba: Vec<u8>,
-    },
-    Radiance {
-        width: u32,
-        height: u32,
-        rgba: Vec<[f32; 4]>,
-    },
 }
 
 pub struct Renderer<'g> {
@@ -154,7 +143,6 @@ pub struct Renderer<'g> {
     /// The CPU's steps of the last `render`.
     cpu_spans: CpuSpans,
     clock: DeviceClock,
-    capture: Option<Buffer<'g>>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
@@ -258,7 +246,7 @@ impl<'g> Renderer<'g> {
             anisotropy: scene.render.sky_anisotropy as f32,
             slots: frames_in_flight,
             readback: options.output == Output::Readback,
-            composite: matches!(options.output, Output::Host(_)),
+            composite: matches!(options.output, Output::Host(h) if !h.copies()),
             atmosphere: options.shader.sky_physical && !options.shader.draws_nothing(),
             shadow_map: options.shader.shadow.then_some(scene.render.shadow_map_size),
             eye_sky: options.shader.background,
@@ -298,13 +286,25 @@ impl<'g> Renderer<'g> {
         }
         let tone = Tone::of(scene);
         // A host's frame is tone-mapped by the host, unless it asks the ocean to.
-        let tone_maps = !matches!(options.output, Output::Host(HostFormats { ldr: None, .. }));
+        let tone_maps =
+            !matches!(options.output, Output::Host(HostOutput { formats: HostFormats { ldr: None, .. }, .. }));
         if tone.auto && tone_maps {
             passes.push(Box::new(ExposurePass::new(device, &resources)?));
         }
         match options.output {
-            Output::Host(formats) => {
-                passes.push(Box::new(CompositePass::new(device, &resources, formats, options.shader)?));
+            Output::Host(host) => {
+                let formats = host.formats;
+                if formats.depth.is_some() && options.ssaa > 1 {
+                    return Err(Error::Argument(
+                        "supersampling needs a host without depth: the sea's depth is one per output pixel".into(),
+                    ));
+                }
+                if host.copies() {
+                    passes.push(Box::new(HostCopyPass));
+                } else {
+                    let config = ShaderConfig { background: host.sky, ..options.shader };
+                    passes.push(Box::new(CompositePass::new(device, &resources, formats, config)?));
+                }
                 if let Some(format) = formats.ldr {
                     let encode = ldr_encodes_srgb(format).ok_or_else(|| {
                         Error::Argument(format!("LDR format {format:?} is not one the ocean tone-maps into"))
@@ -317,15 +317,10 @@ impl<'g> Renderer<'g> {
                 passes.push(Box::new(TonemapPass::new(device, &resources, tone)?));
                 passes.push(Box::new(ReadbackPass));
             }
-            Output::Window { format, encode_srgb } => {
-                passes.push(Box::new(DisplayPass::new(device, &resources, format, encode_srgb, tone)?));
-            }
         }
-        let window = matches!(options.output, Output::Window { .. });
-        // One more timestamp scope than passes: a window frame's capture copy.
-        let scopes = passes.len() as u32 + 1;
+        let scopes = passes.len() as u32;
         let slots = (0..frames_in_flight as usize)
-            .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics, window))
+            .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics))
             .collect::<Result<Vec<_>>>()?;
         Ok(Renderer {
             gpu,
@@ -340,7 +335,6 @@ impl<'g> Renderer<'g> {
             last_gpu_frame: None,
             cpu_spans: CpuSpans::default(),
             clock: DeviceClock::new(device),
-            capture: None,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -424,10 +418,10 @@ impl<'g> Renderer<'g> {
         self.cpu_spans.clear();
         let slot = self.begin_frame()?;
         let t = host_now_ns();
-        let prepared = self.prepare(slot, scene, Capture::None)?;
+        let prepared = self.prepare(slot, scene)?;
         self.cpu_spans.push("scene and waves", t);
         let t = host_now_ns();
-        let data = self.record(slot, prepared, None)?;
+        let data = self.record(slot, prepared)?;
         self.cpu_spans.push("record", t);
         let t = host_now_ns();
         self.submit(slot, &[], None)?;
@@ -448,66 +442,23 @@ impl<'g> Renderer<'g> {
     }
 
     /// Takes the next frame slot, waiting for the frame that last used it (and only that one), and
-    /// keeps that frame's GPU times. Returns the slot for `prepare`, `image_available` and `draw`.
-    pub fn begin_frame(&mut self) -> Result<usize> {
+    /// keeps that frame's GPU times. Returns the slot for `prepare`.
+    fn begin_frame(&mut self) -> Result<usize> {
         let slot = self.next_slot;
         self.next_slot = (slot + 1) % self.slots.len();
         self.finish(slot)?;
         Ok(slot)
     }
 
-    /// The semaphore a window frame in `slot` must have its swapchain image acquired with.
-    pub fn image_available(&self, slot: usize) -> vk::Semaphore {
-        self.slots[slot].image_available.as_ref().expect("a window renderer").raw
-    }
-
-    /// Records and submits a window frame `prepared` for `slot` into `image` (acquired with
-    /// `image_available(slot)`), signalling `rendered` for its present. With a capture, waits for
-    /// the frame and returns the pixels.
-    pub fn draw(
-        &mut self,
-        slot: usize,
-        prepared: Prepared,
-        image: SwapImage,
-        rendered: vk::Semaphore,
-    ) -> Result<Option<Captured>> {
-        assert!(matches!(self.output, Output::Window { .. }), "draw() needs a window renderer");
-        let capture = prepared.capture;
-        self.record(slot, prepared, Some(image))?;
-        let wait =
-            Wait { semaphore: self.image_available(slot), stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT };
-        self.submit(slot, &[wait], Some(rendered))?;
-        if capture == Capture::None {
-            return Ok(None);
-        }
-        self.finish(slot)?;
-        let buffer = self.capture.as_ref().expect("made by record");
-        let (width, height) = (image.extent.width, image.extent.height);
-        let pixels = width as usize * height as usize;
-        Ok(Some(match capture {
-            Capture::Shown => {
-                let mut rgba: Vec<u8> = buffer.read(4 * pixels)?;
-                if matches!(image.format, vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM) {
-                    rgba.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
-                }
-                Captured::Shown { width, height, rgba }
-            }
-            _ => {
-                let (width, height) = (self.width, self.height);
-                let bits: Vec<u16> = buffer.read(4 * width as usize * height as usize)?;
-                let rgba = bits
-                    .chunks_exact(4)
-                    .map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32()))
-                    .collect();
-                Captured::Radiance { width, height, rgba }
-            }
-        }))
-    }
-
     /// Submits the slot's recorded frame, noting when (and the clocks then) for its GPU spans.
     fn submit(&mut self, slot: usize, waits: &[Wait], signal: Option<vk::Semaphore>) -> Result<()> {
-        let submit_ns = host_now_ns();
         self.slots[slot].commands.submit(waits, signal)?;
+        self.submit_noted(slot)
+    }
+
+    /// Notes the submission of the slot's frame, just made, with the clocks sampled now.
+    fn submit_noted(&mut self, slot: usize) -> Result<()> {
+        let submit_ns = host_now_ns();
         let calibration = self.clock.calibrate(&self.gpu.device)?;
         self.slots[slot].submission = Some(Submission { submit_ns, calibration });
         Ok(())
@@ -530,40 +481,43 @@ impl<'g> Renderer<'g> {
 
     /// Waits for the frame in `slot` (if one is pending) and keeps its GPU times.
     fn finish(&mut self, slot: usize) -> Result<()> {
-        let s = &self.slots[slot];
-        if !s.commands.wait()? {
+        if !self.slots[slot].commands.wait()? {
             return Ok(()); // nothing ran since its queries were last read
         }
-        let fence_ns = host_now_ns();
-        if let (Some(scopes), Some(submission)) = (s.profiler.read_scopes(&self.gpu.device.raw)?, s.submission) {
-            let frame = GpuFrame::new(&scopes, submission, fence_ns, &self.clock);
-            if frame.passes.len() == scopes.len() {
-                self.last_pass_ms = scopes.iter().map(|s| (s.name, s.ms())).collect();
-            }
-            self.last_gpu_frame = Some(frame);
+        self.keep_times(slot, host_now_ns())
+    }
+
+    /// Reads the finished frame's queries in `slot`: its pass times and, where its submission
+    /// was noted, its spans on the host clock.
+    fn keep_times(&mut self, slot: usize, fence_ns: u64) -> Result<()> {
+        let s = &mut self.slots[slot];
+        let Some(scopes) = s.profiler.read_scopes(&self.gpu.device.raw)? else { return Ok(()) };
+        if scopes.iter().all(|s| s.device_ns.is_some()) {
+            self.last_pass_ms = scopes.iter().map(|s| (s.name, s.ms())).collect();
+        }
+        if let Some(submission) = s.submission.take() {
+            self.last_gpu_frame = Some(GpuFrame::new(&scopes, submission, fence_ns, &self.clock));
         }
         Ok(())
     }
 
-    /// The host's part of a frame in `slot`, done before a swapchain image is acquired so that
-    /// whatever can fail here leaves no image or semaphore signal pending: checks the scene
-    /// against the renderer, builds the frame and writes the slot's uniforms and grid.
-    pub fn prepare(&mut self, slot: usize, scene: &Scene, capture: Capture) -> Result<Prepared> {
-        self.prepare_with(slot, scene, capture, None)
+    /// The host's part of a frame in `slot`: checks the scene against the renderer, builds the
+    /// frame and writes the slot's uniforms and grid.
+    fn prepare(&mut self, slot: usize, scene: &Scene) -> Result<Prepared> {
+        self.prepare_with(slot, scene, None)
     }
 
     /// `prepare` for a frame in a host's frame: `host` holds the camera-relative world to the
     /// host's clip space and the host's radiance scale, colour maximum and far depth
     /// (FrameUniforms::host_clip, host).
     pub fn prepare_host(&mut self, slot: usize, scene: &Scene, host: ([[f32; 4]; 4], [f32; 4])) -> Result<Prepared> {
-        self.prepare_with(slot, scene, Capture::None, Some(host))
+        self.prepare_with(slot, scene, Some(host))
     }
 
     fn prepare_with(
         &mut self,
         slot: usize,
         scene: &Scene,
-        capture: Capture,
         host: Option<([[f32; 4]; 4], [f32; 4])>,
     ) -> Result<Prepared> {
         if Tone::of(scene) != self.tone {
@@ -628,22 +582,18 @@ impl<'g> Renderer<'g> {
             // Host writes before the submit are visible to it; the slot's last frame is done.
             self.resources.train_counts.write(&[0u32; 4])?;
         }
-        if capture != Capture::None {
-            self.prepare_capture(capture)?;
-        }
         let slopes = data.uniforms.wind.map(f32::to_bits);
         Ok(Prepared {
             data,
-            capture,
             sky: MapKey { sun: scene.sun.clone(), sky: (scene.sky.clone(), scene.planet.clone()), slopes },
         })
     }
 
     /// Records the frame `prepared` for `slot` into the slot's command buffer.
-    fn record(&mut self, slot: usize, prepared: Prepared, image: Option<SwapImage>) -> Result<FrameData> {
+    fn record(&mut self, slot: usize, prepared: Prepared) -> Result<FrameData> {
         let cmd = self.slots[slot].commands.cmd;
         self.slots[slot].commands.begin()?;
-        self.record_passes(cmd, slot, prepared, image, None)
+        self.record_passes(cmd, slot, prepared, None)
     }
 
     /// Records the frame `prepared` for `slot` into a host's command buffer `cmd` (recording,
@@ -658,17 +608,40 @@ impl<'g> Renderer<'g> {
         entry: [ImageState; 3],
     ) -> Result<FrameData> {
         assert!(matches!(self.output, Output::Host(_)), "record_for_host() needs a host renderer");
-        let ldr = targets.ldr.map(|image| (image, entry[2]));
-        for (image, state) in [(targets.colour, entry[0]), (targets.depth, entry[1])].into_iter().chain(ldr) {
+        let entered = [(Some(targets.colour), entry[0]), (targets.depth, entry[1]), (targets.ldr, entry[2])];
+        for (image, state) in entered.iter().filter_map(|(i, s)| i.map(|i| (i, s))) {
             self.tracker.external(&image, state.layout, state.stage, state.access);
         }
         self.slots[slot].host_recorded = true;
-        let data = self.record_passes(cmd, slot, prepared, None, Some(targets))?;
+        let data = self.record_passes(cmd, slot, prepared, Some(targets))?;
+        // The exit states embed::Ocean::record documents, whichever passes ran last.
+        let colour_exit = if targets.ldr.is_some() { Access::FragmentSampled } else { Access::ColorAttachmentWrite };
+        self.tracker.image(&targets.colour, 0, 1, colour_exit, false);
+        if let Some(ldr) = &targets.ldr {
+            self.tracker.image(ldr, 0, 1, Access::ColorAttachmentWrite, false);
+        }
+        self.tracker.flush(&self.gpu.device.raw, cmd);
         // The host's images are the host's again: their handles may be reused for other images.
-        for image in [Some(targets.colour), Some(targets.depth), targets.ldr].into_iter().flatten() {
+        for image in entered.iter().filter_map(|(i, _)| *i) {
             self.tracker.forget(image.raw);
         }
         Ok(data)
+    }
+
+    /// Notes that the host submitted the frame in `slot` (now), sampling the clocks for its GPU
+    /// spans on the host's clock (profiling; see `host_finished`).
+    pub fn host_submitted(&mut self, slot: usize) -> Result<()> {
+        self.submit_noted(slot)
+    }
+
+    /// Keeps the GPU times and spans of the frame in `slot`, which the host has waited for.
+    pub fn host_finished(&mut self, slot: usize) -> Result<()> {
+        let fence_ns = host_now_ns();
+        let s = &mut self.slots[slot];
+        if !std::mem::take(&mut s.host_recorded) {
+            return Ok(());
+        }
+        self.keep_times(slot, fence_ns)
     }
 
     /// Records the frame's passes into `cmd`.
@@ -677,10 +650,9 @@ impl<'g> Renderer<'g> {
         cmd: vk::CommandBuffer,
         slot: usize,
         prepared: Prepared,
-        image: Option<SwapImage>,
         host: Option<HostTargets>,
     ) -> Result<FrameData> {
-        let Prepared { data, capture, sky } = prepared;
+        let Prepared { data, sky } = prepared;
         let sky_current = self.sky_in_map.as_ref() == Some(&sky);
         let air_current = self.sky_in_map.as_ref().is_some_and(|k| k.sky == sky.sky);
         let view = ViewKey::new(&data, &sky);
@@ -698,16 +670,12 @@ impl<'g> Renderer<'g> {
             sky_rows: data.sky_rows,
             sea_rows: data.sea_rows,
             sun_view: data.sun_view.is_some(),
-            swap_image: image,
             host,
         };
 
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
         s.profiler.reset(&device.raw, cmd);
-        if let Some(image) = &image {
-            self.tracker.acquired(image, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
-        }
         let skipped = |p: &(dyn Pass + 'g)| {
             (sky_current && p.builds_sky_map())
                 || (air_current && p.builds_for_sky())
@@ -722,52 +690,7 @@ impl<'g> Renderer<'g> {
             pass.record(&mut Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame }, &self.resources);
             s.profiler.end(device, cmd);
         }
-        if let (Some(buffer), true) = (&self.capture, capture != Capture::None) {
-            s.profiler.begin(device, cmd, "capture");
-            let source = match capture {
-                Capture::Shown => image.map(|i| (i.raw, i.extent)),
-                _ => Some((self.resources.output().raw, self.resources.output().extent)),
-            };
-            if let (Capture::Shown, Some(image)) = (capture, &image) {
-                self.tracker.image(image, 0, 1, Access::TransferRead, false);
-            } else {
-                self.tracker.image(self.resources.output(), 0, 1, Access::TransferRead, false);
-            }
-            self.tracker.buffer(buffer, Access::TransferWrite);
-            self.tracker.flush(&device.raw, cmd);
-            if let Some((raw, extent)) = source {
-                copy_to_buffer(&device.raw, cmd, raw, extent, buffer.raw);
-            }
-            self.tracker.buffer(buffer, Access::HostRead);
-            self.tracker.flush(&device.raw, cmd);
-            s.profiler.end(device, cmd);
-        }
-        if let Some(image) = &image {
-            // The present waits on the render-finished semaphore, signalled after all commands.
-            self.tracker.image(image, 0, 1, Access::Present, false);
-            self.tracker.flush(&device.raw, cmd);
-        }
         Ok(data)
-    }
-
-    /// Makes (or keeps) the host buffer a capture is copied into (a window renderer's images
-    /// are its own size).
-    fn prepare_capture(&mut self, capture: Capture) -> Result<()> {
-        let texel_bytes = if capture == Capture::Shown { 4 } else { 8 };
-        let bytes = texel_bytes * self.width as u64 * self.height as u64;
-        if self.capture.as_ref().is_none_or(|b| b.size != bytes) {
-            if let Some(old) = self.capture.take() {
-                self.tracker.forget_buffer(old.raw);
-            }
-            let usage = vk::BufferUsageFlags::TRANSFER_DST;
-            self.capture = Some(Buffer::new(self.gpu, "capture", bytes, usage, Location::Readback)?);
-        }
-        Ok(())
-    }
-
-    /// Forgets the barrier state of swapchain images that are being replaced.
-    pub fn forget_images(&mut self, images: &[SwapImage]) {
-        images.iter().for_each(|i| self.tracker.forget(i.raw));
     }
 
     /// Waits for every frame in flight.
@@ -777,32 +700,6 @@ impl<'g> Renderer<'g> {
         }
         Ok(())
     }
-}
-
-/// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
-fn copy_to_buffer(
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    extent: vk::Extent2D,
-    buffer: vk::Buffer,
-) {
-    let region = vk::BufferImageCopy {
-        buffer_offset: 0,
-        buffer_row_length: 0,
-        buffer_image_height: 0,
-        image_subresource: vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        },
-        image_offset: vk::Offset3D::default(),
-        image_extent: vk::Extent3D { width: extent.width, height: extent.height, depth: 1 },
-    };
-    // SAFETY: the image was declared TransferRead (TRANSFER_SRC_OPTIMAL) and the buffer
-    // TransferWrite, and the buffer holds the whole image.
-    unsafe { device.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region]) };
 }
 
 impl Drop for Renderer<'_> {

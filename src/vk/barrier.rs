@@ -283,13 +283,6 @@ impl Tracker {
         }
     }
 
-    /// A swapchain image just acquired: its contents are undefined and the semaphore that the
-    /// frame's submission waits on at `wait_stage` makes it available there, so the first access
-    /// needs a barrier from that stage (the dependency chain the acquire semaphore starts).
-    pub fn acquired(&mut self, image: &impl TrackedImage, wait_stage: vk::PipelineStageFlags2) {
-        self.external(image, vk::ImageLayout::UNDEFINED, wait_stage, vk::AccessFlags2::NONE);
-    }
-
     /// A host's image handed over for one frame: in `layout`, last accessed by the host's
     /// commands at `stage` with `access`. The first access of ours waits for that (a write made
     /// available, or reads a write of ours must not overtake) and moves it from that layout.

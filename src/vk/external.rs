@@ -17,6 +17,13 @@ pub struct HostImage {
     pub extent: vk::Extent2D,
 }
 
+impl From<&super::image::Image<'_>> for HostImage {
+    /// One of our own images handed over as a host's (the commands host the ocean this way).
+    fn from(image: &super::image::Image) -> HostImage {
+        HostImage { raw: image.raw, view: image.level0_view, format: image.format, extent: image.extent }
+    }
+}
+
 impl TrackedImage for HostImage {
     fn raw(&self) -> vk::Image {
         self.raw

@@ -174,3 +174,29 @@ impl Drop for Image<'_> {
         }
     }
 }
+
+/// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
+pub fn copy_to_buffer(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    buffer: vk::Buffer,
+) {
+    let region = vk::BufferImageCopy {
+        buffer_offset: 0,
+        buffer_row_length: 0,
+        buffer_image_height: 0,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        },
+        image_offset: vk::Offset3D::default(),
+        image_extent: vk::Extent3D { width: extent.width, height: extent.height, depth: 1 },
+    };
+    // SAFETY: the image was declared TransferRead (TRANSFER_SRC_OPTIMAL) and the buffer
+    // TransferWrite, and the buffer holds the whole image.
+    unsafe { device.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region]) };
+}

@@ -1,23 +1,79 @@
-//! The window as a render target: the swapchain and a renderer whose frames end in its images,
-//! both recreated together when the surface changes (resize, out of date, suboptimal, restore
-//! after a minimize). While the window has no area there is no swapchain and nothing is drawn.
+//! The window as a host of the ocean library (embed::Ocean), as an engine would host it: the
+//! swapchain, an HDR colour image the ocean draws into, each frame slot's command buffer, fence
+//! and acquire semaphore, and the copies a screenshot needs. The ocean tone-maps into the
+//! acquired swapchain image; this host moves it to present. The swapchain and the ocean's size
+//! are recreated together when the surface changes (resize, out of date, suboptimal, restore
+//! after a minimize); while the window has no area there is no swapchain and nothing is drawn.
 
+use crate::embed::camera::scene_view;
+use crate::embed::{
+    FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, ShaderConfig, Shading, Targets,
+};
 use crate::error::Result;
 use crate::model::scene::Scene;
-use crate::render::passes::ocean::ShaderConfig;
-use crate::render::renderer::{Capture, Captured, Options, Output, Renderer};
 use crate::say;
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::buffer::Buffer;
+use crate::vk::commands::{Commands, Wait};
+use crate::vk::device::HDR_FORMAT;
 use crate::vk::gpu::Gpu;
-use crate::vk::swapchain::{present_mode_name, Acquired, Swapchain};
+use crate::vk::image::{copy_to_buffer, Image};
+use crate::vk::memory::Location;
+use crate::vk::owned::Owned;
+use crate::vk::swapchain::{present_mode_name, Acquired, SwapImage, Swapchain};
+use crate::vk::sync::semaphore;
 use ash::vk;
+
+/// What a frame copies out besides showing it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Capture {
+    None,
+    /// The swapchain image as shown (8-bit, in the swapchain's format).
+    Shown,
+    /// The linear HDR radiance (RGBA16F).
+    Radiance,
+}
+
+/// Pixels copied out of a frame, row-major from the top-left.
+pub enum Captured {
+    /// RGBA8 as shown (BGRA swapchain formats already swizzled).
+    Shown {
+        width: u32,
+        height: u32,
+        rgba: Vec<u8>,
+    },
+    Radiance {
+        width: u32,
+        height: u32,
+        rgba: Vec<[f32; 4]>,
+    },
+}
+
+/// One frame in flight: its commands and fence, and the semaphore its image is acquired with.
+struct HostSlot<'g> {
+    commands: Commands<'g>,
+    image_available: Owned<'g, vk::Semaphore>,
+}
+
+/// The ocean and what it draws into, for one swapchain size.
+struct Drawing<'g> {
+    // Field order is drop order: the ocean waits for the device before anything goes.
+    ocean: Ocean<'g>,
+    colour: Image<'g>,
+}
 
 pub struct Presenter<'g> {
     gpu: &'g Gpu,
     requested: vk::PresentModeKHR,
     shader: ShaderConfig,
-    frames_in_flight: u32,
-    // Drop order: the renderer (waits for the device), then the swapchains.
-    pub renderer: Option<Renderer<'g>>,
+    /// The scene the ocean was last given (its camera and time come with each frame).
+    scene: Option<Scene>,
+    // Drop order: the ocean (waits for the device), the slots, the capture buffer, the swapchains.
+    drawing: Option<Drawing<'g>>,
+    slots: Vec<HostSlot<'g>>,
+    next_slot: usize,
+    capture: Option<Buffer<'g>>,
+    tracker: Tracker,
     pub swapchain: Option<Swapchain<'g>>,
     /// Replaced swapchains, with the presents left until they are destroyed: without
     /// VK_EXT_swapchain_maintenance1 nothing says when the presentation engine is done with a
@@ -48,40 +104,69 @@ impl<'g> Presenter<'g> {
         requested: vk::PresentModeKHR,
         shader: ShaderConfig,
         frames_in_flight: u32,
-    ) -> Presenter<'g> {
-        Presenter {
+    ) -> Result<Presenter<'g>> {
+        let slots = (0..frames_in_flight.max(1))
+            .map(|i| {
+                Ok(HostSlot {
+                    commands: Commands::new(&gpu.device, &format!("frame {i}"))?,
+                    image_available: semaphore(&gpu.device, &format!("image for frame {i}"))?,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Presenter {
             gpu,
             requested,
             shader,
-            frames_in_flight,
-            renderer: None,
+            scene: None,
+            drawing: None,
+            slots,
+            next_slot: 0,
+            capture: None,
+            tracker: Tracker::default(),
             swapchain: None,
             retired: Vec::new(),
             recreations: 0,
             made_one: false,
             logged: None,
-        }
+        })
     }
 
-    /// Changes the ocean shaders (a method switch): the renderer is rebuilt.
+    /// GPU time per pass (ms) of the latest finished frame.
+    pub fn pass_ms(&self) -> &[(&'static str, f64)] {
+        self.drawing.as_ref().map_or(&[], |d| d.ocean.pass_ms())
+    }
+
+    /// The latest finished frame's passes on the host clock.
+    pub fn gpu_frame(&self) -> Option<&GpuFrame> {
+        self.drawing.as_ref().and_then(|d| d.ocean.last_gpu_frame())
+    }
+
+    /// Waits for every frame in flight, keeping the last one's times.
+    pub fn wait_idle(&mut self) -> Result<()> {
+        for (i, slot) in self.slots.iter().enumerate() {
+            if slot.commands.wait()? {
+                if let Some(d) = &mut self.drawing {
+                    d.ocean.finished(i)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Changes the ocean shaders (a method switch): the ocean is rebuilt.
     pub fn set_shader(&mut self, shader: ShaderConfig, scene: &Scene) -> Result<()> {
         self.shader = shader;
-        self.rebuild_renderer(scene)
+        self.rebuild(scene)
     }
 
-    /// (Re)creates the swapchain for a drawable area of `extent`, and the renderer if the image
-    /// size or format changed. Ok(false): the area is empty (minimized), nothing to draw into.
+    /// (Re)creates the swapchain for a drawable area of `extent`, and the ocean if the image size
+    /// or format changed. Ok(false): the area is empty (minimized), nothing to draw into.
     pub fn recreate(&mut self, extent: vk::Extent2D, scene: &Scene) -> Result<bool> {
         // Every frame that rendered into the old images is done before they can go.
-        if let Some(renderer) = &mut self.renderer {
-            renderer.wait_idle()?;
-        }
+        self.wait_idle()?;
         let old = self.swapchain.take();
         let made = Swapchain::new(self.gpu, self.requested, extent, old.as_ref())?;
         if let Some(old) = old {
-            if let Some(renderer) = &mut self.renderer {
-                renderer.forget_images(&old.images);
-            }
             let presents_left = old.images.len();
             self.retired.push((old, presents_left));
         }
@@ -103,7 +188,7 @@ impl<'g> Presenter<'g> {
                 swapchain.extent.height,
                 choice.format.format,
                 if choice.encode_srgb_in_shader {
-                    "UNORM: sRGB encoded by the display shader"
+                    "UNORM: sRGB encoded by the tone mapping"
                 } else {
                     "sRGB: encoded on store"
                 },
@@ -112,43 +197,51 @@ impl<'g> Presenter<'g> {
             );
             self.logged = Some((choice.format, choice.present_mode));
         }
-        let rebuild = match &self.renderer {
-            Some(r) => {
-                r.size() != (swapchain.extent.width, swapchain.extent.height) || r.output() != self.output(&swapchain)
+        let rebuild = match &self.drawing {
+            Some(d) => {
+                let desc = d.ocean.desc();
+                (desc.width, desc.height) != (swapchain.extent.width, swapchain.extent.height)
+                    || desc.formats.ldr != Some(choice.format.format)
             }
             None => true,
         };
         self.swapchain = Some(swapchain);
         if rebuild {
-            self.rebuild_renderer(scene)?;
+            self.rebuild(scene)?;
         }
         Ok(true)
     }
 
-    fn output(&self, swapchain: &Swapchain) -> Output {
-        Output::Window { format: swapchain.choice.format.format, encode_srgb: swapchain.choice.encode_srgb_in_shader }
-    }
-
-    /// Rebuilds the renderer for the current swapchain (a scene whose sky sampler changed).
+    /// Rebuilds the ocean for the current swapchain (its old resources go first).
     pub fn rebuild(&mut self, scene: &Scene) -> Result<()> {
-        self.rebuild_renderer(scene)
-    }
-
-    fn rebuild_renderer(&mut self, scene: &Scene) -> Result<()> {
+        self.wait_idle()?;
+        self.drawing = None;
         let Some(swapchain) = &self.swapchain else {
-            // Minimized: the next recreate builds one for the restored swapchain.
-            self.renderer = None;
-            return Ok(());
+            return Ok(()); // minimized: the next recreate builds one for the restored swapchain
         };
-        let options = Options {
-            shader: self.shader,
-            output: self.output(swapchain),
-            frames_in_flight: self.frames_in_flight,
-            ..Options::default()
-        };
-        self.renderer = None; // wait for and free the old one before placing the new one
         let extent = swapchain.extent;
-        self.renderer = Some(Renderer::new(self.gpu, scene, extent.width, extent.height, options)?);
+        let desc = OceanDesc {
+            scene: scene.clone(),
+            width: extent.width,
+            height: extent.height,
+            formats: HostFormats {
+                colour: HDR_FORMAT,
+                depth: None,
+                reversed_z: true,
+                ldr: Some(swapchain.choice.format.format),
+            },
+            frames_in_flight: self.slots.len() as u32,
+            sky: true,
+            radiance_scale: 1.0,
+            shading: Shading { shader: self.shader, ..Shading::default() },
+        };
+        let ocean = Ocean::new(self.gpu, desc)?;
+        use vk::ImageUsageFlags as U;
+        // The ocean copies into it and samples it to tone-map; a radiance screenshot copies it out.
+        let usage = U::COLOR_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST | U::TRANSFER_SRC;
+        let colour = Image::new(self.gpu, "window colour", HDR_FORMAT, extent, 1, usage)?;
+        self.drawing = Some(Drawing { ocean, colour });
+        self.scene = Some(scene.clone());
         Ok(())
     }
 
@@ -159,23 +252,42 @@ impl<'g> Presenter<'g> {
 
     /// Draws and presents one frame of `scene`.
     pub fn draw(&mut self, scene: &Scene, capture: Capture) -> Result<Drawn> {
-        let (Some(renderer), Some(swapchain)) = (&mut self.renderer, &self.swapchain) else {
+        if self.drawing.is_none() || self.swapchain.is_none() {
             return Ok(Drawn::OutOfDate);
-        };
+        }
+        let changed = self.scene.as_ref().is_none_or(|s| !same_but_view(s, scene));
+        let waited = std::time::Instant::now();
+        let slot = self.next_slot;
+        self.next_slot = (slot + 1) % self.slots.len();
+        let drawing = self.drawing.as_mut().expect("checked above");
+        if self.slots[slot].commands.wait()? {
+            drawing.ocean.finished(slot)?;
+        }
+        let mut wait_ms = waited.elapsed().as_secs_f64() * 1e3;
+        if changed {
+            // A change the pipelines depend on rebuilds them: every frame in flight is done first.
+            for s in &self.slots {
+                s.commands.wait()?;
+            }
+            drawing.ocean.set_scene(scene.clone())?;
+            self.scene = Some(scene.clone());
+        }
+        // Whatever can fail on the host fails here, before an image is acquired.
+        let (width, height) = (drawing.colour.extent.width, drawing.colour.extent.height);
+        let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
+        drawing.ocean.update(slot, &FrameInput { time_s: scene.render.time_s, view, projection })?;
+        self.prepare_capture(capture)?;
+        let swapchain = self.swapchain.as_ref().expect("checked above");
         assert!(capture != Capture::Shown || swapchain.choice.copyable, "check can_copy_shown() first");
         let waited = std::time::Instant::now();
-        let slot = renderer.begin_frame()?;
-        let mut wait_ms = waited.elapsed().as_secs_f64() * 1e3;
-        // Whatever can fail on the host fails here, before an image is acquired.
-        let prepared = renderer.prepare(slot, scene, capture)?;
-        let waited = std::time::Instant::now();
-        let (image, suboptimal) = match swapchain.acquire(renderer.image_available(slot))? {
+        let (image, suboptimal) = match swapchain.acquire(self.slots[slot].image_available.raw)? {
             Acquired::Image { image, suboptimal } => (image, suboptimal),
             Acquired::OutOfDate => return Ok(Drawn::OutOfDate),
         };
         wait_ms += waited.elapsed().as_secs_f64() * 1e3;
-        let rendered = swapchain.render_finished[image.index as usize].raw;
-        let captured = renderer.draw(slot, prepared, image, rendered)?;
+        self.record(slot, image, capture)?;
+        let captured = self.read_capture(slot, capture, image)?;
+        let swapchain = self.swapchain.as_ref().expect("checked above");
         let presenting = std::time::Instant::now();
         let current = swapchain.present(&image)?;
         let present_ms = presenting.elapsed().as_secs_f64() * 1e3;
@@ -185,4 +297,103 @@ impl<'g> Presenter<'g> {
         });
         Ok(Drawn::Presented { stale: suboptimal || !current, captured, wait_ms, present_ms })
     }
+
+    /// Records and submits the frame in `slot`: the ocean into the colour and the swapchain
+    /// `image`, the capture's copy, the image's move to present.
+    fn record(&mut self, slot: usize, image: SwapImage, capture: Capture) -> Result<()> {
+        let device = &self.gpu.device.raw;
+        let drawing = self.drawing.as_mut().expect("drawn only with an ocean");
+        let s = &self.slots[slot];
+        let cmd = s.commands.cmd;
+        s.commands.begin()?;
+        let colour = HostImage::from(&drawing.colour);
+        let shown = HostImage { raw: image.raw, view: image.view, format: image.format, extent: image.extent };
+        // The colour's contents are not kept; the frame before last read it (tone mapping, or a
+        // radiance screenshot's copy), earlier on this queue.
+        let stage = vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY;
+        let colour_entry = ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
+        let targets = Targets { colour, colour_entry, depth: None, ldr: Some((shown, ImageState::ACQUIRED)) };
+        drawing.ocean.record(cmd, slot, &targets)?;
+        // From the exit states embed::Ocean::record documents for a frame with an LDR target.
+        let t = &mut self.tracker;
+        let drawn = ImageState::COLOR_ATTACHMENT;
+        t.external(&shown, drawn.layout, drawn.stage, drawn.access);
+        if let Some(buffer) = &self.capture {
+            if capture == Capture::Shown {
+                t.image(&shown, 0, 1, Access::TransferRead, false);
+            } else {
+                let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+                t.external(&colour, read, vk::PipelineStageFlags2::FRAGMENT_SHADER, vk::AccessFlags2::NONE);
+                t.image(&colour, 0, 1, Access::TransferRead, false);
+            }
+            t.buffer(buffer, Access::TransferWrite);
+            t.flush(device, cmd);
+            let source = if capture == Capture::Shown { shown } else { colour };
+            copy_to_buffer(device, cmd, source.raw, source.extent, buffer.raw);
+            t.buffer(buffer, Access::HostRead);
+        }
+        // The present waits on the render-finished semaphore, signalled after all commands.
+        t.image(&shown, 0, 1, Access::Present, false);
+        t.flush(device, cmd);
+        t.forget(shown.raw);
+        t.forget(colour.raw);
+        let wait = Wait { semaphore: s.image_available.raw, stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT };
+        let swapchain = self.swapchain.as_ref().expect("drawn only with a swapchain");
+        s.commands.submit(&[wait], Some(swapchain.render_finished[image.index as usize].raw))?;
+        drawing.ocean.submitted(slot)
+    }
+
+    /// Makes (or keeps) the host buffer a capture is copied into.
+    fn prepare_capture(&mut self, capture: Capture) -> Result<()> {
+        let Some(drawing) = &self.drawing else { return Ok(()) };
+        let texel_bytes = match capture {
+            Capture::None => {
+                return Ok(());
+            }
+            Capture::Shown => 4,
+            Capture::Radiance => 8,
+        };
+        let extent = drawing.colour.extent;
+        let bytes = texel_bytes * extent.width as u64 * extent.height as u64;
+        if self.capture.as_ref().is_none_or(|b| b.size != bytes) {
+            if let Some(old) = self.capture.take() {
+                self.tracker.forget_buffer(old.raw);
+            }
+            let usage = vk::BufferUsageFlags::TRANSFER_DST;
+            self.capture = Some(Buffer::new(self.gpu, "capture", bytes, usage, Location::Readback)?);
+        }
+        Ok(())
+    }
+
+    /// With a capture, waits for the frame in `slot` and returns its pixels.
+    fn read_capture(&mut self, slot: usize, capture: Capture, image: SwapImage) -> Result<Option<Captured>> {
+        let (Some(buffer), Some(drawing)) = (&self.capture, &mut self.drawing) else { return Ok(None) };
+        if capture == Capture::None {
+            return Ok(None);
+        }
+        self.slots[slot].commands.wait()?;
+        drawing.ocean.finished(slot)?;
+        let (width, height) = (image.extent.width, image.extent.height);
+        let pixels = width as usize * height as usize;
+        Ok(Some(if capture == Capture::Shown {
+            let mut rgba: Vec<u8> = buffer.read(4 * pixels)?;
+            if matches!(image.format, vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM) {
+                rgba.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+            }
+            Captured::Shown { width, height, rgba }
+        } else {
+            let bits: Vec<u16> = buffer.read(4 * pixels)?;
+            let rgba =
+                bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
+            Captured::Radiance { width, height, rgba }
+        }))
+    }
+}
+
+/// Whether two scenes differ in the camera and the time alone (which come with each frame).
+fn same_but_view(a: &Scene, b: &Scene) -> bool {
+    let mut b = b.clone();
+    b.camera = a.camera.clone();
+    b.render.time_s = a.render.time_s;
+    *a == b
 }

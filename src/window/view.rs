@@ -11,13 +11,13 @@ use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::output;
 use crate::render::passes::ocean::{Method, ShaderConfig};
-use crate::render::renderer::{Capture, Captured};
 use crate::render::timeline::GpuFrame;
 use crate::say;
 use crate::vk::clock::host_now_ns;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use crate::vk::swapchain::present_mode_name;
+use crate::window::presenter::{Capture, Captured};
 use ash::vk;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -156,13 +156,11 @@ pub fn run(options: &ViewOptions) -> Result<ViewReport> {
     let gpu = Gpu::for_window(options.validation, options.device.as_deref(), handles.0, handles.1)?;
     say!("ocean view on {}: press H for the controls", gpu.device.name);
     let shader = options.shader;
-    let mut presenter = Presenter::new(&gpu, options.present.vk(), shader, options.frames_in_flight);
+    let mut presenter = Presenter::new(&gpu, options.present.vk(), shader, options.frames_in_flight)?;
     let mut session = Session::new(options);
     let result = session.run(&mut event_loop, &mut events, &mut presenter);
     // Stop the GPU before reporting, whatever happened.
-    if let Some(renderer) = &mut presenter.renderer {
-        renderer.wait_idle()?;
-    }
+    presenter.wait_idle()?;
     result?;
     if let (Some(path), Some(timeline)) = (&options.trace, &session.timeline) {
         output::write_text(path, &timeline.trace.to_json())?;
@@ -337,12 +335,8 @@ impl<'o> Session<'o> {
             last_turn = now;
             if now.duration_since(last_refresh) >= REFRESH {
                 last_refresh = now;
-                self.watch_file(presenter)?;
-                let title = self.stats.title(
-                    presenter.renderer.as_ref().map_or(&[], |r| r.last_pass_ms()),
-                    self.method.name(),
-                    self.paused,
-                );
+                self.watch_file()?;
+                let title = self.stats.title(presenter.pass_ms(), self.method.name(), self.paused);
                 window.set_title(&title);
             }
             // A quit with --screenshot draws one last frame to capture, unless nothing can be drawn.
@@ -402,10 +396,10 @@ impl<'o> Session<'o> {
                     let interval = last_present.map(|t| presented.duration_since(t).as_secs_f64() * 1e3);
                     last_present = Some(presented);
                     let cpu_ms = presented.duration_since(started).as_secs_f64() * 1e3;
-                    let gpu = presenter.renderer.as_ref().map_or(&[][..], |r| r.last_pass_ms());
+                    let gpu = presenter.pass_ms();
                     self.stats.frame(interval, cpu_ms, wait_ms, present_ms, gpu);
                     if let Some(timeline) = &mut self.timeline {
-                        let finished = presenter.renderer.as_ref().and_then(|r| r.last_gpu_frame());
+                        let finished = presenter.gpu_frame();
                         timeline.frame(self.frames - 1, started_ns, present_ms, interval, finished);
                     }
                     if let (Some(captured), Some((_, path))) = (captured, capture) {
@@ -430,7 +424,7 @@ impl<'o> Session<'o> {
         match action {
             Action::Quit => self.quit = true,
             Action::Help => say!("{HELP}"),
-            Action::Reload => self.reload(presenter)?,
+            Action::Reload => self.reload()?,
             Action::TogglePause => {
                 self.paused = !self.paused;
                 say!("time {} at {:.2} s", if self.paused { "paused" } else { "running" }, self.time_s);
@@ -463,18 +457,18 @@ impl<'o> Session<'o> {
     }
 
     /// Reloads the scene file when it changed on disk.
-    fn watch_file(&mut self, presenter: &mut Presenter) -> Result<()> {
+    fn watch_file(&mut self) -> Result<()> {
         let Some(path) = &self.options.scene_path else { return Ok(()) };
         let time = modified(path);
         if time != self.file_time {
             self.file_time = time;
-            self.reload(presenter)?;
+            self.reload()?;
         }
         Ok(())
     }
 
     /// Loads the scene file again; a broken file keeps the last good scene, with one line why.
-    fn reload(&mut self, presenter: &mut Presenter) -> Result<()> {
+    fn reload(&mut self) -> Result<()> {
         let Some(path) = &self.options.scene_path else {
             say!("no scene file to reload (started without --scene)");
             return Ok(());
@@ -484,11 +478,8 @@ impl<'o> Session<'o> {
                 if scene.render.time_s != self.scene.render.time_s {
                     self.time_s = scene.render.time_s;
                 }
-                let rebuild = presenter.renderer.as_ref().is_some_and(|r| !r.fits(&scene));
+                // The next frame hands the ocean the new scene (rebuilding what depends on it).
                 self.scene = scene;
-                if rebuild {
-                    presenter.rebuild(&self.scene)?;
-                }
                 self.reloads += 1;
                 say!("{}: reloaded", path.display());
             }

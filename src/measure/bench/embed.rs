@@ -48,10 +48,6 @@ struct HostTargets<'g> {
     ldr: Image<'g>,
 }
 
-fn host_image(image: &Image) -> HostImage {
-    HostImage { raw: image.raw, view: image.view, format: image.format, extent: image.extent }
-}
-
 /// The scene's camera as a host's matrices: its view and a reversed-Z infinite projection (the
 /// ocean reads them back into the same camera).
 fn host_camera(scene: &Scene, width: u32, height: u32) -> (DMat4, DMat4) {
@@ -108,16 +104,17 @@ pub fn run(
         scene: scene.clone(),
         width,
         height,
-        formats: HostFormats { colour: HDR_FORMAT, depth: DEPTH_FORMAT, reversed_z: true, ldr: Some(LDR_FORMAT) },
+        formats: HostFormats { colour: HDR_FORMAT, depth: Some(DEPTH_FORMAT), reversed_z: true, ldr: Some(LDR_FORMAT) },
         frames_in_flight: 1,
         sky: true,
         radiance_scale: 1.0,
+        shading: Default::default(),
     };
     let mut ocean = Ocean::new(&borrowed, desc)?;
     let mut renderer = Renderer::new(gpu, scene, width, height, Options::default())?;
     let commands = Commands::new(&gpu.device, "host frame")?;
     let (view, projection) = host_camera(scene, width, height);
-    let input = FrameInput { time_s: scene.render.time_s, view: view.as_mat4(), projection: projection.as_mat4() };
+    let input = FrameInput { time_s: scene.render.time_s, view, projection };
     let mut render_frames = Vec::new();
     let mut embedded_frames = Vec::new();
     // An embedded frame's times are read at its slot's next update: the times a frame returns
@@ -187,7 +184,8 @@ fn embedded_frame(
     }
     commands.begin()?;
     let cmd = commands.cmd;
-    let (colour, depth, ldr) = (host_image(&targets.colour), host_image(&targets.depth), host_image(&targets.ldr));
+    let (colour, depth, ldr) =
+        (HostImage::from(&targets.colour), HostImage::from(&targets.depth), HostImage::from(&targets.ldr));
     let undefined = |stage| ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
     transition(
         &gpu.device.raw,
@@ -202,8 +200,7 @@ fn embedded_frame(
     let t = Targets {
         colour,
         colour_entry: ImageState::COLOR_ATTACHMENT,
-        depth,
-        depth_entry: ImageState::DEPTH_ATTACHMENT,
+        depth: Some((depth, ImageState::DEPTH_ATTACHMENT)),
         ldr: Some((ldr, ldr_entry)),
     };
     ocean.record(cmd, 0, &t)?;

@@ -1,7 +1,10 @@
 //! Composite: the ocean into a host's frame (embed::Ocean). A full-screen triangle writes each
 //! pixel's shaded radiance to the host's HDR colour attachment and the sea's depth, in the host's
 //! projection, to the host's depth attachment, depth-tested against what the host drew before
-//! (glsl/composite.frag). Only in a frame recorded for a host.
+//! (glsl/composite.frag). A host without depth drew no objects: the sea covers whatever it
+//! reaches, and the host keeps its colour elsewhere only when it draws its own sky. Only in a
+//! frame recorded for a host; a host whose whole frame is the ocean's gets a copy instead
+//! (passes/host_copy.rs).
 
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
@@ -22,8 +25,9 @@ const SEA_DEPTH_BINDING: u32 = 3;
 pub struct HostFormats {
     /// The HDR colour attachment's format (vk::external::hdr_format_max lists them).
     pub colour: vk::Format,
-    /// The depth attachment's format (vk::external::HOST_DEPTH_FORMATS).
-    pub depth: vk::Format,
+    /// The depth attachment's format (vk::external::HOST_DEPTH_FORMATS); None: the host draws no
+    /// objects of its own and hands no depth (the sea is then not depth-tested).
+    pub depth: Option<vk::Format>,
     /// Whether the host's depth is reversed (1 near, 0 far) or standard (0 near, 1 far).
     pub reversed_z: bool,
     /// The LDR target's format, when the ocean also tone-maps the host's frame into one
@@ -34,6 +38,8 @@ pub struct HostFormats {
 pub struct CompositePass<'g> {
     bindings: Bindings<'g>,
     pipeline: Owned<'g, vk::Pipeline>,
+    /// LOAD where pixels keep the host's colour, DONT_CARE where every pixel is written.
+    load: vk::AttachmentLoadOp,
 }
 
 impl CompositePass<'_> {
@@ -72,13 +78,19 @@ impl<'g> CompositePass<'g> {
                 fragment: Some(shaders::COMPOSITE_FRAG),
                 specialization: Some(&spec),
                 color_format: Some(formats.colour),
-                depth_format: formats.depth,
-                depth_write: true,
-                depth_compare: compare,
+                depth_format: formats.depth.unwrap_or(vk::Format::UNDEFINED),
+                depth_write: formats.depth.is_some(),
+                depth_compare: if formats.depth.is_some() { compare } else { vk::CompareOp::ALWAYS },
                 depth_bias: None,
             },
         )?;
-        Ok(CompositePass { bindings, pipeline })
+        // Without depth and with the sky, every pixel is written: the host's colour is not read.
+        let load = if formats.depth.is_none() && config.background {
+            vk::AttachmentLoadOp::DONT_CARE
+        } else {
+            vk::AttachmentLoadOp::LOAD
+        };
+        Ok(CompositePass { bindings, pipeline, load })
     }
 }
 
@@ -91,9 +103,15 @@ impl Pass for CompositePass<'_> {
         t.image(r.output(), 0, 1, Access::FragmentSampled, false);
         t.image(&r.depth, 0, 1, Access::FragmentSampled, false);
         if let Some(host) = &f.host {
-            // Loaded: the pixels the sea and sky do not cover keep the host's colour.
-            t.image(&host.colour, 0, 1, Access::ColorAttachmentReadWrite, false);
-            t.image(&host.depth, 0, 1, Access::DepthAttachmentReadWrite, false);
+            if self.load == vk::AttachmentLoadOp::LOAD {
+                // The pixels the sea and sky do not cover keep the host's colour.
+                t.image(&host.colour, 0, 1, Access::ColorAttachmentReadWrite, false);
+            } else {
+                t.image(&host.colour, 0, 1, Access::ColorAttachmentWrite, true);
+            }
+            if let Some(depth) = &host.depth {
+                t.image(depth, 0, 1, Access::DepthAttachmentReadWrite, false);
+            }
         }
     }
 
@@ -103,19 +121,20 @@ impl Pass for CompositePass<'_> {
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(host.colour.view)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::LOAD)
+            .load_op(self.load)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(host.depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::LOAD)
-            .store_op(vk::AttachmentStoreOp::STORE);
+        let depth = host.depth.map(|depth| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(depth.view)
+                .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::LOAD)
+                .store_op(vk::AttachmentStoreOp::STORE)
+        });
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: host.colour.extent };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color)
-            .depth_attachment(&depth);
+        let mut info = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&color);
+        if let Some(depth) = &depth {
+            info = info.depth_attachment(depth);
+        }
         // SAFETY: the host's attachments are in the layouts declared above (the tracker moved
         // them from the host's stated entry state), the pipeline was built for their formats, and
         // the sampled images were declared FragmentSampled.

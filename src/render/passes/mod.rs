@@ -5,9 +5,9 @@
 pub mod atmosphere;
 pub mod black;
 pub mod composite;
-pub mod display;
 pub mod exposure;
 pub mod eye_sky;
+pub mod host_copy;
 pub mod host_tonemap;
 pub mod ocean;
 pub mod placeholders;
@@ -23,7 +23,6 @@ use crate::vk::barrier::Tracker;
 use crate::vk::device::Device;
 use crate::vk::external::HostImage;
 use crate::vk::pipeline::Bindings;
-use crate::vk::swapchain::SwapImage;
 use ash::vk;
 
 /// What one frame's passes use beside the shared resources: its slot's uniform windows and grid,
@@ -41,7 +40,6 @@ pub struct Frame {
     pub sea_rows: u32,
     /// Whether the sun has a view of the displaced sea this frame (sun_shadow::fit).
     pub sun_view: bool,
-    pub swap_image: Option<SwapImage>,
     /// A host's attachments, when the frame is recorded into a host's frame (embed::Ocean).
     pub host: Option<HostTargets>,
 }
@@ -50,7 +48,8 @@ pub struct Frame {
 #[derive(Clone, Copy, Debug)]
 pub struct HostTargets {
     pub colour: HostImage,
-    pub depth: HostImage,
+    /// None: the host drew no objects (HostFormats::depth).
+    pub depth: Option<HostImage>,
     /// The LDR target the host's frame is tone-mapped into, when asked (passes/host_tonemap.rs).
     pub ldr: Option<HostImage>,
 }
