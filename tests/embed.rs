@@ -450,7 +450,8 @@ fn the_embed_bench_times_both_frames_validation_clean() {
     for pass in ["ocean", "shade", "composite", "host tonemap"] {
         assert!(t.embedded_ms.get(pass).is_some_and(|ms| *ms > 0.0), "embedded {pass}: {:?}", t.embedded_ms);
     }
-    assert!(t.render_ms.contains_key("tonemap") && !t.render_ms.contains_key("composite"), "{:?}", t.render_ms);
+    // `ocean render`'s frame: a host without objects, its radiance copied, not composited.
+    assert!(t.render_ms.contains_key("host copy") && !t.render_ms.contains_key("composite"), "{:?}", t.render_ms);
     assert!(t.ratio.iter().all(|r| r.is_finite() && *r > 0.0), "{:?}", t.ratio);
     let md = std::fs::read_to_string(out.join("embed.md")).unwrap();
     assert!(md.contains("| composite |") && md.contains("Embedded over render"), "{md}");
@@ -491,4 +492,86 @@ fn scene_changes_between_host_frames() {
     bad.sun.elevation_deg = f64::NAN;
     assert!(ocean.set_scene(bad).unwrap_err().to_string().contains("sun.elevation_deg"));
     host.assert_clean("the host's frames");
+}
+
+/// A host without depth's frame: its colour, cleared to `BACKGROUND` (RGBA16F), after the ocean.
+fn depthless_frame(host: &Host, ocean: &mut Ocean, input: &FrameInput) -> Vec<[f32; 4]> {
+    use vk::{AccessFlags2 as A, ImageLayout as L, ImageUsageFlags as U, PipelineStageFlags2 as S};
+    let usage = U::COLOR_ATTACHMENT | U::TRANSFER_SRC | U::TRANSFER_DST;
+    let colour = host.image(COLOUR_FORMAT, W, H, usage);
+    let pixels = (W * H) as usize;
+    let out = host.readback(8 * pixels as u64);
+    let c = colour.image;
+    ocean.update(0, input).unwrap();
+    host.begin();
+    let cleared = (L::TRANSFER_DST_OPTIMAL, S::CLEAR, A::TRANSFER_WRITE);
+    host.barrier(&c, (L::UNDEFINED, S::NONE, A::NONE), cleared);
+    let range =
+        vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
+    // SAFETY (test host): the image is in TRANSFER_DST_OPTIMAL.
+    unsafe {
+        let colour = vk::ClearColorValue { float32: BACKGROUND };
+        host.device.cmd_clear_color_image(host.cmd, c.raw, L::TRANSFER_DST_OPTIMAL, &colour, &[range])
+    };
+    let entry = ImageState::new(cleared.0, cleared.1, cleared.2);
+    ocean.record(host.cmd, 0, &Targets { colour: c, colour_entry: entry, depth: None, ldr: None }).unwrap();
+    let exit = (L::COLOR_ATTACHMENT_OPTIMAL, S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+    host.barrier(&c, exit, (L::TRANSFER_SRC_OPTIMAL, S::COPY, A::TRANSFER_READ));
+    let region = vk::BufferImageCopy {
+        image_subresource: vk::ImageSubresourceLayers::default()
+            .aspect_mask(vk::ImageAspectFlags::COLOR)
+            .layer_count(1),
+        image_extent: vk::Extent3D { width: W, height: H, depth: 1 },
+        ..Default::default()
+    };
+    // SAFETY (test host): the image is in TRANSFER_SRC_OPTIMAL and the buffer holds it.
+    unsafe { host.device.cmd_copy_image_to_buffer(host.cmd, c.raw, L::TRANSFER_SRC_OPTIMAL, out.0, &[region]) };
+    host.submit_and_wait();
+    let bits: Vec<u16> = host.read(out.1, 4 * pixels);
+    host.destroy_buffer(out);
+    host.destroy_image(colour);
+    bits.chunks_exact(4).map(|p| std::array::from_fn(|i| half::f16::from_bits(p[i]).to_f32())).collect()
+}
+
+#[test]
+fn a_host_without_depth_gets_the_sea_everywhere_and_keeps_its_own_sky_when_asked() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let scene = Scene::default();
+    let (view, projection) = ocean::embed::camera::scene_view(&scene, W as f64 / H as f64, true);
+    let input = FrameInput { time_s: 0.0, view, projection };
+    let depthless = |sky: bool, radiance_scale: f32| OceanDesc {
+        formats: HostFormats { colour: COLOUR_FORMAT, depth: None, reversed_z: true, ldr: None },
+        sky,
+        radiance_scale,
+        ..desc(scene.clone(), true)
+    };
+    // The whole frame the ocean's: a copy of its radiance (`ocean render`'s frame).
+    let mut whole = Ocean::new(&gpu, depthless(true, 1.0)).unwrap();
+    assert!(whole.pass_names().contains(&"host copy") && !whole.pass_names().contains(&"composite"));
+    let copied = depthless_frame(&host, &mut whole, &input);
+    drop(whole);
+    // A host with its own sky, in cd/m²: drawn, the sky's pixels kept.
+    let mut own_sky = Ocean::new(&gpu, depthless(false, 1000.0)).unwrap();
+    assert!(own_sky.pass_names().contains(&"composite"));
+    let drawn = depthless_frame(&host, &mut own_sky, &input);
+    let (mut sea, mut kept) = (0, 0);
+    for (i, (a, b)) in copied.iter().zip(&drawn).enumerate() {
+        if *b == BACKGROUND {
+            kept += 1;
+            // Only the sky's rows: above the horizon, which the default view puts in the top half.
+            assert!(i < (W * H / 2) as usize, "pixel {i} of the sea kept the host's colour");
+        } else {
+            sea += 1;
+            for c in 0..3 {
+                // Both RGBA16F: one binary16 rounding of each (2^-11 relative), then the scale.
+                let expected = (a[c] * 1000.0).min(65504.0);
+                assert!((b[c] - expected).abs() <= 2e-3 * expected + 1e-3, "pixel {i}: {b:?} against {a:?} x 1000");
+            }
+        }
+    }
+    assert!(sea > (W * H / 3) as usize && kept > (W * H / 4) as usize, "{sea} sea pixels, {kept} kept");
+    assert!(copied.iter().all(|p| p.iter().all(|v| v.is_finite()) && *p != BACKGROUND));
+    drop(own_sky);
+    host.assert_clean("hosts without depth");
 }

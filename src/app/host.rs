@@ -7,7 +7,7 @@
 
 use crate::embed::camera::scene_view;
 use crate::embed::{FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::render::renderer::RenderedFrame;
 use crate::render::timeline::{CpuSpans, Submission};
@@ -50,6 +50,10 @@ impl<'g> OffscreenHost<'g> {
     /// A host of `width` x `height` frames of `scene` shaded as `shading` says; with
     /// `shading.shader.background` off the sky is left black.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, shading: Shading) -> Result<Self> {
+        // An ocean of no pixels is paused (a minimized window's); a picture needs some.
+        if width == 0 || height == 0 {
+            return Err(Error::Argument(format!("image size {width}x{height}: width and height must be at least 1")));
+        }
         let desc = OceanDesc {
             scene: scene.clone(),
             width,

@@ -58,7 +58,15 @@ impl HostView {
             return Err(bad("the projection matrix is not invertible".into()));
         }
         let eye = view.inverse().w_axis.truncate();
-        let clip = projection * view * DMat4::from_translation(eye);
+        // The view from the eye: an affine view's rotation alone, exactly (composing it with
+        // the eye's translation would leave |eye| * 1e-16 of rounding in a column that should be
+        // 0, rounding the rays near a far-off eye by as much).
+        let relative = if view.row(3) == DVec4::W {
+            DMat4::from_cols(view.x_axis, view.y_axis, view.z_axis, DVec4::W)
+        } else {
+            view * DMat4::from_translation(eye)
+        };
+        let clip = projection * relative;
         // A perspective projection through the eye: clip w vanishes at the eye, and is the view
         // depth along the principal axis (the gradient of w), up to scale.
         let w_row = clip.row(3);

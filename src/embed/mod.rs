@@ -91,7 +91,8 @@ pub struct OceanDesc {
 /// How the ocean shades, beyond the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Shading {
-    /// The method, its terms and what the shaders include (its `background` is [`OceanDesc::sky`]'s).
+    /// The method, its terms and what the shaders include. Its `background` off leaves the sky
+    /// and the sea's aerial perspective out (black), for renders of single terms.
     pub shader: ShaderConfig,
     /// Samples per pixel along each axis (1: none); above 1 only for hosts without depth (the
     /// sea's depth is one per pixel).
@@ -192,8 +193,9 @@ impl<'g> Ocean<'g> {
     /// The renderer's options for the desc: its shading, specialized for its scene where asked.
     fn plan(&self) -> (Options, Vec<Omission>) {
         let desc = &self.desc;
+        // The shading's own `background` stays: the sea's aerial perspective goes with it, which
+        // a host with its own sky keeps; the composite leaves that host's sky alone.
         let mut shader = desc.shading.shader;
-        shader.background = desc.sky;
         // The loop the device runs, so that `shader()` names it.
         shader.train_reads = crate::render::passes::shade::train_reads_on(&self.gpu.device, shader.train_reads);
         let options = Options {
@@ -487,8 +489,9 @@ impl<'g> Ocean<'g> {
 
 /// Err unless `camera` is the scene's own (an ocean specialized for the scene's camera).
 fn check_same_camera(planned: &crate::model::scene::Camera, camera: &crate::model::scene::Camera) -> Result<()> {
-    // The matrices' f64 round trip moves a value by a few ulps; a moved camera by far more.
-    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
+    // The matrices' f64 round trip moves a value by rounding far below a millionth (the eye's
+    // distance from the origin and the near plane's set how far); a moved camera by far more.
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs()).max(1.0);
     let pairs = [
         ("x_m", planned.x_m, camera.x_m),
         ("y_m", planned.y_m, camera.y_m),

@@ -73,7 +73,7 @@ pub struct HostOutput {
 impl HostOutput {
     /// Whether compositing changes no value, so that a copy does it: no depth (no host objects),
     /// the sky everywhere the sea is not, the ocean's own format and unit.
-    fn copies(&self) -> bool {
+    pub fn copies(&self) -> bool {
         self.formats.depth.is_none() && self.sky && self.formats.colour == HDR_FORMAT && self.radiance_scale == 1.0
     }
 }

@@ -8,7 +8,7 @@ use crate::model::sky::SkyModel;
 use crate::model::waves::WaveSet;
 use crate::render::frame::{CameraFrame, GEOMETRY_STEPS, NORMAL_STEPS, RAY_HIT_SHARE};
 use crate::render::passes::ocean::{Method, TrainReads};
-use crate::render::renderer::Options;
+use crate::render::renderer::{Options, Output};
 use crate::render::sun_shadow::{displaced_probes, finest_pixel_step, resolving_probes};
 use serde::Serialize;
 
@@ -229,6 +229,14 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     if options.ssaa > 1 {
         names.push("resolve".to_owned());
     }
-    names.push("tonemap".to_owned());
+    match options.output {
+        Output::Readback => names.push("tonemap".to_owned()),
+        Output::Host(host) => {
+            names.push(if host.copies() { "host copy" } else { "composite" }.to_owned());
+            if host.formats.ldr.is_some() {
+                names.push("host tonemap".to_owned());
+            }
+        }
+    }
     names
 }

@@ -1,11 +1,14 @@
-//! What drawing through `ocean::embed` costs against `ocean render`'s own frame: the same scene
-//! and size, one frame of each in turn in one run, each after its warm-up. The embedded frame is
-//! a host's: its own HDR colour, depth and LDR images (made on the host's side of the same
-//! device), cleared, then the ocean composited and tone-mapped into them. Its GPU time is the
-//! ocean's passes (the host's clear and transitions are the host's); `render`'s is its passes
-//! up to the readback copy.
+//! What a host with objects pays through `ocean::embed` against `ocean render`'s frame, itself a
+//! host without objects (app::host): the same scene and size, one frame of each in turn in one
+//! run, each after its warm-up. The embedded frame is a host's with its own HDR colour, depth and
+//! LDR images (made on the host's side of the same device), cleared, then the ocean composited,
+//! depth-tested, and tone-mapped into them. Its GPU time is the ocean's passes (the host's clear
+//! and transitions are the host's); `render`'s is the ocean's passes and its host's readback.
 
+use crate::app::host::OffscreenHost;
 use crate::app::median;
+use crate::embed::camera::scene_view;
+use crate::embed::Shading;
 use crate::embed::{
     clear_targets, transition, FrameInput, HostDevice, HostEnabled, HostFormats, HostImage, ImageState, Ocean,
     OceanDesc, Targets,
@@ -13,14 +16,11 @@ use crate::embed::{
 use crate::error::Result;
 use crate::model::scene::Scene;
 use crate::output::write_text;
-use crate::render::frame::CameraFrame;
-use crate::render::renderer::{Options, Renderer};
 use crate::vk::commands::Commands;
 use crate::vk::device::{DEPTH_FORMAT, HDR_FORMAT};
 use crate::vk::gpu::Gpu;
 use crate::vk::image::Image;
 use ash::vk;
-use glam::{DMat4, DVec3, DVec4};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -46,23 +46,6 @@ struct HostTargets<'g> {
     colour: Image<'g>,
     depth: Image<'g>,
     ldr: Image<'g>,
-}
-
-/// The scene's camera as a host's matrices: its view and a reversed-Z infinite projection (the
-/// ocean reads them back into the same camera).
-fn host_camera(scene: &Scene, width: u32, height: u32) -> (DMat4, DMat4) {
-    let c = &scene.camera;
-    let (pitch, yaw) = (c.pitch_deg.to_radians(), c.yaw_deg.to_radians());
-    let forward = DVec3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), pitch.sin());
-    let eye_height = {
-        let waves = crate::model::waves::generate(scene);
-        CameraFrame::new(scene, &waves, width, height).eye_height
-    };
-    let view = DMat4::look_to_rh(DVec3::new(c.x_m, c.y_m, eye_height), forward, DVec3::Z);
-    let aspect = width as f64 / height as f64;
-    let projection = DMat4::from_diagonal(DVec4::new(1.0, -1.0, 1.0, 1.0))
-        * DMat4::perspective_infinite_reverse_rh(c.fov_y_deg.to_radians(), aspect, 0.01);
-    (view, projection)
 }
 
 /// Times `frames` frames of each way after a warm-up, interleaved; writes embed.md and embed.json.
@@ -111,16 +94,16 @@ pub fn run(
         shading: Default::default(),
     };
     let mut ocean = Ocean::new(&borrowed, desc)?;
-    let mut renderer = Renderer::new(gpu, scene, width, height, Options::default())?;
+    let mut render = OffscreenHost::new(gpu, scene, width, height, Shading::default())?;
     let commands = Commands::new(&gpu.device, "host frame")?;
-    let (view, projection) = host_camera(scene, width, height);
+    let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
     let input = FrameInput { time_s: scene.render.time_s, view, projection };
     let mut render_frames = Vec::new();
     let mut embedded_frames = Vec::new();
     // An embedded frame's times are read at its slot's next update: the times a frame returns
     // are the frame before's, so the loop runs one frame further and drops the warm-up's.
     for frame in 0..=frames + 1 {
-        let rendered = (frame <= frames).then(|| renderer.render(scene)).transpose()?;
+        let rendered = (frame <= frames).then(|| render.render(scene)).transpose()?;
         let previous = embedded_frame(gpu, &commands, &mut ocean, &targets, &input, frame > frames)?;
         if let Some(rendered) = rendered.filter(|_| frame > 0) {
             render_frames.push(rendered.pass_ms);
@@ -211,8 +194,9 @@ fn embedded_frame(
 fn markdown(t: &EmbedTiming, device: &str) -> String {
     let mut md = format!(
         "`ocean bench embed`: {} at {}x{} on {device}, {} frames of each after a warm-up, interleaved. \
-         GPU ms per pass (median); `render` is `ocean render`'s own frame, `embedded` a host's through \
-         `ocean::embed` (composited into the host's colour and depth, tone-mapped into its LDR image).\n\n\
+         GPU ms per pass (median); `render` is `ocean render`'s frame (a host without objects: the \
+         radiance copied into its colour, tone-mapped into its LDR image, both read back), `embedded` \
+         a host's with objects (composited into its colour and depth, depth-tested, tone-mapped).\n\n\
          | pass | render | embedded |\n|---|---|---|\n",
         t.scene, t.width, t.height, t.frames
     );
