@@ -11,11 +11,11 @@ enum Term {
     Sky,
     Sea,
 }
+use ocean::app::window::view::PresentMode;
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
 use ocean::output::progress::Progress;
 use ocean::output::target::is_stdout;
-use ocean::render::renderer::Options;
-use ocean::window::view::PresentMode;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -235,11 +235,11 @@ enum Command {
         #[arg(long)]
         screenshot: Option<PathBuf>,
         /// FRAME:WIDTHxHEIGHT: ask the window for a new size after FRAME frames (repeatable).
-        #[arg(long, value_parser = ocean::window::script::parse_resize)]
-        resize_at: Vec<ocean::window::script::ResizeAt>,
+        #[arg(long, value_parser = ocean::app::window::script::parse_resize)]
+        resize_at: Vec<ocean::app::window::script::ResizeAt>,
         /// FRAME:FRAMES: minimize after FRAME frames, restore FRAMES frame periods later (repeatable).
-        #[arg(long, value_parser = ocean::window::script::parse_minimize)]
-        minimize_at: Vec<ocean::window::script::MinimizeAt>,
+        #[arg(long, value_parser = ocean::app::window::script::parse_minimize)]
+        minimize_at: Vec<ocean::app::window::script::MinimizeAt>,
         /// Write a JSON report (device, present mode, surface format, frames, recreations, fps,
         /// CPU and GPU times, validation counts).
         #[arg(long)]
@@ -476,7 +476,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 ShaderConfig { glints: base.glints, ..ShaderConfig::terms_only(terms, base.method) }
             };
             let shader = ShaderConfig { train_reads, ..shader };
-            let options = Options { shader, ssaa, statistics: stats, ..Options::default() };
+            let shading = Shading { shader, ssaa, statistics: stats, ..Shading::default() };
             let request = RenderRequest {
                 scene,
                 width,
@@ -487,7 +487,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 validation,
                 device,
                 frames,
-                options,
+                shading,
                 specialize: !no_specialize,
             };
             let (report, _) = app::render(&request)?;
@@ -596,7 +596,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             ocean::app::animate::frame_count(seconds, fps)?; // bad arguments before the GPU starts
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
-            let options = Options { shader: method.shader()?, ..Options::default() };
+            let shading = Shading { shader: method.shader()?, ..Shading::default() };
             let request = ocean::app::animate::AnimateRequest {
                 scene,
                 seconds,
@@ -606,7 +606,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 out_dir: out.clone(),
                 exr,
                 force,
-                options,
+                shading,
                 specialize: true,
             };
             let r = ocean::app::animate::animate(&gpu, &request)?;
@@ -641,7 +641,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             trace,
         } => {
             let (loaded, _) = load_scene(scene.clone())?;
-            let options = ocean::window::view::ViewOptions {
+            let options = ocean::app::window::view::ViewOptions {
                 scene_path: scene,
                 scene: loaded,
                 width,
@@ -658,7 +658,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 minimize_at,
                 trace,
             };
-            let r = ocean::window::view::run(&options)?;
+            let r = ocean::app::window::view::run(&options)?;
             if let Some(path) = report {
                 let json = serde_json::to_string_pretty(&r).expect("report serializes");
                 ocean::output::write_text(&path, &json)?;
@@ -839,7 +839,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 trace: Some(out.clone()),
                 report: Some(report.clone()),
                 png,
-                options: Options { shader, ..Options::default() },
+                shading: Shading { shader, ..Shading::default() },
                 specialize: !no_specialize,
                 validation,
                 device,

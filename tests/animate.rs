@@ -5,8 +5,8 @@ mod common;
 
 use ocean::app::animate::{animate, frame_count, frame_path, AnimateRequest};
 use ocean::app::{render_on, RenderRequest};
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
-use ocean::render::renderer::Options;
 use std::path::Path;
 
 fn request(dir: &Path, force: bool) -> AnimateRequest {
@@ -21,7 +21,7 @@ fn request(dir: &Path, force: bool) -> AnimateRequest {
         out_dir: dir.to_owned(),
         exr: false,
         force,
-        options: Options::default(),
+        shading: Shading::default(),
         specialize: true,
     }
 }

@@ -4,9 +4,9 @@
 mod common;
 
 use common::{assert_clean, gpu, luminance, render_with};
+use ocean::embed::Shading;
 use ocean::model::atmosphere::{self, transmittance_to_top, Atmosphere, AtmosphereParams, SKY_STEPS};
 use ocean::model::scene::{Scene, SkyKind};
-use ocean::render::renderer::Options;
 
 fn sun(elevation_deg: f64) -> [f64; 3] {
     let e = elevation_deg.to_radians();
@@ -76,7 +76,7 @@ fn the_gpu_sky_matches_the_f64_model() {
     let mut scene = Scene::default();
     scene.sky.model = SkyKind::Physical;
     let (w, h) = (256, 192);
-    let (report, frame) = render_with(&gpu, &scene, w, h, Options::default());
+    let (report, frame) = render_with(&gpu, &scene, w, h, Shading::default());
     assert_clean(&report, "physical sky");
     let a = atmosphere::shared(&scene.atmosphere());
     let camera = &frame.frame.camera;
@@ -137,7 +137,7 @@ fn every_extreme_scene_renders_clean_and_finite_under_the_physical_sky() {
         let mut scene = Scene::load(&path).unwrap();
         scene.sky.model = SkyKind::Physical;
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-        let (report, frame) = render_with(&gpu, &scene, 96, 64, Options::default());
+        let (report, frame) = render_with(&gpu, &scene, 96, 64, Shading::default());
         assert_clean(&report, &name);
         assert!(frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite() && *c >= 0.0)), "{name}");
         // Day scenes show a sky: some light in the image.

@@ -4,13 +4,14 @@
 mod common;
 
 use common::{assert_clean, gpu, luminance, render_with};
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
 use ocean::render::passes::ocean::{Method, ShaderConfig};
-use ocean::render::renderer::{Options, RenderedFrame};
+use ocean::render::renderer::RenderedFrame;
 use ocean::vk::gpu::Gpu;
 
 fn render(gpu: &Gpu, scene: &Scene, w: u32, h: u32, method: Method, ssaa: u32) -> RenderedFrame {
-    let options = Options { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa, ..Options::default() };
+    let options = Shading { shader: ShaderConfig { method, ..ShaderConfig::default() }, ssaa, ..Shading::default() };
     let (report, frame) = render_with(gpu, scene, w, h, options);
     assert_clean(&report, &format!("{method:?} ssaa {ssaa}"));
     frame

@@ -5,10 +5,11 @@
 mod common;
 
 use common::{assert_clean, gpu, luminance, render, render_terms, render_with};
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
 use ocean::render::frame::CameraFrame;
 use ocean::render::passes::ocean::{ShaderConfig, Terms};
-use ocean::render::renderer::{Options, RenderedFrame};
+use ocean::render::renderer::RenderedFrame;
 
 /// The first row (from the top) of column `x` where a render of the sea's terms alone (no sky
 /// behind) has any light: the pixel the limb crosses, which holds its share of the sea.
@@ -104,7 +105,7 @@ fn the_picture_changes_smoothly_from_a_deck_to_the_top_of_the_sky() {
             // image moves by several percent from one height to the next (measured -4.2%, -0.1%,
             // -6.1% over the first three steps), as a real glitter's does.
             let shader = ShaderConfig { terms: Terms { sun: false, sky: true, sea: true }, ..ShaderConfig::default() };
-            let (report, frame) = render_with(&gpu, &scene, w, h, Options { shader, ..Options::default() });
+            let (report, frame) = render_with(&gpu, &scene, w, h, Shading { shader, ..Shading::default() });
             assert_clean(&report, &format!("{height_m} m"));
             sea_mean(&frame)
         })

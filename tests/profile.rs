@@ -5,6 +5,7 @@ mod common;
 
 use common::{assert_clean, gpu, render_with};
 use ocean::app::profile::{check, profile_on, ProfileRequest, CPU_TRACK, GPU_TRACK};
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
 use ocean::render::renderer::{Options, Renderer};
 use ocean::render::timeline::CpuSpans;
@@ -23,7 +24,7 @@ fn request(scene: Scene, trace: Option<PathBuf>, frames: u32, warmup: u32) -> Pr
         trace,
         report: None,
         png: None,
-        options: Options::default(),
+        shading: Shading::default(),
         specialize: true,
         validation: true,
         device: None,
@@ -34,7 +35,7 @@ fn request(scene: Scene, trace: Option<PathBuf>, frames: u32, warmup: u32) -> Pr
 fn pipeline_statistics_match_the_frame_s_geometry_and_dispatches() {
     let gpu = gpu();
     let (w, h) = (256, 192);
-    let options = Options { statistics: true, ..Options::default() };
+    let options = Shading { statistics: true, ..Shading::default() };
     let (report, frame) = render_with(&gpu, &Scene::default(), w, h, options);
     assert_clean(&report, "statistics");
     let stats = report.pipeline_statistics.expect("lavapipe has pipeline statistics");
@@ -71,7 +72,7 @@ fn a_full_screen_sky_shades_each_pixel_about_once() {
     let gpu = gpu();
     let scene = Scene::load(std::path::Path::new("scenes/extreme/look_up.toml")).unwrap();
     let (w, h) = (256, 192);
-    let options = Options { statistics: true, ..Options::default() };
+    let options = Shading { statistics: true, ..Shading::default() };
     let (report, _) = render_with(&gpu, &scene, w, h, options);
     assert_clean(&report, "look_up statistics");
     let ocean = report.pipeline_statistics.unwrap()["ocean"];

@@ -6,6 +6,7 @@
 mod common;
 
 use common::{assert_clean, gpu, luminance, render_terms, render_with};
+use ocean::embed::Shading;
 use ocean::model::scene::{Scene, ShadowMapMode};
 use ocean::model::waves;
 use ocean::render::passes::ocean::Terms;
@@ -38,7 +39,7 @@ fn the_shadow_map_only_takes_sunlight_away() {
     let gpu = gpu();
     let (w, h) = SIZE;
     // The whole frame, validated, with its report.
-    let (report, _) = render_with(&gpu, &low_sun(3.0, ShadowMapMode::On), w, h, Options::default());
+    let (report, _) = render_with(&gpu, &low_sun(3.0, ShadowMapMode::On), w, h, Shading::default());
     assert_clean(&report, "low sun with shadows");
     let map = report.shadow_map.as_ref().expect("the report names the shadow map it drew");
     assert_eq!(map.size, 1024);

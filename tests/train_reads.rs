@@ -6,10 +6,11 @@ mod common;
 
 use common::{assert_clean, gpu};
 use ocean::app::{render_on, RenderRequest};
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
 use ocean::render::passes::ocean::{Method, ShaderConfig, TrainReads};
 use ocean::render::passes::shade::train_reads_on;
-use ocean::render::renderer::{Options, RenderedFrame};
+use ocean::render::renderer::RenderedFrame;
 use ocean::vk::gpu::Gpu;
 use std::path::Path;
 
@@ -21,8 +22,9 @@ fn render(
     reads: TrainReads,
 ) -> (Vec<String>, RenderedFrame) {
     let shader = ShaderConfig { method, train_reads: reads, ..ShaderConfig::default() };
-    let options = Options { shader, ..Options::default() };
-    let request = RenderRequest { validation: true, options, ..RenderRequest::new(scene.clone(), size.0, size.1) };
+    let options = Shading { shader, ..Shading::default() };
+    let request =
+        RenderRequest { validation: true, shading: options, ..RenderRequest::new(scene.clone(), size.0, size.1) };
     let (report, frame) = render_on(gpu, &request).unwrap();
     assert_clean(&report, &format!("{reads:?}"));
     (report.pipelines, frame)

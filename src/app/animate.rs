@@ -4,11 +4,11 @@
 //! exists is whole: an interrupted run resumes where it stopped.
 
 use crate::app::host::OffscreenHost;
+use crate::embed::Shading;
 use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::output::progress::Progress;
 use crate::output::{self, write_text};
-use crate::render::renderer::Options;
 use crate::vk::gpu::Gpu;
 use std::path::{Path, PathBuf};
 
@@ -26,7 +26,7 @@ pub struct AnimateRequest {
     pub exr: bool,
     /// Render frames whose files exist too.
     pub force: bool,
-    pub options: Options,
+    pub shading: Shading,
     pub specialize: bool,
 }
 
@@ -78,7 +78,7 @@ pub fn animate(gpu: &Gpu, request: &AnimateRequest) -> Result<AnimateReport> {
     let mut scene = request.scene.clone();
     let start = scene.render.time_s;
     // Specialized for the first frame's scene: the camera does not move, only the waves.
-    let shading = super::shading(&request.options, request.specialize);
+    let shading = super::shading(&request.shading, request.specialize);
     let mut host = OffscreenHost::new(gpu, &scene, request.width, request.height, shading)?;
     // Frames already written are whole (written atomically): only the others are rendered, and
     // the progress and its time left count only those.

@@ -3,7 +3,7 @@
 //! its fence, and reads both images back itself. It draws no objects, so it hands no depth: the
 //! ocean then owns every pixel and composites by a copy (passes/host_copy.rs). `render`,
 //! `animate` and `profile` run through it; `view` hosts the ocean in its window the same way
-//! (window/presenter.rs).
+//! (app/window/presenter.rs).
 
 use crate::embed::camera::scene_view;
 use crate::embed::{FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets};

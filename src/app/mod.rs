@@ -1,11 +1,14 @@
-//! What the commands do: one render from a scene to files and a report (`ocean render`), image
-//! sequences (`ocean animate`, in `animate`), and frames on a timeline (`ocean profile`, in
-//! `profile`).
+//! The applications on top of the library: what the commands do, each a host of `embed::Ocean`
+//! with nothing private into the renderer. One render from a scene to files and a report
+//! (`ocean render`), image sequences (`ocean animate`, in `animate`), frames on a timeline
+//! (`ocean profile`, in `profile`), all through the offscreen host (`host`); the window of
+//! `ocean view` (`window`), its own host.
 
 pub mod animate;
 pub mod host;
 pub mod profile;
 pub mod report;
+pub mod window;
 
 use crate::app::host::OffscreenHost;
 use crate::app::report::{GridReport, Report, ShadowMapReport, WaveReport};
@@ -14,7 +17,7 @@ use crate::error::Result;
 use crate::model::scene::Scene;
 use crate::output;
 use crate::render::passes::shadow::ShadowPass;
-use crate::render::renderer::{Options, RenderedFrame};
+use crate::render::renderer::RenderedFrame;
 use crate::vk::gpu::Gpu;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -32,7 +35,8 @@ pub struct RenderRequest {
     /// Frames to render; with more than one, `gpu_ms` is the per-pass median of all frames after
     /// the first (which pays the driver's lazy shader compilation), `gpu_ms_min` the fastest.
     pub frames: u32,
-    pub options: Options,
+    /// How the ocean shades (its `specialize_for_scene_camera` is `specialize`'s).
+    pub shading: Shading,
     /// Leave out what the scene does not need (specialize::plan); false renders with the
     /// general pipeline, for comparison.
     pub specialize: bool,
@@ -51,7 +55,7 @@ impl RenderRequest {
             validation: false,
             device: None,
             frames: 1,
-            options: Options::default(),
+            shading: Shading::default(),
             specialize: true,
         }
     }
@@ -64,15 +68,10 @@ pub fn render(request: &RenderRequest) -> Result<(Report, RenderedFrame)> {
     Ok((report, frame))
 }
 
-/// How the ocean shades for `options` (the commands' flags), specialized for the scene's camera
-/// where asked.
-pub fn shading(options: &Options, specialize: bool) -> Shading {
-    Shading {
-        shader: options.shader,
-        ssaa: options.ssaa,
-        specialize_for_scene_camera: specialize,
-        statistics: options.statistics,
-    }
+/// How the ocean shades for the commands' flags, specialized for the scene's camera where asked
+/// (the commands' cameras do not move).
+pub fn shading(shading: &Shading, specialize: bool) -> Shading {
+    Shading { specialize_for_scene_camera: specialize, ..*shading }
 }
 
 /// Renders on an existing context (tests share one), through the ocean library as any host would
@@ -81,7 +80,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
     let scene = &request.scene;
     let before = gpu.validation_counts();
     let wave_set = crate::model::waves::generate(scene);
-    let shading = shading(&request.options, request.specialize);
+    let shading = shading(&request.shading, request.specialize);
     let (frame, memory, fastest, timings, statistics, shadows, omitted, pipelines) = {
         let mut host = OffscreenHost::new(gpu, scene, request.width, request.height, shading)?;
         let mut frame = host.render(scene)?;
@@ -132,8 +131,8 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         device: gpu.device.name.clone(),
         width: request.width,
         height: request.height,
-        method: request.options.shader.method,
-        ssaa: request.options.ssaa,
+        method: request.shading.shader.method,
+        ssaa: request.shading.ssaa,
         gpu_ms: Report::gpu_total_ms(&frame.pass_ms),
         gpu_ms_min: Report::gpu_total_ms(&fastest),
         gpu_ms_frames,

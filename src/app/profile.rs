@@ -11,7 +11,6 @@ use crate::measure::floor::{delivered_gflops, shade_work};
 use crate::measure::samples::{new_run_id, TimedScene};
 use crate::model::scene::Scene;
 use crate::output::trace::{Trace, Track};
-use crate::render::renderer::Options;
 use crate::render::timeline::{Alignment, CpuSpans, GpuFrame, Span};
 use crate::vk::clock::host_now_ns;
 use crate::vk::gpu::Gpu;
@@ -37,7 +36,7 @@ pub struct ProfileRequest {
     pub report: Option<PathBuf>,
     /// The last frame's image (encoding and writing it are CPU spans of the trace).
     pub png: Option<PathBuf>,
-    pub options: Options,
+    pub shading: Shading,
     pub specialize: bool,
     pub validation: bool,
     pub device: Option<String>,
@@ -136,7 +135,7 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
     let scene = &request.scene;
     let (width, height) = (request.width, request.height);
     let wave_set = setup.time("scene and waves", || crate::model::waves::generate(scene));
-    let mut shading = super::shading(&request.options, request.specialize);
+    let mut shading = super::shading(&request.shading, request.specialize);
     shading.statistics = true;
     let mut notes = Vec::new();
     if !gpu.device.pipeline_statistics {

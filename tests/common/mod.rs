@@ -6,6 +6,7 @@ pub mod host;
 
 use ocean::app::report::Report;
 use ocean::app::{render_on, RenderRequest};
+use ocean::embed::Shading;
 use ocean::model::scene::Scene;
 use ocean::render::passes::ocean::{Method, ShaderConfig, Terms};
 use ocean::render::renderer::{Options, RenderedFrame, Renderer};
@@ -21,12 +22,12 @@ pub fn gpu() -> Gpu {
 }
 
 pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Report, RenderedFrame) {
-    render_with(gpu, scene, width, height, Options::default())
+    render_with(gpu, scene, width, height, Shading::default())
 }
 
 /// A validated single-frame render with the given method, terms and supersampling.
-pub fn render_with(gpu: &Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> (Report, RenderedFrame) {
-    let request = RenderRequest { validation: true, options, ..RenderRequest::new(scene.clone(), width, height) };
+pub fn render_with(gpu: &Gpu, scene: &Scene, width: u32, height: u32, shading: Shading) -> (Report, RenderedFrame) {
+    let request = RenderRequest { validation: true, shading, ..RenderRequest::new(scene.clone(), width, height) };
     render_on(gpu, &request).unwrap_or_else(|e| panic!("render failed: {e}"))
 }
 

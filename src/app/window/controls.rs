@@ -1,9 +1,9 @@
 //! Keyboard and mouse: what each key does to the scene, the camera's motion from held keys, and
 //! the help text (`H`, and the README's table).
 
+use crate::embed::Method;
 use crate::model::scene::{wrap_degrees, Scene};
 use crate::model::scene::{Ev100, Exposure};
-use crate::render::passes::ocean::Method;
 use std::collections::HashSet;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta};
 use winit::keyboard::KeyCode;
