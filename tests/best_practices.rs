@@ -36,6 +36,7 @@ fn a_host_frame_passes_the_best_practices_checks() {
         sky: true,
         radiance_scale: 1.0,
         shading: Default::default(),
+        in_place: None,
     };
     let mut ocean = Ocean::new(&gpu, desc).unwrap();
     use vk::ImageUsageFlags as U;

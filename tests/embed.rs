@@ -9,7 +9,7 @@ mod common;
 use ash::vk;
 use common::host::{Host, COLOUR_FORMAT, DEPTH_FORMAT};
 use glam::{DMat4, DVec3, DVec4};
-use ocean::embed::{FrameInput, Gpu, HostFormats, ImageState, Ocean, OceanDesc, Targets};
+use ocean::embed::{FrameInput, Gpu, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Targets};
 use ocean::model::scene::Scene;
 
 const W: u32 = 160;
@@ -232,6 +232,7 @@ fn desc(scene: Scene, reversed: bool) -> OceanDesc {
         sky: true,
         radiance_scale: 1.0,
         shading: Default::default(),
+        in_place: None,
     }
 }
 
@@ -450,8 +451,9 @@ fn the_embed_bench_times_both_frames_validation_clean() {
     for pass in ["ocean", "shade", "composite", "host tonemap"] {
         assert!(t.embedded_ms.get(pass).is_some_and(|ms| *ms > 0.0), "embedded {pass}: {:?}", t.embedded_ms);
     }
-    // `ocean render`'s frame: a host without objects, its radiance copied, not composited.
-    assert!(t.render_ms.contains_key("host copy") && !t.render_ms.contains_key("composite"), "{:?}", t.render_ms);
+    // `ocean render`'s frame: a host without objects, drawn in its colour in place, not composited.
+    let composited = ["host copy", "composite"].iter().any(|p| t.render_ms.contains_key(*p));
+    assert!(t.render_ms.contains_key("host tonemap") && !composited, "{:?}", t.render_ms);
     assert!(t.ratio.iter().all(|r| r.is_finite() && *r > 0.0), "{:?}", t.ratio);
     let md = std::fs::read_to_string(out.join("embed.md")).unwrap();
     assert!(md.contains("| composite |") && md.contains("Embedded over render"), "{md}");
@@ -494,14 +496,15 @@ fn scene_changes_between_host_frames() {
     host.assert_clean("the host's frames");
 }
 
-/// A host without depth's frame: its colour, cleared to `BACKGROUND` (RGBA16F), after the ocean.
-fn depthless_frame(host: &Host, ocean: &mut Ocean, input: &FrameInput) -> Vec<[f32; 4]> {
+/// A host without depth's frame: its colour (`in_place`, else an image of its own), cleared to
+/// `BACKGROUND` (RGBA16F), after the ocean.
+fn depthless_frame(host: &Host, ocean: &mut Ocean, input: &FrameInput, in_place: Option<HostImage>) -> Vec<[f32; 4]> {
     use vk::{AccessFlags2 as A, ImageLayout as L, ImageUsageFlags as U, PipelineStageFlags2 as S};
     let usage = U::COLOR_ATTACHMENT | U::TRANSFER_SRC | U::TRANSFER_DST;
-    let colour = host.image(COLOUR_FORMAT, W, H, usage);
+    let own = in_place.is_none().then(|| host.image(COLOUR_FORMAT, W, H, usage));
     let pixels = (W * H) as usize;
     let out = host.readback(8 * pixels as u64);
-    let c = colour.image;
+    let c = own.as_ref().map_or_else(|| in_place.unwrap(), |i| i.image);
     ocean.update(0, input).unwrap();
     host.begin();
     let cleared = (L::TRANSFER_DST_OPTIMAL, S::CLEAR, A::TRANSFER_WRITE);
@@ -529,7 +532,9 @@ fn depthless_frame(host: &Host, ocean: &mut Ocean, input: &FrameInput) -> Vec<[f
     host.submit_and_wait();
     let bits: Vec<u16> = host.read(out.1, 4 * pixels);
     host.destroy_buffer(out);
-    host.destroy_image(colour);
+    if let Some(image) = own {
+        host.destroy_image(image);
+    }
     bits.chunks_exact(4).map(|p| std::array::from_fn(|i| half::f16::from_bits(p[i]).to_f32())).collect()
 }
 
@@ -546,15 +551,34 @@ fn a_host_without_depth_gets_the_sea_everywhere_and_keeps_its_own_sky_when_asked
         radiance_scale,
         ..desc(scene.clone(), true)
     };
-    // The whole frame the ocean's: a copy of its radiance (`ocean render`'s frame).
+    // The whole frame the ocean's: a copy of its radiance.
     let mut whole = Ocean::new(&gpu, depthless(true, 1.0)).unwrap();
     assert!(whole.pass_names().contains(&"host copy") && !whole.pass_names().contains(&"composite"));
-    let copied = depthless_frame(&host, &mut whole, &input);
+    let copied = depthless_frame(&host, &mut whole, &input, None);
     drop(whole);
+    // The same drawn in the host's image in place (`ocean render`'s frame): the same bits.
+    let image = host.in_place_image(W, H);
+    let mut in_place = Ocean::new(&gpu, OceanDesc { in_place: Some(image.image), ..depthless(true, 1.0) }).unwrap();
+    assert!(!in_place.pass_names().iter().any(|p| *p == "host copy" || *p == "composite"));
+    let other = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
+    let wrong = Targets { colour: other.image, colour_entry: ImageState::COLOR_ATTACHMENT, depth: None, ldr: None };
+    in_place.update(0, &input).unwrap();
+    let error = in_place.record(host.cmd, 0, &wrong).unwrap_err().to_string();
+    assert!(error.contains("in place"), "{error}");
+    assert!(in_place.resize(W / 2, H / 2).unwrap_err().to_string().contains("made again"));
+    assert!(depthless_frame(&host, &mut in_place, &input, Some(image.image)) == copied, "in place against the copy");
+    drop(in_place);
+    host.destroy_image(other);
+    host.destroy_image(image);
+    let spare = host.in_place_image(W, H);
+    let with_depth = OceanDesc { in_place: Some(spare.image), ..desc(scene.clone(), true) };
+    let error = Ocean::new(&gpu, with_depth).err().expect("a host with depth composites").to_string();
+    assert!(error.contains("in_place"), "{error}");
+    host.destroy_image(spare);
     // A host with its own sky, in cd/m²: drawn, the sky's pixels kept.
     let mut own_sky = Ocean::new(&gpu, depthless(false, 1000.0)).unwrap();
     assert!(own_sky.pass_names().contains(&"composite"));
-    let drawn = depthless_frame(&host, &mut own_sky, &input);
+    let drawn = depthless_frame(&host, &mut own_sky, &input, None);
     let (mut sea, mut kept) = (0, 0);
     for (i, (a, b)) in copied.iter().zip(&drawn).enumerate() {
         if *b == BACKGROUND {

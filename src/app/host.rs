@@ -1,12 +1,16 @@
 //! The commands' host of the ocean library: an offscreen frame drawn through `embed::Ocean` as
 //! any engine would draw it. It owns an HDR colour image and an LDR image, a command buffer and
 //! its fence, and reads both images back itself. It draws no objects, so it hands no depth: the
-//! ocean then owns every pixel and composites by a copy (passes/host_copy.rs). `render`,
+//! ocean then owns every pixel and draws them in the host's colour image in place
+//! (embed::OceanDesc::in_place), with nothing to composite. `render`,
 //! `animate` and `profile` run through it; `view` hosts the ocean in its window the same way
 //! (app/window/presenter.rs).
 
 use crate::embed::camera::scene_view;
-use crate::embed::{FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets};
+use crate::embed::{
+    FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets, IN_PLACE_USAGE,
+    IN_PLACE_VIEW_FORMATS,
+};
 use crate::error::{Error, Result};
 use crate::model::scene::Scene;
 use crate::render::renderer::RenderedFrame;
@@ -54,6 +58,18 @@ impl<'g> OffscreenHost<'g> {
         if width == 0 || height == 0 {
             return Err(Error::Argument(format!("image size {width}x{height}: width and height must be at least 1")));
         }
+        let extent = vk::Extent2D { width, height };
+        use vk::ImageUsageFlags as U;
+        // A frame wholly the ocean's is drawn in the colour image in place; with no sky (its pixels
+        // kept black) or supersampling (resolved into it) the ocean composites into it instead.
+        let in_place = shading.shader.background && shading.ssaa == 1;
+        let colour = if in_place {
+            Image::aliased(gpu, "host colour", HDR_FORMAT, IN_PLACE_VIEW_FORMATS[1], extent, IN_PLACE_USAGE)?
+        } else {
+            let usage = U::COLOR_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST | U::TRANSFER_SRC;
+            Image::new(gpu, "host colour", HDR_FORMAT, extent, 1, usage)?
+        };
+        let ldr = Image::new(gpu, "host ldr", LDR_FORMAT, extent, 1, U::COLOR_ATTACHMENT | U::TRANSFER_SRC)?;
         let desc = OceanDesc {
             scene: scene.clone(),
             width,
@@ -63,15 +79,9 @@ impl<'g> OffscreenHost<'g> {
             sky: shading.shader.background,
             radiance_scale: 1.0,
             shading,
+            in_place: in_place.then(|| HostImage::from(&colour)),
         };
         let ocean = Ocean::new(gpu, desc)?;
-        let extent = vk::Extent2D { width, height };
-        use vk::ImageUsageFlags as U;
-        // The ocean copies into the colour, clears it (no sky) or draws it, and samples it to
-        // tone-map it; the host copies both images out.
-        let colour_usage = U::COLOR_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST | U::TRANSFER_SRC;
-        let colour = Image::new(gpu, "host colour", HDR_FORMAT, extent, 1, colour_usage)?;
-        let ldr = Image::new(gpu, "host ldr", LDR_FORMAT, extent, 1, U::COLOR_ATTACHMENT | U::TRANSFER_SRC)?;
         let pixels = width as u64 * height as u64;
         let usage = vk::BufferUsageFlags::TRANSFER_DST;
         Ok(OffscreenHost {

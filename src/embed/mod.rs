@@ -18,6 +18,7 @@ use crate::render::frame::FrameData;
 use crate::render::passes::HostTargets;
 use crate::render::renderer::{HostOutput, Options, Output, Prepared, Renderer};
 use crate::render::specialize::{self, Omission};
+use crate::vk::device::{HDR_BITS_FORMAT, HDR_FORMAT};
 use crate::vk::external::{hdr_format_max, HOST_DEPTH_FORMATS};
 use ash::vk;
 use camera::HostView;
@@ -86,7 +87,31 @@ pub struct OceanDesc {
     pub radiance_scale: f32,
     /// How the ocean shades ([`Shading::default`]: the product's method and terms).
     pub shading: Shading,
+    /// The host's colour image, for the ocean to draw in, in place of an HDR image of its own:
+    /// for a host whose frame is wholly the ocean's (no depth format, `sky` on, an
+    /// R16G16B16A16_SFLOAT colour, a radiance scale of 1, no supersampling). It saves the
+    /// ocean's own HDR image (8 bytes a pixel) and the composite. The host made it as
+    /// [`IN_PLACE_USAGE`] and [`IN_PLACE_VIEW_FORMATS`] say, single-level, the targets' size,
+    /// keeps it alive while the ocean lives, and hands it as the colour target of every frame.
+    /// Such an ocean is made again for a new size (with a new image), not resized.
+    pub in_place: Option<HostImage>,
 }
+
+/// The usages of a host's colour image the ocean draws in place ([`OceanDesc::in_place`]): the
+/// visibility pass's attachment, the shading's storage, the exposure's and the tone mapping's
+/// reads, a night's clear, the host's own copy out.
+pub const IN_PLACE_USAGE: vk::ImageUsageFlags = vk::ImageUsageFlags::from_raw(
+    vk::ImageUsageFlags::COLOR_ATTACHMENT.as_raw()
+        | vk::ImageUsageFlags::STORAGE.as_raw()
+        | vk::ImageUsageFlags::SAMPLED.as_raw()
+        | vk::ImageUsageFlags::TRANSFER_SRC.as_raw()
+        | vk::ImageUsageFlags::TRANSFER_DST.as_raw(),
+);
+
+/// The view formats of a colour image the ocean draws in place, created `MUTABLE_FORMAT` with
+/// them in a `VkImageFormatListCreateInfo`: the radiance, and the same 64 bits as the rest
+/// positions the visibility pass leaves for the shading.
+pub const IN_PLACE_VIEW_FORMATS: [vk::Format; 2] = [HDR_FORMAT, HDR_BITS_FORMAT];
 
 /// How the ocean shades, beyond the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -205,6 +230,7 @@ impl<'g> Ocean<'g> {
                 formats: desc.formats,
                 radiance_scale: desc.radiance_scale,
                 sky: desc.sky,
+                in_place: desc.in_place,
             }),
             frames_in_flight: desc.frames_in_flight,
             statistics: desc.shading.statistics,
@@ -256,6 +282,13 @@ impl<'g> Ocean<'g> {
     pub fn resize(&mut self, width: u32, height: u32) -> Result<()> {
         if (width, height) == (self.desc.width, self.desc.height) && self.broken.is_none() {
             return Ok(());
+        }
+        if self.desc.in_place.is_some() {
+            return Err(Error::Argument(
+                "an ocean drawn in place in the host's colour image is made again for a new size, with an image of \
+                 that size (OceanDesc::in_place)"
+                    .into(),
+            ));
         }
         let previous = (self.desc.width, self.desc.height);
         (self.desc.width, self.desc.height) = (width, height);
@@ -390,6 +423,12 @@ impl<'g> Ocean<'g> {
                 }
                 (None, None) => {}
             }
+        }
+        if let Some(image) = self.desc.in_place.filter(|i| i.raw != targets.colour.raw) {
+            return Err(Error::Argument(format!(
+                "the colour target {:?} is not the image the ocean draws in place ({:?}, OceanDesc::in_place)",
+                targets.colour.raw, image.raw
+            )));
         }
         let prepared = self.prepared[slot]
             .take()
@@ -559,6 +598,22 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
             "LDR format {ldr:?} is not one the ocean tone-maps into (R8G8B8A8 or B8G8R8A8, UNORM or SRGB; \
              A8B8G8R8 likewise; A2B10G10R10_UNORM)"
         )));
+    }
+    if let Some(image) = &desc.in_place {
+        let owns = formats.depth.is_none() && desc.sky && formats.colour == HDR_FORMAT && desc.radiance_scale == 1.0;
+        if !owns || ssaa > 1 {
+            return Err(Error::Argument(
+                "in_place: only a frame wholly the ocean's is drawn in the host's image (no depth format, sky on, \
+                 an R16G16B16A16_SFLOAT colour, radiance_scale 1, ssaa 1)"
+                    .into(),
+            ));
+        }
+        if image.format != HDR_FORMAT || image.extent != (vk::Extent2D { width: desc.width, height: desc.height }) {
+            return Err(Error::Argument(format!(
+                "in_place: the image is {:?} at {}x{}, the ocean draws {HDR_FORMAT:?} at {}x{}",
+                image.format, image.extent.width, image.extent.height, desc.width, desc.height
+            )));
+        }
     }
     let device = &gpu.device;
     let ldr = formats.ldr.map(|f| (f, vk::FormatFeatureFlags::COLOR_ATTACHMENT, "an LDR colour attachment"));

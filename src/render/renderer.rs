@@ -1,7 +1,8 @@
 //! The renderer: the frame's shared resources and passes for one image size, and its frames in
-//! flight. A frame is recorded against a target: offscreen (tone-mapped and read back to the
-//! host, `render`) or a window's swapchain image (displayed, then presented by the caller,
-//! `draw`). Both run the same passes with barriers from their declared accesses and timestamps.
+//! flight. A frame is recorded against a target: a host's frame (embed::Ocean, which every
+//! command draws through), recorded into the host's command buffer and composited into its
+//! images, or, for the measurements, offscreen (tone-mapped and read back within, `render`).
+//! Both run the same passes with barriers from their declared accesses and timestamps.
 
 use crate::error::{Error, Result};
 use crate::model::masking::{GlintMaskingTable, VisibleFacetTable};
@@ -31,7 +32,7 @@ use crate::vk::barrier::{Access, Tracker};
 use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Wait;
 use crate::vk::device::HDR_FORMAT;
-use crate::vk::external::{ldr_encodes_srgb, ImageState};
+use crate::vk::external::{ldr_encodes_srgb, HostImage, ImageState};
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use ash::vk;
@@ -68,13 +69,22 @@ pub struct HostOutput {
     /// Whether the ocean writes the sky where the host drew nothing (embed::OceanDesc::sky); a
     /// night the scene leaves dark (specialize::plan) is then written black.
     pub sky: bool,
+    /// The host's colour image, drawn in place of the ocean's own HDR image (a frame wholly the
+    /// ocean's: `owns_frame`; embed::OceanDesc::in_place).
+    pub in_place: Option<HostImage>,
 }
 
 impl HostOutput {
-    /// Whether compositing changes no value, so that a copy does it: no depth (no host objects),
-    /// the sky everywhere the sea is not, the ocean's own format and unit.
-    pub fn copies(&self) -> bool {
+    /// Whether compositing changes no value: no depth (no host objects), the sky everywhere the
+    /// sea is not, the ocean's own format and unit. A copy then does it, or nothing at all when
+    /// the frame is drawn in the host's image in place.
+    pub fn owns_frame(&self) -> bool {
         self.formats.depth.is_none() && self.sky && self.formats.colour == HDR_FORMAT && self.radiance_scale == 1.0
+    }
+
+    /// Whether the composite is a copy (passes/host_copy.rs).
+    pub fn copies(&self) -> bool {
+        self.owns_frame() && self.in_place.is_none()
     }
 }
 
@@ -246,11 +256,15 @@ impl<'g> Renderer<'g> {
             anisotropy: scene.render.sky_anisotropy as f32,
             slots: frames_in_flight,
             readback: options.output == Output::Readback,
-            composite: matches!(options.output, Output::Host(h) if !h.copies()),
+            composite: matches!(options.output, Output::Host(h) if !h.owns_frame()),
             atmosphere: options.shader.sky_physical && !options.shader.draws_nothing(),
             shadow_map: options.shader.shadow.then_some(scene.render.shadow_map_size),
             eye_sky: options.shader.background,
             aerial: options.shader.aerial,
+            in_place: match options.output {
+                Output::Host(host) => host.in_place,
+                Output::Readback => None,
+            },
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
@@ -299,7 +313,9 @@ impl<'g> Renderer<'g> {
                         "supersampling needs a host without depth: the sea's depth is one per output pixel".into(),
                     ));
                 }
-                if host.copies() {
+                if host.in_place.is_some() {
+                    // Drawn where the host wanted it: nothing to composite.
+                } else if host.copies() {
                     passes.push(Box::new(HostCopyPass));
                 } else {
                     let config = ShaderConfig { background: host.sky, ..options.shader };

@@ -6,6 +6,7 @@ use crate::model::fresnel::MeanFresnelTable;
 use crate::render::frame::{FrameUniforms, GpuWaves};
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
+use crate::vk::external::HostImage;
 use crate::vk::gpu::Gpu;
 use crate::vk::image::Image;
 use crate::vk::memory::Location;
@@ -55,6 +56,9 @@ pub struct ResourceSpec {
     pub eye_sky: bool,
     /// Whether the aerial perspective's atlases are built (else 1x1 placeholders).
     pub aerial: bool,
+    /// A host's colour image the frame is drawn in place of our HDR image (embed::OceanDesc::
+    /// in_place): its format and size are the HDR image's, without supersampling.
+    pub in_place: Option<HostImage>,
 }
 
 /// The physical atmosphere's tables (glsl/atmosphere.glsl), sampled linearly, clamped.
@@ -176,6 +180,7 @@ impl<'g> Resources<'g> {
             shadow_map,
             eye_sky,
             aerial,
+            in_place,
         } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
@@ -217,7 +222,10 @@ impl<'g> Resources<'g> {
         // Sampled: the window's display pass reads the radiance with texelFetch.
         // Transfer destination: a frame with nothing to shade clears it (passes/black.rs).
         let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
-        let hdr = Image::aliased(gpu, "hdr radiance", HDR_FORMAT, HDR_BITS_FORMAT, render_extent, hdr_usage)?;
+        let hdr = match &in_place {
+            Some(host) => Image::borrowed_aliased(gpu, "hdr radiance", host, HDR_BITS_FORMAT)?,
+            None => Image::aliased(gpu, "hdr radiance", HDR_FORMAT, HDR_BITS_FORMAT, render_extent, hdr_usage)?,
+        };
         let depth_usage = I::DEPTH_STENCIL_ATTACHMENT | I::SAMPLED;
         let depth = Image::new(gpu, "depth", DEPTH_FORMAT, render_extent, 1, depth_usage)?;
         if let Some(size) = shadow_map.filter(|&size| size > side) {

@@ -232,7 +232,9 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     match options.output {
         Output::Readback => names.push("tonemap".to_owned()),
         Output::Host(host) => {
-            names.push(if host.copies() { "host copy" } else { "composite" }.to_owned());
+            if host.in_place.is_none() {
+                names.push(if host.copies() { "host copy" } else { "composite" }.to_owned());
+            }
             if host.formats.ldr.is_some() {
                 names.push("host tonemap".to_owned());
             }

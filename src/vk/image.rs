@@ -1,5 +1,7 @@
 //! 2D images placed in our allocator, with a view of all levels and one per level on demand.
 
+use super::barrier::single_layer_levels;
+use super::external::HostImage;
 use super::gpu::Gpu;
 use super::memory::{Allocation, Location, ResourceKind};
 use crate::error::{Result, VkContext};
@@ -21,6 +23,8 @@ pub struct Image<'g> {
     pub mip_levels: u32,
     pub aspect: vk::ImageAspectFlags,
     allocation: Option<Allocation>,
+    /// Whether `raw` is ours to destroy (false: a host's image we made views of).
+    owned: bool,
 }
 
 impl<'g> Image<'g> {
@@ -46,6 +50,41 @@ impl<'g> Image<'g> {
         usage: vk::ImageUsageFlags,
     ) -> Result<Self> {
         Self::create(gpu, name, format, Some(alias), extent, 1, usage)
+    }
+
+    /// A host's single-level colour image, drawn into in place: our views of it (its own format,
+    /// and `alias` through `alias_view`), never its memory. The host made it `MUTABLE_FORMAT`
+    /// with both formats allowed, and keeps it alive while we do; dropping destroys the views.
+    pub fn borrowed_aliased(gpu: &'g Gpu, name: &str, host: &HostImage, alias: vk::Format) -> Result<Self> {
+        let device = gpu.raw();
+        let make_view = |format: vk::Format, label: &str| -> Result<vk::ImageView> {
+            let info = vk::ImageViewCreateInfo::default()
+                .image(host.raw)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format)
+                .subresource_range(single_layer_levels(vk::ImageAspectFlags::COLOR, 0, 1));
+            // SAFETY: a live single-level colour image of this device, created mutable with
+            // `format` among its view formats (the host's precondition, embed::IN_PLACE_VIEW_FORMATS).
+            let view = unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
+            gpu.device.set_name(view, &format!("{name} {label}"));
+            Ok(view)
+        };
+        let view = make_view(host.format, "(the host's, in place)")?;
+        let mut image = Image {
+            gpu,
+            raw: host.raw,
+            view,
+            level0_view: view,
+            alias_view: vk::ImageView::null(),
+            format: host.format,
+            extent: host.extent,
+            mip_levels: 1,
+            aspect: vk::ImageAspectFlags::COLOR,
+            allocation: None,
+            owned: false,
+        };
+        image.alias_view = make_view(alias, &format!("as {alias:?}"))?;
+        Ok(image)
     }
 
     fn create(
@@ -113,6 +152,7 @@ impl<'g> Image<'g> {
             mip_levels,
             aspect,
             allocation: Some(allocation),
+            owned: true,
         };
         let (memory, offset) = image.allocation.as_ref().map(|a| (a.memory, a.offset)).expect("just placed");
         // SAFETY: the allocation satisfies the image's requirements.
@@ -167,7 +207,9 @@ impl Drop for Image<'_> {
             }
             device.destroy_image_view(self.alias_view, None); // a null handle is ignored
             device.destroy_image_view(self.view, None);
-            device.destroy_image(self.raw, None);
+            if self.owned {
+                device.destroy_image(self.raw, None);
+            }
         }
         if let Some(a) = self.allocation.take() {
             self.gpu.allocator.borrow_mut().free(a);

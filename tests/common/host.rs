@@ -97,7 +97,26 @@ impl Host {
     }
 
     pub fn image(&self, format: vk::Format, width: u32, height: u32, usage: vk::ImageUsageFlags) -> HostImageMemory {
+        self.image_with(format, width, height, usage, &[])
+    }
+
+    /// A colour image the ocean may draw in place (embed::OceanDesc::in_place).
+    pub fn in_place_image(&self, width: u32, height: u32) -> HostImageMemory {
+        let formats = embed::IN_PLACE_VIEW_FORMATS;
+        self.image_with(formats[0], width, height, embed::IN_PLACE_USAGE, &formats)
+    }
+
+    /// `view_formats`: the formats its views may have (MUTABLE_FORMAT), none for its own alone.
+    fn image_with(
+        &self,
+        format: vk::Format,
+        width: u32,
+        height: u32,
+        usage: vk::ImageUsageFlags,
+        view_formats: &[vk::Format],
+    ) -> HostImageMemory {
         let extent = vk::Extent2D { width, height };
+        let mut list = vk::ImageFormatListCreateInfo::default().view_formats(view_formats);
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
@@ -106,6 +125,11 @@ impl Host {
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
             .usage(usage);
+        let info = if view_formats.is_empty() {
+            info
+        } else {
+            info.flags(vk::ImageCreateFlags::MUTABLE_FORMAT).push_next(&mut list)
+        };
         let raw = unsafe { self.device.create_image(&info, None) }.unwrap();
         let req = unsafe { self.device.get_image_memory_requirements(raw) };
         let alloc = vk::MemoryAllocateInfo::default()

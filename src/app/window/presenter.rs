@@ -8,6 +8,7 @@
 use crate::embed::camera::scene_view;
 use crate::embed::{
     FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, ShaderConfig, Shading, Targets,
+    IN_PLACE_USAGE, IN_PLACE_VIEW_FORMATS,
 };
 use crate::error::Result;
 use crate::model::scene::Scene;
@@ -220,6 +221,9 @@ impl<'g> Presenter<'g> {
             return Ok(()); // minimized: the next recreate builds one for the restored swapchain
         };
         let extent = swapchain.extent;
+        // The frame is wholly the ocean's: it draws in the colour image in place.
+        let colour =
+            Image::aliased(self.gpu, "window colour", HDR_FORMAT, IN_PLACE_VIEW_FORMATS[1], extent, IN_PLACE_USAGE)?;
         let desc = OceanDesc {
             scene: scene.clone(),
             width: extent.width,
@@ -234,12 +238,9 @@ impl<'g> Presenter<'g> {
             sky: true,
             radiance_scale: 1.0,
             shading: Shading { shader: self.shader, ..Shading::default() },
+            in_place: Some(HostImage::from(&colour)),
         };
         let ocean = Ocean::new(self.gpu, desc)?;
-        use vk::ImageUsageFlags as U;
-        // The ocean copies into it and samples it to tone-map; a radiance screenshot copies it out.
-        let usage = U::COLOR_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST | U::TRANSFER_SRC;
-        let colour = Image::new(self.gpu, "window colour", HDR_FORMAT, extent, 1, usage)?;
         self.drawing = Some(Drawing { ocean, colour });
         self.scene = Some(scene.clone());
         Ok(())
@@ -309,7 +310,7 @@ impl<'g> Presenter<'g> {
         let colour = HostImage::from(&drawing.colour);
         let shown = HostImage { raw: image.raw, view: image.view, format: image.format, extent: image.extent };
         // The colour's contents are not kept; the frame before last read it (tone mapping, or a
-        // radiance screenshot's copy), earlier on this queue.
+        // radiance screenshot's copy), earlier on this queue: the ocean's first write waits.
         let stage = vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY;
         let colour_entry = ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
         let targets = Targets { colour, colour_entry, depth: None, ldr: Some((shown, ImageState::ACQUIRED)) };

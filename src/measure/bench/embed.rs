@@ -92,6 +92,7 @@ pub fn run(
         sky: true,
         radiance_scale: 1.0,
         shading: Default::default(),
+        in_place: None,
     };
     let mut ocean = Ocean::new(&borrowed, desc)?;
     let mut render = OffscreenHost::new(gpu, scene, width, height, Shading::default())?;
