@@ -195,8 +195,8 @@ fn embedded_frame(
 fn markdown(t: &EmbedTiming, device: &str) -> String {
     let mut md = format!(
         "`ocean bench embed`: {} at {}x{} on {device}, {} frames of each after a warm-up, interleaved. \
-         GPU ms per pass (median); `render` is `ocean render`'s frame (a host without objects: the \
-         radiance copied into its colour, tone-mapped into its LDR image, both read back), `embedded` \
+         GPU ms per pass (median); `render` is `ocean render`'s frame (a host without objects: drawn \
+         in its colour image in place, tone-mapped into its LDR image, both read back), `embedded` \
          a host's with objects (composited into its colour and depth, depth-tested, tone-mapped).\n\n\
          | pass | render | embedded |\n|---|---|---|\n",
         t.scene, t.width, t.height, t.frames
