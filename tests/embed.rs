@@ -374,6 +374,19 @@ fn misuse_gets_an_error_not_a_crash() {
     let mut d = desc(scene.clone(), true);
     d.radiance_scale = f32::NAN;
     assert!(error(d).contains("radiance_scale"));
+    let mut d = desc(scene.clone(), true);
+    d.shading.ssaa = 2;
+    assert!(error(d).contains("shading.ssaa = 2 needs a frame wholly the ocean's"));
+    let mut d = desc(scene.clone(), true);
+    d.shading.ssaa = 17;
+    assert!(error(d).contains("out of range"));
+    let mut d = desc(scene.clone(), true);
+    d.shading.specialize_for_scene_camera = true;
+    let mut specialized = Ocean::new(&gpu, d).unwrap();
+    let elsewhere = FrameInput { time_s: 0.0, view: view(), projection: projection(true, true) };
+    let moved = specialized.update(0, &elsewhere).unwrap_err().to_string();
+    assert!(moved.contains("specialized for the scene's camera"), "{moved}");
+    drop(specialized);
 
     let mut ocean = Ocean::new(&gpu, desc(scene, true)).unwrap();
     let input = FrameInput { time_s: 0.0, view: view(), projection: projection(true, true) };

@@ -201,3 +201,37 @@ fn turning_the_eye_keeps_its_sky_and_rebuilds_its_aerial_perspective() {
     drop(renderer);
     assert_eq!(gpu.validation_counts().error_total(), 0, "{:?}", gpu.validation_counts());
 }
+
+/// `ocean render` is a host of the library (app::host): its picture is the renderer's own
+/// offscreen frame, whether drawn in the host's image in place (the sky on), with the sky left
+/// black (a single term), or supersampled, resolved and copied.
+#[test]
+fn the_commands_host_draws_what_the_renderer_draws() {
+    use ocean::app::{render_on, RenderRequest};
+    use ocean::embed::{Method, ShaderConfig, Shading, Terms};
+    use ocean::render::renderer::{Options, Renderer};
+    let gpu = gpu();
+    let scene = Scene::default();
+    let sun_only = ShaderConfig::terms_only(Terms { sun: true, sky: false, sea: false }, Method::Full);
+    for (shader, ssaa) in [(ShaderConfig::default(), 1), (sun_only, 1), (ShaderConfig::default(), 2)] {
+        let shading = Shading { shader, ssaa, ..Shading::default() };
+        let request =
+            RenderRequest { validation: true, shading, specialize: false, ..RenderRequest::new(scene.clone(), 64, 48) };
+        let (report, hosted) = render_on(&gpu, &request).unwrap();
+        assert_clean(&report, "hosted");
+        let own = Renderer::new(&gpu, &scene, 64, 48, Options { shader, ssaa, ..Options::default() })
+            .unwrap()
+            .render(&scene)
+            .unwrap();
+        let what = format!("{} terms, ssaa {ssaa}", if shader.background { "all" } else { "sun" });
+        for (a, b) in hosted.hdr.iter().zip(&own.hdr) {
+            for c in 0..3 {
+                // The camera goes through f64 matrices and back: an ulp of a uniform at most.
+                assert!((a[c] - b[c]).abs() <= 1e-3 * b[c].abs() + 1e-6, "{what}: {a:?} against {b:?}");
+            }
+        }
+        let levels = hosted.ldr.iter().zip(&own.ldr).map(|(a, b)| a.abs_diff(*b)).max().unwrap();
+        assert!(levels <= 1, "{what}: the tone-mapped pictures differ by {levels} levels");
+        assert!(hosted.hdr.iter().any(|p| p[0] > 0.0), "{what}: a black picture");
+    }
+}

@@ -52,7 +52,7 @@ pub struct OffscreenHost<'g> {
 
 impl<'g> OffscreenHost<'g> {
     /// A host of `width` x `height` frames of `scene` shaded as `shading` says; with
-    /// `shading.shader.background` off the sky is left black.
+    /// `shading.shader.background` off the sky is black.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, shading: Shading) -> Result<Self> {
         // An ocean of no pixels is paused (a minimized window's); a picture needs some.
         if width == 0 || height == 0 {
@@ -60,9 +60,9 @@ impl<'g> OffscreenHost<'g> {
         }
         let extent = vk::Extent2D { width, height };
         use vk::ImageUsageFlags as U;
-        // A frame wholly the ocean's is drawn in the colour image in place; with no sky (its pixels
-        // kept black) or supersampling (resolved into it) the ocean composites into it instead.
-        let in_place = shading.shader.background && shading.ssaa == 1;
+        // The frame is wholly the ocean's (the sky black where the shading leaves it out): drawn
+        // in the colour image in place, or with supersampling resolved and copied into it.
+        let in_place = shading.ssaa == 1;
         let colour = if in_place {
             Image::aliased(gpu, "host colour", HDR_FORMAT, IN_PLACE_VIEW_FORMATS[1], extent, IN_PLACE_USAGE)?
         } else {
@@ -76,7 +76,7 @@ impl<'g> OffscreenHost<'g> {
             height,
             formats: HostFormats { colour: HDR_FORMAT, depth: None, reversed_z: true, ldr: Some(LDR_FORMAT) },
             frames_in_flight: 1,
-            sky: shading.shader.background,
+            sky: true,
             radiance_scale: 1.0,
             shading,
             in_place: in_place.then(|| HostImage::from(&colour)),
@@ -171,32 +171,7 @@ impl<'g> OffscreenHost<'g> {
         // The last frame's contents are not kept; the readback's copies are done (the fence).
         let discarded =
             ImageState::new(vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
-        let mut colour_entry = discarded;
-        if !self.ocean.desc().sky {
-            // No sky: the ocean keeps the host's colour where the sea is not, which is black.
-            self.tracker.external(&colour, discarded.layout, discarded.stage, discarded.access);
-            self.tracker.image(&colour, 0, 1, Access::ClearWrite, true);
-            self.tracker.flush(&device.raw, cmd);
-            let black = vk::ClearColorValue { float32: [0.0, 0.0, 0.0, 1.0] };
-            let range = crate::vk::barrier::single_layer_levels(vk::ImageAspectFlags::COLOR, 0, 1);
-            // SAFETY: the image is in TRANSFER_DST_OPTIMAL (declared ClearWrite above).
-            unsafe {
-                device.raw.cmd_clear_color_image(
-                    cmd,
-                    colour.raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &black,
-                    &[range],
-                )
-            };
-            colour_entry = ImageState::new(
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::PipelineStageFlags2::CLEAR,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            );
-            self.tracker.forget(colour.raw);
-        }
-        let targets = Targets { colour, colour_entry, depth: None, ldr: Some((ldr, discarded)) };
+        let targets = Targets { colour, colour_entry: discarded, depth: None, ldr: Some((ldr, discarded)) };
         self.ocean.record(cmd, 0, &targets)?;
         // The exit states embed::Ocean::record documents for a frame with an LDR target.
         self.tracker.external(

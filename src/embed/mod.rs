@@ -119,8 +119,9 @@ pub struct Shading {
     /// The method, its terms and what the shaders include. Its `background` off leaves the sky
     /// and the sea's aerial perspective out (black), for renders of single terms.
     pub shader: ShaderConfig,
-    /// Samples per pixel along each axis (1: none); above 1 only for hosts without depth (the
-    /// sea's depth is one per pixel).
+    /// Samples per pixel along each axis (1: none); above 1 only for a frame wholly the ocean's
+    /// (no depth format, `sky` on: the sea's depth that decides what the host keeps is one per
+    /// output pixel).
     pub ssaa: u32,
     /// Leave out what the scene seen from its own camera does not need ([`Ocean::omitted`] says
     /// what and why). For a still camera (offline renders): updates must then keep the scene's
@@ -283,7 +284,7 @@ impl<'g> Ocean<'g> {
         if (width, height) == (self.desc.width, self.desc.height) && self.broken.is_none() {
             return Ok(());
         }
-        if self.desc.in_place.is_some() {
+        if self.desc.in_place.is_some() && (width, height) != (self.desc.width, self.desc.height) {
             return Err(Error::Argument(
                 "an ocean drawn in place in the host's colour image is made again for a new size, with an image of \
                  that size (OceanDesc::in_place)"
@@ -587,10 +588,10 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
     if !(1..=MAX_SSAA).contains(&ssaa) {
         return Err(Error::Argument(format!("shading.ssaa = {ssaa} is out of range [1, {MAX_SSAA}]")));
     }
-    if ssaa > 1 && formats.depth.is_some() {
+    if ssaa > 1 && (formats.depth.is_some() || !desc.sky) {
         return Err(Error::Argument(format!(
-            "shading.ssaa = {ssaa} needs a host without depth (formats.depth = None): the sea's depth is one per \
-             output pixel"
+            "shading.ssaa = {ssaa} needs a frame wholly the ocean's (formats.depth = None, sky on): the sea's depth \
+             that decides what the host keeps is one per output pixel"
         )));
     }
     if let Some(ldr) = formats.ldr.filter(|&f| ldr_encodes_srgb(f).is_none()) {

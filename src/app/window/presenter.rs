@@ -319,7 +319,9 @@ impl<'g> Presenter<'g> {
         let t = &mut self.tracker;
         let drawn = ImageState::COLOR_ATTACHMENT;
         t.external(&shown, drawn.layout, drawn.stage, drawn.access);
-        if let Some(buffer) = &self.capture {
+        // The buffer stays between screenshots: only a frame that asks copies into it (sized for
+        // this capture's texels by prepare_capture).
+        if let (Some(buffer), true) = (&self.capture, capture != Capture::None) {
             if capture == Capture::Shown {
                 t.image(&shown, 0, 1, Access::TransferRead, false);
             } else {
