@@ -302,17 +302,14 @@ impl<'g> Ocean<'g> {
     /// are rebuilt: the host has then waited for every frame in flight.
     pub fn set_scene(&mut self, scene: Scene) -> Result<()> {
         scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
-        let previous = std::mem::replace(&mut self.desc.scene, scene);
+        // The scene is kept even if the rebuild fails: the next resize or scene change retries.
+        self.desc.scene = scene;
         let fits = self.renderer.as_ref().is_some_and(|r| r.fits(&self.desc.scene));
         let rebuild = self.broken.is_some()
             || !fits && self.renderer.is_some()
             || self.desc.shading.specialize_for_scene_camera && self.plan().0 != self.options;
         if rebuild {
-            if let Err(e) = self.build() {
-                // The scene is kept: the next resize or scene change tries again.
-                let _ = previous;
-                return Err(e);
-            }
+            self.build()?;
         }
         Ok(())
     }
