@@ -3,6 +3,7 @@
 
 pub mod atmosphere;
 pub mod fresnel;
+pub mod gltf;
 pub mod masking;
 pub mod scene;
 pub mod sky;
