@@ -192,3 +192,30 @@ fn broken_files_are_refused_in_one_line_naming_the_file() {
     refused(&write(&dir, "animated", document, &bin), "animations are not supported");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The project's own models (scripts/make_models.py, in scenes/models/): each loads, has the size
+/// it is made to, stands through its waterline, and faces outwards (a positive enclosed volume:
+/// the divergence theorem over its triangles, each wound counter-clockwise from outside).
+#[test]
+fn our_models_load_at_their_sizes_and_face_outwards() {
+    // name, (length along x, height along y) in metres, roughly.
+    let expected = [("boat", (6.0, 9.9)), ("pier", (30.0, 8.0)), ("buoy", (1.0, 2.4)), ("ship", (120.0, 34.0))];
+    for (name, (length, height)) in expected {
+        let model = load(Path::new(&format!("scenes/models/{name}.gltf"))).unwrap();
+        let (lo, hi) = model.bounds;
+        let size = hi - lo;
+        assert!((size.x / length - 1.0).abs() < 0.1 && (size.y / height - 1.0).abs() < 0.1, "{name}: {size}");
+        assert!(lo.y < 0.0 && hi.y > 0.0, "{name} stands through its waterline: {lo} {hi}");
+        let mut volume = 0.0;
+        for mesh in &model.meshes {
+            assert!(mesh.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-4), "{name}: unit normals");
+            for t in mesh.indices.chunks_exact(3) {
+                let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize].as_dvec3());
+                volume += a.dot((b - a).cross(c - a)) / 6.0;
+            }
+        }
+        let bounding = (size.x * size.y * size.z) as f64;
+        assert!(volume > 0.01 * bounding && volume < bounding, "{name}: volume {volume} of {bounding}");
+        assert!(model.materials.iter().all(|m| m.roughness > 0.0 && m.base_colour[3] == 1.0), "{name}");
+    }
+}
