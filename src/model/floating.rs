@@ -1,0 +1,166 @@
+//! How a floating object rides the waves: its heave, pitch and roll are the plane that best fits
+//! the sea's surface over its waterplane, a rectangle of its length and beam turned to its
+//! heading. A hull averages the sea under it, so a wave much shorter than the hull barely moves
+//! it; the fit is taken per train in closed form over the whole rectangle, never from a few
+//! sample points, which would alias short trains into a jitter.
+//!
+//! Per train of amplitude h and wavenumber k along d, the height is h cos(ψ − α u − β v) at
+//! body coordinates (u along the heading, v to port), with α = k d·u, β = k d·v and ψ the phase
+//! at the centre. Over |u| ≤ L/2, |v| ≤ B/2 the functions 1, u and v are orthogonal, so the
+//! least-squares plane z = a₀ + a₁ u + a₂ v has
+//!   a₀ = h cos ψ · S(αL/2) S(βB/2),
+//!   a₁ = −(6/L) h sin ψ · S′(αL/2) S(βB/2),
+//!   a₂ = −(6/B) h sin ψ · S(αL/2) S′(βB/2),
+//! with S(x) = sin x / x. For a hull short against the wave, a₀ → the height at the centre and
+//! a₁, a₂ → the slopes there. Heights are the trains' first-order part: the trochoids' horizontal
+//! motion moves a point's height by O(k h²), at most the sea's mean-height offset (centimetres on
+//! the presets' seas).
+
+use crate::model::waves::WaveSet;
+
+/// A hull's waterplane: the rectangle over which the sea is averaged.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waterplane {
+    pub length_m: f64,
+    pub beam_m: f64,
+}
+
+/// Where the sea puts a floating object, relative to its still-water pose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// The waterplane's centre above mean sea level (m).
+    pub heave_m: f64,
+    /// The bow raised (rad).
+    pub pitch_rad: f64,
+    /// The port side (+v, left of the heading) raised (rad).
+    pub roll_rad: f64,
+}
+
+/// The pose of a hull whose waterplane is centred at `centre` (m, in the frame whose origin is
+/// the eye, as the trains' phases are) and turned `heading_rad` counter-clockwise from +x, at
+/// time `t`.
+pub fn ride(waves: &WaveSet, t: f64, centre: [f64; 2], heading_rad: f64, plane: Waterplane) -> Pose {
+    let (sin_h, cos_h) = heading_rad.sin_cos();
+    let (along, across) = ([cos_h, sin_h], [-sin_h, cos_h]);
+    let (half_l, half_b) = (0.5 * plane.length_m.max(0.0), 0.5 * plane.beam_m.max(0.0));
+    let (mut a0, mut slope_u, mut slope_v) = (0.0, 0.0, 0.0);
+    for train in &waves.trains {
+        let d = train.direction;
+        let dot = |e: [f64; 2]| d[0] * e[0] + d[1] * e[1];
+        let psi = train.phase_at(t) - train.k * dot(centre);
+        let (x, y) = (train.k * dot(along) * half_l, train.k * dot(across) * half_b);
+        let (sin_psi, cos_psi) = psi.sin_cos();
+        let h = train.amplitude;
+        a0 += h * cos_psi * sinc(x) * sinc(y);
+        // −(6/L) S′(αL/2) = α F(αL/2), F = −3 S′(x)/x: so a point hull (L → 0) keeps the
+        // slope at its centre, h α sin ψ, with no 0/0.
+        slope_u += h * sin_psi * train.k * dot(along) * slope_factor(x) * sinc(y);
+        slope_v += h * sin_psi * train.k * dot(across) * sinc(x) * slope_factor(y);
+    }
+    Pose { heave_m: a0, pitch_rad: slope_u.atan(), roll_rad: slope_v.atan() }
+}
+
+/// S(x) = sin x / x, 1 at 0 (its series below 1e-4, where 1 − x²/6 is exact in f64).
+fn sinc(x: f64) -> f64 {
+    if x.abs() < 1e-4 {
+        1.0 - x * x / 6.0
+    } else {
+        x.sin() / x
+    }
+}
+
+/// −3 S′(x) / x = 3 (sin x − x cos x) / x³: the least-squares slope of cos over [−1, 1] scaled
+/// by x, over the slope at the centre; 1 at 0 (its series below 1e-3, where cancellation in
+/// sin x − x cos x would cost digits: 1 − x²/10 + x⁴/280).
+fn slope_factor(x: f64) -> f64 {
+    if x.abs() < 1e-3 {
+        let x2 = x * x;
+        1.0 - x2 / 10.0 + x2 * x2 / 280.0
+    } else {
+        3.0 * (x.sin() - x * x.cos()) / (x * x * x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::waves::Train;
+
+    fn sea(trains: Vec<Train>) -> WaveSet {
+        WaveSet { trains, wind_direction: [1.0, 0.0], sigma2: [0.0; 2], mean_height_offset: 0.0 }
+    }
+
+    fn train(wavelength: f64, angle: f64, amplitude: f64, phase0: f64) -> Train {
+        let k = std::f64::consts::TAU / wavelength;
+        Train {
+            wavelength,
+            k,
+            direction: [angle.cos(), angle.sin()],
+            angle_from_wind: angle,
+            amplitude,
+            omega: (9.81 * k).sqrt(),
+            phase0,
+        }
+    }
+
+    /// The least-squares plane over the rectangle by brute force: a fine midpoint grid.
+    fn fitted(waves: &WaveSet, t: f64, centre: [f64; 2], heading: f64, plane: Waterplane) -> Pose {
+        let n = 400;
+        let (s, c) = heading.sin_cos();
+        let (mut m0, mut mu, mut mv, mut uu, mut vv) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for i in 0..n {
+            for j in 0..n {
+                let u = ((i as f64 + 0.5) / n as f64 - 0.5) * plane.length_m;
+                let v = ((j as f64 + 0.5) / n as f64 - 0.5) * plane.beam_m;
+                let p = [centre[0] + u * c - v * s, centre[1] + u * s + v * c];
+                let z: f64 = waves
+                    .trains
+                    .iter()
+                    .map(|t_| {
+                        let phase = t_.phase_at(t) - t_.k * (t_.direction[0] * p[0] + t_.direction[1] * p[1]);
+                        t_.amplitude * phase.cos()
+                    })
+                    .sum();
+                (m0, mu, mv, uu, vv) = (m0 + z, mu + u * z, mv + v * z, uu + u * u, vv + v * v);
+            }
+        }
+        let count = (n * n) as f64;
+        Pose { heave_m: m0 / count, pitch_rad: (mu / uu).atan(), roll_rad: (mv / vv).atan() }
+    }
+
+    #[test]
+    fn the_closed_form_is_the_least_squares_plane() {
+        let waves = sea(vec![train(40.0, 0.3, 0.5, 1.0), train(7.0, -1.2, 0.08, 2.5), train(2.1, 2.0, 0.02, 0.4)]);
+        let plane = Waterplane { length_m: 6.0, beam_m: 2.2 };
+        for (t, centre, heading) in [(0.0, [0.0, 0.0], 0.0), (3.7, [40.0, -12.0], 1.1), (11.0, [-5.0, 8.0], -2.6)] {
+            let ours = ride(&waves, t, centre, heading, plane);
+            let brute = fitted(&waves, t, centre, heading, plane);
+            // The midpoint grid's own error is O((k L / n)²): below 1e-5 relative here.
+            assert!((ours.heave_m - brute.heave_m).abs() < 1e-5, "{ours:?} against {brute:?}");
+            assert!((ours.pitch_rad - brute.pitch_rad).abs() < 1e-5, "{ours:?} against {brute:?}");
+            assert!((ours.roll_rad - brute.roll_rad).abs() < 1e-5, "{ours:?} against {brute:?}");
+        }
+    }
+
+    #[test]
+    fn a_point_hull_follows_the_surface_and_a_long_one_ignores_short_waves() {
+        // A 100 m swell along +x, crest at the origin at t = 0 (phase 0), plus a 2 m chop.
+        let swell = train(100.0, 0.0, 1.0, 0.0);
+        let waves = sea(vec![swell, train(2.0, 0.0, 0.05, 0.7)]);
+        let point = Waterplane { length_m: 0.0, beam_m: 0.0 };
+        // A quarter wavelength ahead the swell passes through zero, falling towards +x.
+        let p = ride(&sea(vec![swell]), 0.0, [25.0, 0.0], 0.0, point);
+        assert!(p.heave_m.abs() < 1e-12, "{p:?}");
+        let slope = -swell.k * swell.amplitude; // d/dx of cos(-k x) at k x = pi / 2
+        assert!((p.pitch_rad - slope.atan()).abs() < 1e-12 && p.roll_rad.abs() < 1e-12, "{p:?}");
+        // A 20 m hull spans ten wavelengths of the chop: S(k L / 2) = S(10 pi) = 0.
+        let hull = Waterplane { length_m: 20.0, beam_m: 4.0 };
+        let with_chop = ride(&waves, 0.0, [0.0, 0.0], 0.0, hull);
+        let without = ride(&sea(vec![swell]), 0.0, [0.0, 0.0], 0.0, hull);
+        assert!((with_chop.heave_m - without.heave_m).abs() < 1e-12, "{with_chop:?} {without:?}");
+        // Turned about, the bow sees the slope the other way, the port side the other side.
+        let ahead = ride(&waves, 1.0, [3.0, 1.0], 0.4, hull);
+        let astern = ride(&waves, 1.0, [3.0, 1.0], 0.4 + std::f64::consts::PI, hull);
+        assert!((ahead.pitch_rad + astern.pitch_rad).abs() < 1e-12 && (ahead.heave_m - astern.heave_m).abs() < 1e-12);
+    }
+}
