@@ -2,6 +2,7 @@
 //! and the sky that lights them. Nothing here knows about Vulkan.
 
 pub mod atmosphere;
+pub mod bvh;
 pub mod floating;
 pub mod fresnel;
 pub mod gltf;
