@@ -612,3 +612,30 @@ fn a_host_without_depth_gets_the_sea_everywhere_and_keeps_its_own_sky_when_asked
     drop(own_sky);
     host.assert_clean("hosts without depth");
 }
+
+/// The frame's light for the host's objects (embed::Ocean::light) is the f64 model's sun and sky
+/// at sea level under the scene's sun, in the host's radiance unit.
+#[test]
+fn the_host_gets_the_frame_s_light_in_its_unit() {
+    use ocean::model::atmosphere::sun_and_sky;
+    use ocean::model::sky::SkyModel;
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let scene = Scene::default();
+    let mut ocean = Ocean::new(&gpu, OceanDesc { radiance_scale: 1000.0, ..desc(scene.clone(), true) }).unwrap();
+    assert!(ocean.light().is_none(), "no light before the first update");
+    ocean.update(0, &FrameInput { time_s: 0.0, view: view(), projection: projection(true, true) }).unwrap();
+    let light = ocean.light().unwrap();
+    let (e, a) = (scene.sun.elevation_deg.to_radians(), scene.sun.azimuth_deg.to_radians());
+    let sun = [e.cos() * a.cos(), e.cos() * a.sin(), e.sin()];
+    assert!((light.sun_direction - DVec3::from(sun)).length() < 1e-12, "{light:?}");
+    let (sun_radiance, sky_irradiance) = sun_and_sky(&scene.atmosphere(), 0.0, sun);
+    for c in 0..3 {
+        let expected = [sun_radiance[c] * SkyModel::sun_solid_angle() * 1000.0, sky_irradiance[c] * 1000.0];
+        for (got, want) in [light.sun_illuminance[c], light.sky_illuminance[c]].iter().zip(expected) {
+            assert!(want > 0.0 && (*got as f64 / want - 1.0).abs() < 1e-5, "{light:?}: {got} against {want}");
+        }
+    }
+    drop(ocean);
+    host.assert_clean("the frame's light");
+}

@@ -1,9 +1,11 @@
 #version 450
-// A painted buoy under the ocean's sun: Lambertian, its radiance in kcd/m^2 (the ocean's unit,
-// OceanDesc::radiance_scale = 1), from the sun's and the sky's illuminance (klux).
+// A painted buoy in the ocean's light (embed::Ocean::light): Lambertian, its radiance in kcd/m^2
+// (the ocean's unit, OceanDesc::radiance_scale = 1), from the sun's and the sky's illuminance
+// (klux, linear sRGB).
 layout(push_constant) uniform Light {
-    layout(offset = 96) vec4 sun;   // xyz: towards the sun; w: its illuminance (klux)
-    vec4 sky;                       // x: the sky's illuminance on a level surface (klux)
+    layout(offset = 64) vec4 sun_direction;   // xyz: towards the sun
+    vec4 sun;                                 // rgb: its illuminance on a surface facing it
+    vec4 sky;                                 // rgb: the sky's on a level surface
 } light;
 layout(location = 0) in vec3 in_normal;
 layout(location = 0) out vec4 out_color;
@@ -14,6 +16,6 @@ const float PI = 3.14159265;
 void main() {
     vec3 n = normalize(in_normal);
     float sky_share = 0.5 + 0.5 * n.z;   // the upper hemisphere seen by the face
-    vec3 E = vec3(max(dot(n, light.sun.xyz), 0.0) * light.sun.w + sky_share * light.sky.x);
+    vec3 E = max(dot(n, light.sun_direction.xyz), 0.0) * light.sun.rgb + sky_share * light.sky.rgb;
     out_color = vec4(ALBEDO / PI * E, 1.0);
 }

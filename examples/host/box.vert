@@ -2,9 +2,9 @@
 // The example host's own object: an axis-aligned box from gl_VertexIndex (36 vertices, 12
 // triangles, counter-clockwise seen from outside), in the ocean's world (z up, metres).
 layout(push_constant) uniform Box {
-    mat4 clip_from_world;
-    vec4 centre;       // xyz: the box's centre (m)
-    vec4 half_extent;  // xyz: half its size (m)
+    // The unit box [-1, 1]^3 to clip space: the world's projection and view, then the box's
+    // centre and half extents (axis-aligned and positive, so the faces' normals are the axes).
+    mat4 clip_from_box;
 } box;
 layout(location = 0) out vec3 out_normal;
 
@@ -20,7 +20,6 @@ void main() {
     vec3 u = abs(n.z) > 0.5 ? vec3(1, 0, 0) : vec3(0, 0, 1);
     u = normalize(cross(u, n));
     vec3 v = cross(n, u);
-    vec3 p = box.centre.xyz + box.half_extent.xyz * (n + st.x * u + st.y * v);
-    gl_Position = box.clip_from_world * vec4(p, 1.0);
+    gl_Position = box.clip_from_box * vec4(n + st.x * u + st.y * v, 1.0);
     out_normal = n;
 }

@@ -4,9 +4,8 @@
 use super::engine::Host;
 use super::{shaders, BUOY, DEPTH_FORMAT, HDR_FORMAT};
 use ash::vk;
-use glam::{Mat4, Vec3};
-use ocean::embed::HostImage;
-use ocean::model::scene::Scene;
+use glam::{Mat4, Quat};
+use ocean::embed::{HostImage, Light};
 
 /// The host's own pipeline: the buoy, drawn before the ocean into the HDR colour and depth.
 pub struct BuoyPipeline {
@@ -24,8 +23,8 @@ impl BuoyPipeline {
         };
         let (vertex, fragment) = (module(shaders::BOX_VERT)?, module(shaders::BOX_FRAG)?);
         let ranges = [
-            vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::VERTEX, offset: 0, size: 96 },
-            vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::FRAGMENT, offset: 96, size: 32 },
+            vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::VERTEX, offset: 0, size: 64 },
+            vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::FRAGMENT, offset: 64, size: 48 },
         ];
         // SAFETY: a live device; the ranges fit the 128 bytes every device offers.
         let layout = unsafe {
@@ -88,7 +87,7 @@ impl BuoyPipeline {
         Ok(BuoyPipeline { layout, pipeline })
     }
 
-    /// Clears the targets (far depth 0: reversed Z) and draws the buoy under the scene's sun.
+    /// Clears the targets (far depth 0: reversed Z) and draws the buoy in the ocean's light.
     pub fn record(
         &self,
         host: &Host,
@@ -96,7 +95,7 @@ impl BuoyPipeline {
         hdr: &HostImage,
         depth: &HostImage,
         clip_from_world: Mat4,
-        scene: &Scene,
+        light: &Light,
     ) {
         let colour = [vk::RenderingAttachmentInfo::default()
             .image_view(hdr.view)
@@ -115,14 +114,13 @@ impl BuoyPipeline {
             .layer_count(1)
             .color_attachments(&colour)
             .depth_attachment(&depth_attachment);
-        let (e, a) = (scene.sun.elevation_deg.to_radians() as f32, scene.sun.azimuth_deg.to_radians() as f32);
-        let sun = Vec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin());
-        // A low sun's illuminance and the sky's, roughly (klux): the buoy's paint only.
-        let mut vertex = [0f32; 24];
-        vertex[..16].copy_from_slice(&clip_from_world.to_cols_array());
-        vertex[16..19].copy_from_slice(&BUOY.0.to_array());
-        vertex[20..23].copy_from_slice(&BUOY.1.to_array());
-        let fragment = [sun.x, sun.y, sun.z, 8.0, 6.0, 0.0, 0.0, 0.0];
+        // The ocean's sun and sky (klux in its unit, OceanDesc::radiance_scale = 1): the buoy lit
+        // as the sea around it is.
+        let sun = light.sun_direction.as_vec3();
+        let clip_from_box = clip_from_world * Mat4::from_scale_rotation_translation(BUOY.1, Quat::IDENTITY, BUOY.0);
+        let vertex = clip_from_box.to_cols_array();
+        let (e, s) = (light.sun_illuminance, light.sky_illuminance);
+        let fragment = [sun.x, sun.y, sun.z, 0.0, e[0], e[1], e[2], 0.0, s[0], s[1], s[2], 0.0];
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -140,7 +138,7 @@ impl BuoyPipeline {
             host.device.cmd_set_scissor(cmd, 0, &[area]);
             host.device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             host.device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, &bytes(&vertex));
-            host.device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::FRAGMENT, 96, &bytes(&fragment));
+            host.device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::FRAGMENT, 64, &bytes(&fragment));
             host.device.cmd_draw(cmd, 36, 1, 0, 0);
             host.device.cmd_end_rendering(cmd);
         }

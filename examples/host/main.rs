@@ -148,6 +148,10 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     );
     let passes: Vec<String> = ocean.pass_ms().iter().map(|(name, ms)| format!("{name} {ms:.2}")).collect();
     println!("ocean passes (ms): {}", passes.join(", "));
+    if let Some(light) = ocean.light() {
+        let klux = |e: [f32; 3]| format!("{:.2} {:.2} {:.2}", e[0], e[1], e[2]);
+        println!("ocean light (klux, RGB): sun {}, sky {}", klux(light.sun_illuminance), klux(light.sky_illuminance));
+    }
     // Teardown in reverse creation order, after the device is idle.
     // SAFETY: nothing may be destroyed while the GPU still uses it.
     unsafe { host.device.device_wait_idle() }?;
@@ -171,7 +175,6 @@ fn frame_loop(
     buoy: &BuoyPipeline,
     targets: &mut Swapchain,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let scene = ocean.desc().scene.clone();
     let mut camera = Camera { eye: Vec3::new(0.0, 0.0, 6.0), yaw: 0.0, pitch: -2f32.to_radians() };
     let (mut frame, mut held, mut dragging, mut last_cursor) = (0u64, Vec::new(), false, None);
     let (start, mut last) = (Instant::now(), Instant::now());
@@ -223,7 +226,7 @@ fn frame_loop(
         let last_frame = args.frames.is_some_and(|n| frame + 1 >= n);
         let shot = if last_frame { args.screenshot.as_deref() } else { None };
         let time = start.elapsed().as_secs_f64();
-        if draw(host, targets, ocean, buoy, &camera, &scene, frame, time, shot)? {
+        if draw(host, targets, ocean, buoy, &camera, frame, time, shot)? {
             frame += 1;
         } else {
             remake(host, window, targets, ocean)?; // out of date
@@ -258,7 +261,6 @@ fn draw(
     ocean: &mut Ocean,
     buoy: &BuoyPipeline,
     camera: &Camera,
-    scene: &Scene,
     frame: u64,
     time_s: f64,
     screenshot: Option<&std::path::Path>,
@@ -308,7 +310,9 @@ fn draw(
         (L::UNDEFINED, tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
         (L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL, tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
     );
-    buoy.record(host, cmd, &hdr, &depth, projection * view, scene);
+    // Lit by the frame's own sun and sky, as the ocean lights the sea.
+    let light = ocean.light().expect("the update above set the frame's light");
+    buoy.record(host, cmd, &hdr, &depth, projection * view, &light);
     let swap_image = targets.images[index];
     ocean.record(
         cmd,

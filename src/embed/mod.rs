@@ -158,6 +158,24 @@ pub struct FrameInput {
     pub projection: DMat4,
 }
 
+/// The light of the last updated frame, for a host to light its objects as the ocean lights the
+/// sea: in the host's radiance unit times steradians (klux for the ocean's own kcd/m²), at sea
+/// level below the eye, linear sRGB primaries. Under the physical sky these are its
+/// transmittance-attenuated sun and its multiply scattered sky (model::atmosphere); under
+/// Preetham's, its sun and its sky integrated over the hemisphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Towards the sun, in the ocean's world (unit; below the horizon at night).
+    pub sun_direction: glam::DVec3,
+    /// The sun's illuminance on a surface facing it (0 while the sea cannot see it).
+    pub sun_illuminance: [f32; 3],
+    /// The whole sky's illuminance on a level surface.
+    pub sky_illuminance: [f32; 3],
+    /// The sun disc's radiance seen from the eye (the host's radiance unit), for a host that
+    /// draws the disc or a specular highlight of it.
+    pub sun_radiance: [f32; 3],
+}
+
 /// The host's attachments for one frame and the state it leaves them in.
 #[derive(Clone, Copy, Debug)]
 pub struct Targets {
@@ -188,6 +206,8 @@ pub struct Ocean<'g> {
     prepared: Vec<Option<Prepared>>,
     /// The camera of the last update, as the ocean draws it.
     last_view: Option<HostView>,
+    /// The light of the last update.
+    light: Option<Light>,
     /// The frame the last record drew, as the ocean built it.
     last_frame: Option<FrameData>,
     /// Why the last rebuild (a resize or a scene change) failed: until one succeeds, the ocean
@@ -208,6 +228,7 @@ impl<'g> Ocean<'g> {
             omitted: Vec::new(),
             prepared: Vec::new(),
             last_view: None,
+            light: None,
             last_frame: None,
             broken: None,
             desc,
@@ -369,7 +390,16 @@ impl<'g> Ocean<'g> {
         let max = hdr_format_max(self.desc.formats.colour).unwrap_or(65504.0);
         let host = (mat4_f32(view.clip_from_relative), [self.desc.radiance_scale, max, far, 0.0]);
         renderer.begin_host_frame(slot)?;
-        self.prepared[slot] = Some(renderer.prepare_host(slot, &scene, host)?);
+        let prepared = renderer.prepare_host(slot, &scene, host)?;
+        let u = &prepared.data().uniforms;
+        let unit = |v: [f32; 4]| [v[0], v[1], v[2]].map(|x| x * self.desc.radiance_scale);
+        self.light = Some(Light {
+            sun_direction: glam::DVec3::from(prepared.data().sky.sun_dir),
+            sun_illuminance: unit(u.sun_irradiance),
+            sky_illuminance: unit(u.sky_irradiance),
+            sun_radiance: unit(u.sun_radiance),
+        });
+        self.prepared[slot] = Some(prepared);
         self.last_view = Some(view);
         Ok(())
     }
@@ -460,6 +490,11 @@ impl<'g> Ocean<'g> {
     /// The camera of the last update, as the ocean draws it.
     pub fn last_view(&self) -> Option<&HostView> {
         self.last_view.as_ref()
+    }
+
+    /// The light of the last update (see [`Light`]); None before the first.
+    pub fn light(&self) -> Option<Light> {
+        self.light
     }
 
     /// The frame the last record drew, as the ocean built it: its camera, grid, sky and uniforms.

@@ -124,6 +124,13 @@ pub struct Prepared {
     sky: MapKey,
 }
 
+impl Prepared {
+    /// The frame as built: its camera, grid and uniforms (the light embed::Ocean::light reads).
+    pub fn data(&self) -> &FrameData {
+        &self.data
+    }
+}
+
 /// What the sky map depends on: the sun and sky, and the sea's slopes (their variances and the
 /// wind's axes, as the frame's uniforms hold them, bit-exact), which shape the full method's
 /// region below the horizon.
