@@ -219,7 +219,8 @@ impl<'g> Resources<'g> {
         let sky_extent = vk::Extent2D { width: sky_size, height: sky_size };
         let sky_usage = I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let sky_map = Image::new(gpu, "sky map", HDR_FORMAT, sky_extent, sky_size.ilog2() + 1, sky_usage)?;
-        // Sampled: the window's display pass reads the radiance with texelFetch.
+        // Sampled: the composite reads the radiance with texelFetch (and, drawn in place, the
+        // host's tone mapping).
         // Transfer destination: a frame with nothing to shade clears it (passes/black.rs).
         let hdr_usage = I::COLOR_ATTACHMENT | I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
         let hdr = match &in_place {
