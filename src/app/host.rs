@@ -143,8 +143,7 @@ impl<'g> OffscreenHost<'g> {
         self.cpu_spans.push("wait for fence", t);
         let t = host_now_ns();
         let pixels = width as usize * height as usize;
-        let bits: Vec<u16> = self.hdr_readback.read(4 * pixels)?;
-        let hdr = bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
+        let hdr = self.hdr_readback.read_rgba16f(pixels)?;
         let ldr = self.ldr_readback.read(4 * pixels)?;
         self.cpu_spans.push("readback", t);
         let scopes = self.profiler.read_scopes(&self.gpu.device.raw)?.unwrap_or_default();

@@ -141,6 +141,18 @@ impl Default for Shading {
 /// The most samples per pixel along each axis [`Shading::ssaa`] takes.
 pub const MAX_SSAA: u32 = 16;
 
+impl OceanDesc {
+    /// What the renderer is told of the host's targets.
+    fn host_output(&self) -> HostOutput {
+        HostOutput {
+            formats: self.formats,
+            radiance_scale: self.radiance_scale,
+            sky: self.sky,
+            in_place: self.in_place,
+        }
+    }
+}
+
 /// The most frames in flight an ocean keeps resources for.
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
 
@@ -248,12 +260,7 @@ impl<'g> Ocean<'g> {
         let options = Options {
             shader,
             ssaa: desc.shading.ssaa,
-            output: Output::Host(HostOutput {
-                formats: desc.formats,
-                radiance_scale: desc.radiance_scale,
-                sky: desc.sky,
-                in_place: desc.in_place,
-            }),
+            output: Output::Host(desc.host_output()),
             frames_in_flight: desc.frames_in_flight,
             statistics: desc.shading.statistics,
             ..Options::default()
@@ -633,8 +640,7 @@ fn check_desc(gpu: &Gpu, desc: &OceanDesc) -> Result<()> {
         )));
     }
     if let Some(image) = &desc.in_place {
-        let owns = formats.depth.is_none() && desc.sky && formats.colour == HDR_FORMAT && desc.radiance_scale == 1.0;
-        if !owns || ssaa > 1 {
+        if !desc.host_output().owns_frame() || ssaa > 1 {
             return Err(Error::Argument(
                 "in_place: only a frame wholly the ocean's is drawn in the host's image (no depth format, sky on, \
                  an R16G16B16A16_SFLOAT colour, radiance_scale 1, ssaa 1)"

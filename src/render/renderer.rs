@@ -455,9 +455,7 @@ impl<'g> Renderer<'g> {
         let t = host_now_ns();
         let readback = self.resources.readback.as_ref().expect("an offscreen renderer has readback buffers");
         let pixels = self.width as usize * self.height as usize;
-        let hdr_bits: Vec<u16> = readback.hdr.read(4 * pixels)?;
-        let hdr =
-            hdr_bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
+        let hdr = readback.hdr.read_rgba16f(pixels)?;
         let ldr = readback.ldr.read(4 * pixels)?;
         self.cpu_spans.push("readback", t);
         let pass_ms = self.last_pass_ms.iter().map(|&(n, ms)| (n.to_owned(), ms)).collect();

@@ -85,6 +85,12 @@ impl<'g> Buffer<'g> {
         unsafe { std::ptr::copy_nonoverlapping(ptr, out.as_mut_ptr() as *mut u8, count * std::mem::size_of::<T>()) };
         Ok(out)
     }
+
+    /// Reads `pixels` RGBA16F texels (an image copied out) as f32.
+    pub fn read_rgba16f(&self, pixels: usize) -> Result<Vec<[f32; 4]>> {
+        let bits: Vec<u16> = self.read(4 * pixels)?;
+        Ok(bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect())
+    }
 }
 
 impl Drop for Buffer<'_> {

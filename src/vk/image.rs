@@ -56,19 +56,10 @@ impl<'g> Image<'g> {
     /// and `alias` through `alias_view`), never its memory. The host made it `MUTABLE_FORMAT`
     /// with both formats allowed, and keeps it alive while we do; dropping destroys the views.
     pub fn borrowed_aliased(gpu: &'g Gpu, name: &str, host: &HostImage, alias: vk::Format) -> Result<Self> {
-        let device = gpu.raw();
-        let make_view = |format: vk::Format, label: &str| -> Result<vk::ImageView> {
-            let info = vk::ImageViewCreateInfo::default()
-                .image(host.raw)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(format)
-                .subresource_range(single_layer_levels(vk::ImageAspectFlags::COLOR, 0, 1));
-            // SAFETY: a live single-level colour image of this device, created mutable with
-            // `format` among its view formats (the host's precondition, embed::IN_PLACE_VIEW_FORMATS).
-            let view = unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
-            gpu.device.set_name(view, &format!("{name} {label}"));
-            Ok(view)
-        };
+        // The host made it single-level and mutable with both formats among its view formats (its
+        // precondition, embed::IN_PLACE_VIEW_FORMATS).
+        let range = single_layer_levels(vk::ImageAspectFlags::COLOR, 0, 1);
+        let make_view = |format, label: &str| create_view(gpu, host.raw, format, range, &format!("{name} {label}"));
         let view = make_view(host.format, "(the host's, in place)")?;
         let mut image = Image {
             gpu,
@@ -157,22 +148,9 @@ impl<'g> Image<'g> {
         let (memory, offset) = image.allocation.as_ref().map(|a| (a.memory, a.offset)).expect("just placed");
         // SAFETY: the allocation satisfies the image's requirements.
         unsafe { device.bind_image_memory(raw, memory, offset) }.during("vkBindImageMemory")?;
-        let make_view = |format: vk::Format, base: u32, count: u32, label: &str| -> Result<vk::ImageView> {
-            let info = vk::ImageViewCreateInfo::default()
-                .image(raw)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(format)
-                .subresource_range(vk::ImageSubresourceRange {
-                    aspect_mask: aspect,
-                    base_mip_level: base,
-                    level_count: count,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                });
-            // SAFETY: the range lies inside the image, which is bound to memory.
-            let view = unsafe { device.create_image_view(&info, None) }.during("vkCreateImageView")?;
-            gpu.device.set_name(view, &format!("{name} {label}"));
-            Ok(view)
+        let make_view = |format, base, count, label: &str| {
+            let range = single_layer_levels(aspect, base, count);
+            create_view(gpu, raw, format, range, &format!("{name} {label}"))
         };
         image.view = make_view(format, 0, mip_levels, "all levels")?;
         image.level0_view = if mip_levels > 1 { make_view(format, 0, 1, "level 0")? } else { image.view };
@@ -187,13 +165,7 @@ impl<'g> Image<'g> {
     }
 
     pub fn levels(&self, base: u32, count: u32) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange {
-            aspect_mask: self.aspect,
-            base_mip_level: base,
-            level_count: count,
-            base_array_layer: 0,
-            layer_count: 1,
-        }
+        single_layer_levels(self.aspect, base, count)
     }
 }
 
@@ -215,6 +187,26 @@ impl Drop for Image<'_> {
             self.gpu.allocator.borrow_mut().free(a);
         }
     }
+}
+
+/// A 2D view of `range` of `raw`, named `name`. `raw` is a live image of this device, bound to
+/// memory, `range` lies inside it, and `format` is its own or one its views may take.
+fn create_view(
+    gpu: &Gpu,
+    raw: vk::Image,
+    format: vk::Format,
+    range: vk::ImageSubresourceRange,
+    name: &str,
+) -> Result<vk::ImageView> {
+    let info = vk::ImageViewCreateInfo::default()
+        .image(raw)
+        .view_type(vk::ImageViewType::TYPE_2D)
+        .format(format)
+        .subresource_range(range);
+    // SAFETY: the image, range and format are valid for a view (the callers' invariant above).
+    let view = unsafe { gpu.raw().create_image_view(&info, None) }.during("vkCreateImageView")?;
+    gpu.device.set_name(view, name);
+    Ok(view)
 }
 
 /// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.

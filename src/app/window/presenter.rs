@@ -267,12 +267,11 @@ impl<'g> Presenter<'g> {
         let mut wait_ms = waited.elapsed().as_secs_f64() * 1e3;
         if changed {
             // A change the pipelines depend on rebuilds them: every frame in flight is done first.
-            for s in &self.slots {
-                s.commands.wait()?;
-            }
-            drawing.ocean.set_scene(scene.clone())?;
+            self.wait_idle()?;
+            self.drawing.as_mut().expect("checked above").ocean.set_scene(scene.clone())?;
             self.scene = Some(scene.clone());
         }
+        let drawing = self.drawing.as_mut().expect("checked above");
         // Whatever can fail on the host fails here, before an image is acquired.
         let (width, height) = (drawing.colour.extent.width, drawing.colour.extent.height);
         let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
@@ -385,10 +384,7 @@ impl<'g> Presenter<'g> {
             }
             Captured::Shown { width, height, rgba }
         } else {
-            let bits: Vec<u16> = buffer.read(4 * pixels)?;
-            let rgba =
-                bits.chunks_exact(4).map(|p| std::array::from_fn(|c| half::f16::from_bits(p[c]).to_f32())).collect();
-            Captured::Radiance { width, height, rgba }
+            Captured::Radiance { width, height, rgba: buffer.read_rgba16f(pixels)? }
         }))
     }
 }
