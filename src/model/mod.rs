@@ -3,10 +3,12 @@
 
 pub mod atmosphere;
 pub mod bvh;
+pub mod environment;
 pub mod floating;
 pub mod fresnel;
 pub mod gltf;
 pub mod masking;
+pub mod placement;
 pub mod scene;
 pub mod sky;
 pub mod sky_table;

@@ -5,7 +5,7 @@
 
 use crate::error::{Error, Result};
 use serde::Deserialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -176,7 +176,65 @@ pub struct Scene {
     pub wind: Wind,
     pub waves: Waves,
     pub render: Render,
+    /// Objects on the sea (`[[object]]`), drawn by the commands as a host draws its own.
+    #[serde(rename = "object", skip_serializing_if = "Vec::is_empty")]
+    pub objects: Vec<Object>,
 }
+
+/// An object on the sea (`[[object]]`): a glTF model placed in the world.
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    /// The glTF 2.0 file (.gltf or .glb); relative to the scene file.
+    pub file: PathBuf,
+    /// x, y in the world's horizontal frame (like camera.x_m, y_m), z above mean sea level. On
+    /// the planet, the point (x, y) of the plane tangent below the eye is carried straight down
+    /// to the sphere, and the object stands along the sphere's normal there.
+    #[serde(default)]
+    pub position_m: [f64; 3],
+    /// The model's +x (its bow) counter-clockwise from +x, like camera.yaw_deg.
+    #[serde(default)]
+    pub heading_deg: f64,
+    /// The bow raised.
+    #[serde(default)]
+    pub pitch_deg: f64,
+    /// The starboard side (right of the bow) raised.
+    #[serde(default)]
+    pub roll_deg: f64,
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+    #[serde(default)]
+    pub motion: Motion,
+    /// At time t the object is at position_m + velocity_mps t.
+    #[serde(default)]
+    pub velocity_mps: [f64; 2],
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+/// How an object moves with the sea.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Motion {
+    /// Where the scene puts it (a pier, a moored mark).
+    #[default]
+    Fixed,
+    /// Heave, pitch and roll follow the waves under its waterplane (model::floating), on top of
+    /// its own position and attitude.
+    Floating,
+}
+
+/// The most objects a scene may place (a harbour of buoys is 200).
+pub const MAX_OBJECTS: usize = 4096;
+
+/// How far from the world's origin an object may stand: the camera's own range.
+const MAX_OBJECT_DISTANCE_M: f64 = 1e7;
+
+/// The scales an object may take: from a millimetre's thousandth of a 1 m model to a 1 m model
+/// blown up to 1000 km.
+pub const OBJECT_SCALES: (f64, f64) = (1e-6, 1e6);
 
 /// The planet the sea covers (`[planet]`): its radius is the sea's mean level and the
 /// atmosphere's ground.
@@ -330,7 +388,15 @@ impl Scene {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| Error::Scene { file: file.clone(), message: format!("cannot read: {e}") })?;
-        Scene::parse(&text, &file)
+        let mut scene = Scene::parse(&text, &file)?;
+        // Objects' files are named relative to the scene file.
+        let dir = path.parent().unwrap_or(Path::new(""));
+        for object in &mut scene.objects {
+            if object.file.is_relative() {
+                object.file = dir.join(&object.file);
+            }
+        }
+        Ok(scene)
     }
 
     /// Parses and validates; `file` names the source in errors.
@@ -355,6 +421,9 @@ impl Scene {
         self.camera.yaw_deg = wrap_degrees(self.camera.yaw_deg);
         self.sun.azimuth_deg = wrap_degrees(self.sun.azimuth_deg);
         self.wind.direction_deg = wrap_degrees(self.wind.direction_deg);
+        for object in &mut self.objects {
+            object.heading_deg = wrap_degrees(object.heading_deg);
+        }
     }
 
     /// The longest wavelength in metres, with `"peak"` resolved from the wind speed.
@@ -442,7 +511,40 @@ impl Scene {
                 self.sun.elevation_deg
             ));
         }
+        if self.objects.len() > MAX_OBJECTS {
+            return Err(format!("{} [[object]] tables: at most {MAX_OBJECTS} are allowed", self.objects.len()));
+        }
+        for (i, object) in self.objects.iter().enumerate() {
+            object.validate().map_err(|e| format!("object {} ({}): {e}", i + 1, object.file.display()))?;
+        }
         Ok(())
+    }
+}
+
+impl Object {
+    fn validate(&self) -> Result<(), String> {
+        let d = MAX_OBJECT_DISTANCE_M;
+        for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
+            in_range(&format!("position_m.{axis}"), v, Bound::Closed(-d), Bound::Closed(d))?;
+        }
+        // Up to a mountain's height over the sea; down to a wreck's depth.
+        in_range("position_m.z", self.position_m[2], Bound::Closed(-1e4), Bound::Closed(1e4))?;
+        finite_angle("heading_deg", self.heading_deg)?;
+        in_range("pitch_deg", self.pitch_deg, Bound::Closed(-90.0), Bound::Closed(90.0))?;
+        in_range("roll_deg", self.roll_deg, Bound::Closed(-180.0), Bound::Closed(180.0))?;
+        let (lo, hi) = OBJECT_SCALES;
+        in_range("scale", self.scale, Bound::Closed(lo), Bound::Closed(hi))?;
+        // The water speed record is 142 m/s.
+        for (axis, &v) in ["x", "y"].iter().zip(&self.velocity_mps) {
+            in_range(&format!("velocity_mps.{axis}"), v, Bound::Closed(-150.0), Bound::Closed(150.0))?;
+        }
+        Ok(())
+    }
+
+    /// Where the object's origin stands at time `t` (world frame, before the planet's curvature).
+    pub fn position_at(&self, t: f64) -> [f64; 3] {
+        let [x, y, z] = self.position_m;
+        [x + self.velocity_mps[0] * t, y + self.velocity_mps[1] * t, z]
     }
 }
 
