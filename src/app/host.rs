@@ -1,11 +1,13 @@
 //! The commands' host of the ocean library: an offscreen frame drawn through `embed::Ocean` as
 //! any engine would draw it. It owns an HDR colour image and an LDR image, a command buffer and
-//! its fence, and reads both images back itself. It draws no objects, so it hands no depth: the
-//! ocean then owns every pixel and draws them in the host's colour image in place
-//! (embed::OceanDesc::in_place), with nothing to composite. `render`,
+//! its fence, and reads both images back itself. A scene with `[[object]]`s has them drawn first
+//! (app::objects) into the colour image and a depth image the ocean then depth-tests against.
+//! Without objects it hands no depth: the ocean then owns every pixel and draws them in the
+//! host's colour image in place (embed::OceanDesc::in_place), with nothing to composite. `render`,
 //! `animate` and `profile` run through it; `view` hosts the ocean in its window the same way
 //! (app/window/presenter.rs).
 
+use crate::app::objects::{ObjectFrame, Objects};
 use crate::embed::camera::scene_view;
 use crate::embed::{
     FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets, IN_PLACE_USAGE,
@@ -20,6 +22,7 @@ use crate::vk::buffer::Buffer;
 use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Commands;
 use crate::vk::device::HDR_FORMAT;
+use crate::vk::external::hdr_format_max;
 use crate::vk::gpu::Gpu;
 use crate::vk::image::{copy_to_buffer, Image};
 use crate::vk::memory::Location;
@@ -28,6 +31,9 @@ use ash::vk;
 
 /// The LDR image's format: 8-bit UNORM, the tone mapping encodes sRGB (as a PNG stores it).
 const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
+/// The depth image's format where objects are drawn (reversed Z).
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The host's own pass: copying its two images to the CPU.
 const READBACK: &str = "readback";
@@ -42,6 +48,8 @@ pub struct OffscreenHost<'g> {
     tracker: Tracker,
     colour: Image<'g>,
     ldr: Image<'g>,
+    /// The objects and the depth they are drawn with, where the scene has any.
+    objects: Option<(Objects<'g>, Image<'g>)>,
     hdr_readback: Buffer<'g>,
     ldr_readback: Buffer<'g>,
     /// The CPU's steps of the last frame.
@@ -60,9 +68,17 @@ impl<'g> OffscreenHost<'g> {
         }
         let extent = vk::Extent2D { width, height };
         use vk::ImageUsageFlags as U;
-        // The frame is wholly the ocean's (the sky black where the shading leaves it out): drawn
-        // in the colour image in place, or with supersampling resolved and copied into it.
-        let in_place = shading.ssaa == 1;
+        // Without objects the frame is wholly the ocean's (the sky black where the shading leaves
+        // it out): drawn in the colour image in place, or with supersampling resolved and copied
+        // into it.
+        let objects = if scene.objects.is_empty() {
+            None
+        } else {
+            let objects = Objects::new(gpu, &scene.objects, HDR_FORMAT, DEPTH_FORMAT, true, 1)?;
+            let depth = Image::new(gpu, "host depth", DEPTH_FORMAT, extent, 1, U::DEPTH_STENCIL_ATTACHMENT)?;
+            Some((objects, depth))
+        };
+        let in_place = shading.ssaa == 1 && objects.is_none();
         let colour = if in_place {
             Image::aliased(gpu, "host colour", HDR_FORMAT, IN_PLACE_VIEW_FORMATS[1], extent, IN_PLACE_USAGE)?
         } else {
@@ -74,7 +90,12 @@ impl<'g> OffscreenHost<'g> {
             scene: scene.clone(),
             width,
             height,
-            formats: HostFormats { colour: HDR_FORMAT, depth: None, reversed_z: true, ldr: Some(LDR_FORMAT) },
+            formats: HostFormats {
+                colour: HDR_FORMAT,
+                depth: objects.as_ref().map(|_| DEPTH_FORMAT),
+                reversed_z: true,
+                ldr: Some(LDR_FORMAT),
+            },
             frames_in_flight: 1,
             sky: true,
             radiance_scale: 1.0,
@@ -88,11 +109,13 @@ impl<'g> OffscreenHost<'g> {
             gpu,
             ocean,
             commands: Commands::new(&gpu.device, "host frame")?,
-            profiler: Profiler::new(&gpu.device, 1, false)?,
+            // Its own scopes: the objects (where drawn) and the readback.
+            profiler: Profiler::new(&gpu.device, 2, false)?,
             clock: DeviceClock::new(&gpu.device),
             tracker: Tracker::default(),
             colour,
             ldr,
+            objects,
             hdr_readback: Buffer::new(gpu, "host hdr readback", 8 * pixels, usage, Location::Readback)?,
             ldr_readback: Buffer::new(gpu, "host ldr readback", 4 * pixels, usage, Location::Readback)?,
             cpu_spans: CpuSpans::default(),
@@ -128,6 +151,24 @@ impl<'g> OffscreenHost<'g> {
         let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
         self.ocean.update(0, &FrameInput { time_s: scene.render.time_s, view, projection })?;
         self.cpu_spans.push("scene and waves", t);
+        if let Some((objects, _)) = &mut self.objects {
+            let t = host_now_ns();
+            let light = self.ocean.light().expect("an updated ocean has its light");
+            let waves = crate::model::waves::generate(scene);
+            objects.update(
+                0,
+                &ObjectFrame::new(
+                    scene,
+                    &waves,
+                    view,
+                    projection,
+                    &light,
+                    1.0,
+                    hdr_format_max(HDR_FORMAT).unwrap_or(f32::MAX),
+                ),
+            )?;
+            self.cpu_spans.push("objects", t);
+        }
         let t = host_now_ns();
         self.record()?;
         self.cpu_spans.push("record", t);
@@ -170,7 +211,20 @@ impl<'g> OffscreenHost<'g> {
         // The last frame's contents are not kept; the readback's copies are done (the fence).
         let discarded =
             ImageState::new(vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
-        let targets = Targets { colour, colour_entry: discarded, depth: None, ldr: Some((ldr, discarded)) };
+        let mut targets = Targets { colour, colour_entry: discarded, depth: None, ldr: Some((ldr, discarded)) };
+        if let Some((objects, depth_image)) = &self.objects {
+            let depth = HostImage::from(depth_image);
+            self.profiler.begin(device, cmd, crate::app::objects::NAME);
+            self.tracker.image(&colour, 0, 1, Access::ColorAttachmentWrite, true);
+            self.tracker.image(&depth, 0, 1, Access::DepthAttachmentReadWrite, true);
+            self.tracker.flush(&device.raw, cmd);
+            // Reversed Z: the far plane is 0.
+            objects.record(cmd, 0, &colour, &depth, 0.0);
+            self.profiler.end(device, cmd);
+            targets.colour_entry = ImageState::COLOR_ATTACHMENT;
+            targets.depth = Some((depth, ImageState::DEPTH_ATTACHMENT));
+            self.tracker.forget(depth.raw);
+        }
         self.ocean.record(cmd, 0, &targets)?;
         // The exit states embed::Ocean::record documents for a frame with an LDR target.
         self.tracker.external(

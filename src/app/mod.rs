@@ -6,6 +6,7 @@
 
 pub mod animate;
 pub mod host;
+pub mod objects;
 pub mod profile;
 pub mod report;
 pub mod window;

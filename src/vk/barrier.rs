@@ -72,6 +72,10 @@ pub enum Access {
     /// A uniform buffer read by a compute or a fragment shader.
     ComputeUniformRead,
     FragmentUniformRead,
+    /// A storage buffer read by a vertex shader (vertices pulled by index).
+    VertexStorageRead,
+    /// An index buffer read by indexed draws.
+    IndexRead,
     TransferRead,
     TransferWrite,
     /// vkCmdClearColorImage (the clear stage, not copy or blit).
@@ -98,6 +102,8 @@ impl Access {
             | Access::ComputeSampled
             | Access::ComputeUniformRead => S::COMPUTE_SHADER,
             Access::FragmentUniformRead => S::FRAGMENT_SHADER,
+            Access::VertexStorageRead => S::VERTEX_SHADER,
+            Access::IndexRead => S::INDEX_INPUT,
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
             Access::ClearWrite => S::CLEAR,
             Access::FragmentSampled => S::FRAGMENT_SHADER,
@@ -117,6 +123,8 @@ impl Access {
             Access::ComputeStorageReadWrite => A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
             Access::ComputeSampled => A::SHADER_SAMPLED_READ,
             Access::ComputeUniformRead | Access::FragmentUniformRead => A::UNIFORM_READ,
+            Access::VertexStorageRead => A::SHADER_STORAGE_READ,
+            Access::IndexRead => A::INDEX_READ,
             Access::TransferRead => A::TRANSFER_READ,
             Access::TransferWrite | Access::ClearWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
@@ -140,7 +148,11 @@ impl Access {
             Access::ColorAttachmentWrite | Access::ColorAttachmentReadWrite => L::COLOR_ATTACHMENT_OPTIMAL,
             // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
             Access::DepthAttachmentReadWrite => L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            Access::HostRead | Access::ComputeUniformRead | Access::FragmentUniformRead => L::GENERAL,
+            Access::HostRead
+            | Access::ComputeUniformRead
+            | Access::FragmentUniformRead
+            | Access::VertexStorageRead
+            | Access::IndexRead => L::GENERAL,
             Access::Present => L::PRESENT_SRC_KHR,
         }
     }

@@ -222,6 +222,8 @@ pub struct GraphicsDesc<'a> {
     /// Rasterization's depth bias: (constant, slope) factors (Vulkan's depthBiasConstantFactor,
     /// depthBiasSlopeFactor; no clamp).
     pub depth_bias: Option<(f32, f32)>,
+    /// Which winding faces the eye, where back faces are culled (None: nothing culled).
+    pub cull_back_faces: Option<vk::FrontFace>,
 }
 
 pub fn graphics_pipeline<'g>(
@@ -247,8 +249,8 @@ pub fn graphics_pipeline<'g>(
     let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .cull_mode(if desc.cull_back_faces.is_some() { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
+        .front_face(desc.cull_back_faces.unwrap_or(vk::FrontFace::COUNTER_CLOCKWISE))
         .line_width(1.0);
     let raster = match desc.depth_bias {
         Some((constant, slope)) => {

@@ -82,6 +82,7 @@ impl<'g> CompositePass<'g> {
                 depth_write: formats.depth.is_some(),
                 depth_compare: if formats.depth.is_some() { compare } else { vk::CompareOp::ALWAYS },
                 depth_bias: None,
+                cull_back_faces: None,
             },
         )?;
         // Without depth and with the sky, every pixel is written: the host's colour is not read.

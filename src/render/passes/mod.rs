@@ -133,6 +133,7 @@ pub fn colour_only_pipeline<'g>(
             depth_write: false,
             depth_compare: vk::CompareOp::ALWAYS,
             depth_bias: None,
+            cull_back_faces: None,
         },
     )
 }

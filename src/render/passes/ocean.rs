@@ -257,6 +257,7 @@ impl<'g> OceanPass<'g> {
                 depth_write: true,
                 depth_compare: vk::CompareOp::GREATER, // reversed Z
                 depth_bias: None,
+                cull_back_faces: None,
             },
         )?;
         let sky = if config.background {
@@ -273,6 +274,7 @@ impl<'g> OceanPass<'g> {
                     depth_write: false,
                     depth_compare: vk::CompareOp::ALWAYS, // the rows hold no sea
                     depth_bias: None,
+                    cull_back_faces: None,
                 },
             )?)
         } else {

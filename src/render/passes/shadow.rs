@@ -52,6 +52,7 @@ impl<'g> ShadowPass<'g> {
                 depth_write: true,
                 depth_compare: vk::CompareOp::LESS, // 0 nearest the sun
                 depth_bias: Some(DEPTH_BIAS),
+                cull_back_faces: None,
             },
         )?;
         Ok(ShadowPass { bindings, pipeline })

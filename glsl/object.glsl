@@ -1,0 +1,43 @@
+// The object pass's bindings (src/app/objects): the frame's light and camera, each object's
+// placement, and the drawn model's vertices and material.
+
+// Set 0: the frame (one window of the ring per frame slot, dynamic offsets).
+layout(set = 0, binding = 0) uniform ObjectFrame {
+    // Eye-relative world (z up, metres) to clip space.
+    mat4 clip_from_relative;
+    // xyz: towards the sun; w: the sun disc's angular radius (rad).
+    vec4 sun_direction;
+    // rgb: the sun's irradiance on a surface facing it (host unit x sr); w: the colour
+    // format's largest finite value.
+    vec4 sun_irradiance;
+    // Irradiance on a normal n is sum_i sh[i].rgb Y_i(n) (model::environment, the clamped
+    // cosine's band weights included).
+    vec4 sh[9];
+} frame;
+
+struct Instance {
+    mat4 relative_from_model;
+    // Rows of the normal matrix (the inverse transpose of the model's 3x3, unit scale).
+    vec4 normal_from_model[3];
+    // rgb: the air's in-scatter between the eye and the object; w unused.
+    vec4 inscatter;
+    // rgb: the air's transmittance over that path.
+    vec4 transmittance;
+};
+layout(std430, set = 0, binding = 1) readonly buffer Instances { Instance instances[]; };
+
+// Set 1: the model's vertices (pulled by index) and a material's textures.
+struct Vertex {
+    vec4 position_u;    // xyz, the texture's u
+    vec4 normal_v;      // xyz, the texture's v
+    vec4 tangent;       // xyz along +u, w the bitangent's sign (0: the model gives none)
+};
+layout(std430, set = 1, binding = 0) readonly buffer Vertices { Vertex vertices[]; };
+layout(set = 1, binding = 1) uniform sampler2D base_colour_texture;
+layout(set = 1, binding = 2) uniform sampler2D normal_texture;
+
+layout(push_constant) uniform Material {
+    vec4 base_colour;
+    // x metallic, y roughness, z the normal map's xy scale (0: none), w unused.
+    vec4 surface;
+} material;

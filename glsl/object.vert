@@ -1,0 +1,24 @@
+#version 450
+// An object's triangles, vertices pulled from its model's buffer by index, placed by its
+// instance (src/app/objects).
+#include "object.glsl"
+
+layout(location = 0) out vec3 out_relative;   // eye-relative world position
+layout(location = 1) out vec3 out_normal;
+layout(location = 2) out vec4 out_tangent;
+layout(location = 3) out vec2 out_uv;
+layout(location = 4) flat out uint out_instance;
+
+void main() {
+    Vertex v = vertices[gl_VertexIndex];
+    Instance o = instances[gl_InstanceIndex];
+    vec4 relative = o.relative_from_model * vec4(v.position_u.xyz, 1.0);
+    mat3 normal_matrix = transpose(mat3(o.normal_from_model[0].xyz, o.normal_from_model[1].xyz,
+                                        o.normal_from_model[2].xyz));
+    gl_Position = frame.clip_from_relative * relative;
+    out_relative = relative.xyz;
+    out_normal = normal_matrix * v.normal_v.xyz;
+    out_tangent = vec4(mat3(o.relative_from_model) * v.tangent.xyz, v.tangent.w);
+    out_uv = vec2(v.position_u.w, v.normal_v.w);
+    out_instance = gl_InstanceIndex;
+}

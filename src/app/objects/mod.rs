@@ -1,0 +1,378 @@
+//! Objects on the sea, drawn as a host of the ocean library draws its own: a scene's `[[object]]`
+//! models (glTF, model::gltf) uploaded once (`upload`), placed each frame in f64 around the eye
+//! (model::placement, floating ones on the waves), lit by the ocean's sun and by the sky above
+//! and the sea below (`light`), seen through the air, and drawn into the host's HDR colour and
+//! depth before the ocean, which then depth-tests against them (embed::Ocean::record). Objects
+//! sharing a model are drawn instanced.
+
+mod light;
+mod pipeline;
+mod upload;
+
+use crate::embed::Light;
+use crate::error::{Error, Result, VkContext};
+use crate::model::floating::Waterplane;
+use crate::model::gltf::{self, Model};
+use crate::model::placement::{place, waterplane};
+use crate::model::scene::{Object, Scene};
+use crate::model::sky::SUN_ANGULAR_RADIUS;
+use crate::model::waves::WaveSet;
+use crate::vk::buffer::Buffer;
+use crate::vk::external::HostImage;
+use crate::vk::gpu::Gpu;
+use crate::vk::image::Image;
+use crate::vk::memory::Location;
+use crate::vk::owned::Owned;
+use ash::vk;
+use glam::{DMat3, DMat4, DVec3};
+use light::ObjectLight;
+use pipeline::ObjectPipelines;
+use std::path::PathBuf;
+use std::sync::Arc;
+use upload::{GpuModel, BASE_COLOUR_FORMAT, NORMAL_MAP_FORMAT};
+
+/// The pass's name in profiles and debug labels.
+pub const NAME: &str = "objects";
+
+/// glsl/object.glsl's `ObjectFrame` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+struct FrameUniforms {
+    clip_from_relative: [[f32; 4]; 4],
+    sun_direction: [f32; 4],
+    sun_irradiance: [f32; 4],
+    sh: [[f32; 4]; 9],
+}
+
+/// glsl/object.glsl's `Instance` (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+struct Instance {
+    relative_from_model: [[f32; 4]; 4],
+    normal_from_model: [[f32; 4]; 3],
+    inscatter: [f32; 4],
+    transmittance: [f32; 4],
+}
+
+/// The camera and light of one frame, as the host handed them to the ocean.
+pub struct ObjectFrame<'a> {
+    pub scene: &'a Scene,
+    pub waves: &'a WaveSet,
+    pub time_s: f64,
+    /// The host's projection times its view without the eye's translation.
+    pub clip_from_relative: DMat4,
+    /// The eye in the world (z above mean sea level).
+    pub eye: DVec3,
+    pub light: &'a Light,
+    /// The host's radiance unit per kcd/m² (embed::OceanDesc::radiance_scale).
+    pub radiance_scale: f64,
+    /// The colour format's largest finite value.
+    pub colour_max: f32,
+}
+
+impl<'a> ObjectFrame<'a> {
+    /// The frame a host draws with `view` and `projection` (the matrices it hands the ocean).
+    pub fn new(
+        scene: &'a Scene,
+        waves: &'a WaveSet,
+        view: DMat4,
+        projection: DMat4,
+        light: &'a Light,
+        radiance_scale: f64,
+        colour_max: f32,
+    ) -> ObjectFrame<'a> {
+        let eye = view.inverse().w_axis.truncate();
+        ObjectFrame {
+            scene,
+            waves,
+            time_s: scene.render.time_s,
+            clip_from_relative: projection * view * DMat4::from_translation(eye),
+            eye,
+            light,
+            radiance_scale,
+            colour_max,
+        }
+    }
+}
+
+pub struct Objects<'g> {
+    gpu: &'g Gpu,
+    // Field order is drop order: the pipelines (and the sets' pool) before what the sets name.
+    pipelines: ObjectPipelines<'g>,
+    /// The material sets' sampler.
+    _sampler: Owned<'g, vk::Sampler>,
+    uniforms: Buffer<'g>,
+    uniform_stride: u64,
+    instances: Buffer<'g>,
+    instance_stride: u64,
+    models: Vec<GpuModel<'g>>,
+    /// White (sRGB) and a flat normal (linear) for materials without textures.
+    _stand_ins: Vec<Image<'g>>,
+    /// Per model, one set per material.
+    material_sets: Vec<Vec<vk::DescriptorSet>>,
+    /// The scene's objects and the model each draws.
+    objects: Vec<(Object, usize)>,
+    waterplanes: Vec<Waterplane>,
+    /// Object indices in instance order: grouped by model, each group's range.
+    order: Vec<usize>,
+    batches: Vec<(usize, std::ops::Range<u32>)>,
+    light: ObjectLight,
+}
+
+/// Loads each distinct file of `objects` once; errors name the file.
+pub fn load_models(objects: &[Object]) -> Result<(Vec<Arc<Model>>, Vec<usize>)> {
+    let mut files: Vec<PathBuf> = Vec::new();
+    let mut models = Vec::new();
+    let mut model_of = Vec::new();
+    for object in objects {
+        let index = match files.iter().position(|f| *f == object.file) {
+            Some(i) => i,
+            None => {
+                models.push(Arc::new(gltf::load(&object.file)?));
+                files.push(object.file.clone());
+                files.len() - 1
+            }
+        };
+        model_of.push(index);
+    }
+    Ok((models, model_of))
+}
+
+impl<'g> Objects<'g> {
+    /// The pass for `objects` drawn into `colour` and `depth` attachments, `slots` frames in
+    /// flight.
+    pub fn new(
+        gpu: &'g Gpu,
+        objects: &[Object],
+        colour: vk::Format,
+        depth: vk::Format,
+        reversed_z: bool,
+        slots: u32,
+    ) -> Result<Self> {
+        let (models, model_of) = load_models(objects)?;
+        let stand_ins = [([255, 255, 255, 255], BASE_COLOUR_FORMAT), ([128, 128, 255, 255], NORMAL_MAP_FORMAT)];
+        let (gpu_models, stand_in_images) = upload::upload(gpu, &models, &stand_ins)?;
+        let material_count: u32 = gpu_models.iter().map(|m| m.materials.len().max(1) as u32).sum();
+        let pipelines = ObjectPipelines::new(&gpu.device, colour, depth, reversed_z, material_count)?;
+        let raw = &gpu.device.raw;
+        let anisotropic = gpu.device.anisotropy;
+        let limits = gpu.device.properties.limits;
+        let sampler_info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::REPEAT)
+            .address_mode_v(vk::SamplerAddressMode::REPEAT)
+            .address_mode_w(vk::SamplerAddressMode::REPEAT)
+            .anisotropy_enable(anisotropic)
+            .max_anisotropy(if anisotropic { limits.max_sampler_anisotropy.min(8.0) } else { 1.0 })
+            .min_lod(0.0)
+            .max_lod(vk::LOD_CLAMP_NONE);
+        // SAFETY: valid create info; anisotropy only where the feature was enabled.
+        let sampler = unsafe { raw.create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
+        let sampler = Owned::new(&gpu.device, sampler, "object textures");
+
+        let align = |size: u64, to: u64| size.div_ceil(to.max(1)) * to.max(1);
+        let uniform_stride =
+            align(std::mem::size_of::<FrameUniforms>() as u64, limits.min_uniform_buffer_offset_alignment);
+        let instance_bytes = (objects.len().max(1) * std::mem::size_of::<Instance>()) as u64;
+        let instance_stride = align(instance_bytes, limits.min_storage_buffer_offset_alignment);
+        let slots = slots.max(1) as u64;
+        use vk::BufferUsageFlags as B;
+        let uniforms = Buffer::new(gpu, "objects frame", uniform_stride * slots, B::UNIFORM_BUFFER, Location::Upload)?;
+        let instances =
+            Buffer::new(gpu, "objects instances", instance_stride * slots, B::STORAGE_BUFFER, Location::Upload)?;
+        use vk::DescriptorType as D;
+        let frame_set = pipelines.frame_set;
+        let uniform_range = std::mem::size_of::<FrameUniforms>() as u64;
+        pipeline::write_buffer(
+            raw,
+            frame_set,
+            pipeline::FRAME_UNIFORMS,
+            D::UNIFORM_BUFFER_DYNAMIC,
+            uniforms.raw,
+            uniform_range,
+        );
+        pipeline::write_buffer(
+            raw,
+            frame_set,
+            pipeline::INSTANCES,
+            D::STORAGE_BUFFER_DYNAMIC,
+            instances.raw,
+            instance_bytes,
+        );
+
+        let mut material_sets = Vec::new();
+        for model in &gpu_models {
+            let sets = pipelines.material_sets(model.materials.len().max(1) as u32)?;
+            for (m, &set) in sets.iter().enumerate() {
+                pipeline::write_buffer(
+                    raw,
+                    set,
+                    pipeline::VERTICES,
+                    D::STORAGE_BUFFER,
+                    model.vertices.raw,
+                    vk::WHOLE_SIZE,
+                );
+                let (base, normal) = model.material_textures.get(m).copied().unwrap_or((None, None));
+                let view = |texture: Option<usize>, stand_in: usize| {
+                    texture.map_or(stand_in_images[stand_in].view, |t| model.textures[t].view)
+                };
+                pipeline::write_texture(raw, set, pipeline::BASE_COLOUR, view(base, 0), sampler.raw);
+                pipeline::write_texture(raw, set, pipeline::NORMAL_MAP, view(normal, 1), sampler.raw);
+            }
+            material_sets.push(sets);
+        }
+
+        let mut order = Vec::new();
+        let mut batches = Vec::new();
+        for model in 0..gpu_models.len() {
+            let first = order.len() as u32;
+            order.extend((0..objects.len()).filter(|&i| model_of[i] == model));
+            batches.push((model, first..order.len() as u32));
+        }
+        let waterplanes = objects.iter().zip(&model_of).map(|(o, &m)| waterplane(models[m].bounds, o.scale)).collect();
+        Ok(Objects {
+            gpu,
+            pipelines,
+            _sampler: sampler,
+            uniforms,
+            uniform_stride,
+            instances,
+            instance_stride,
+            models: gpu_models,
+            _stand_ins: stand_in_images,
+            material_sets,
+            objects: objects.iter().cloned().zip(model_of).collect(),
+            waterplanes,
+            order,
+            batches,
+            light: ObjectLight::default(),
+        })
+    }
+
+    /// Whether `objects` are the ones this pass was made for (else the host makes a new pass).
+    pub fn draws(&self, objects: &[Object]) -> bool {
+        self.objects.len() == objects.len() && self.objects.iter().zip(objects).all(|((a, _), b)| a == b)
+    }
+
+    /// Writes frame `slot`'s camera, light and placements (its previous use has finished).
+    pub fn update(&mut self, slot: usize, frame: &ObjectFrame) -> Result<()> {
+        let light = frame.light;
+        let sh = self.light.environment(frame.scene, light, frame.radiance_scale);
+        let sun = light.sun_direction;
+        let uniforms = FrameUniforms {
+            clip_from_relative: frame.clip_from_relative.as_mat4().to_cols_array_2d(),
+            sun_direction: [sun.x as f32, sun.y as f32, sun.z as f32, SUN_ANGULAR_RADIUS as f32],
+            sun_irradiance: [
+                light.sun_illuminance[0],
+                light.sun_illuminance[1],
+                light.sun_illuminance[2],
+                frame.colour_max,
+            ],
+            sh: sh.map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]),
+        };
+        self.uniforms.write_at(slot as u64 * self.uniform_stride, &[uniforms])?;
+        let instances: Vec<Instance> = self
+            .order
+            .iter()
+            .map(|&i| {
+                let (object, _) = &self.objects[i];
+                let p = place(frame.scene, frame.waves, object, self.waterplanes[i], frame.eye.z, frame.time_s);
+                // Normals: the inverse transpose of the linear part, scaled to keep unit normals
+                // unit (the scale is uniform).
+                let linear = DMat3::from_mat4(p.relative_from_model);
+                let normal = linear.inverse().transpose() * (linear.determinant().abs().cbrt());
+                let rows =
+                    [normal.row(0), normal.row(1), normal.row(2)].map(|r| [r.x as f32, r.y as f32, r.z as f32, 0.0]);
+                let (inscatter, transmittance) =
+                    self.light.air_between(frame.scene, sun, frame.eye.z, p.origin, frame.radiance_scale);
+                let v4 = |v: [f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32, 0.0];
+                Instance {
+                    relative_from_model: p.relative_from_model.as_mat4().to_cols_array_2d(),
+                    normal_from_model: rows,
+                    inscatter: v4(inscatter),
+                    transmittance: v4(transmittance),
+                }
+            })
+            .collect();
+        if !instances.iter().all(|i| i.relative_from_model.iter().flatten().all(|v| v.is_finite())) {
+            return Err(Error::Argument("an object's placement is not finite".into()));
+        }
+        self.instances.write_at(slot as u64 * self.instance_stride, &instances)
+    }
+
+    /// Clears `colour` (to black: the ocean's sky fills what no object covers) and `depth` (to
+    /// the far plane) and draws the objects of frame `slot`. Both are in attachment layouts.
+    pub fn record(&self, cmd: vk::CommandBuffer, slot: usize, colour: &HostImage, depth: &HostImage, far: f32) {
+        let raw = &self.gpu.device.raw;
+        let colour_attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(colour.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: far, stencil: 0 } });
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: colour.extent };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colour_attachment)
+            .depth_attachment(&depth_attachment);
+        let offsets = [(slot as u64 * self.uniform_stride) as u32, (slot as u64 * self.instance_stride) as u32];
+        let layout = self.pipelines.layout.raw;
+        // SAFETY: the attachments are in the layouts named (the host's barriers); the pipelines
+        // were made for their formats; each set's buffers and images live as long as self; the
+        // dynamic offsets select slot windows inside the buffers.
+        unsafe {
+            raw.cmd_begin_rendering(cmd, &info);
+            raw.cmd_set_viewport(cmd, 0, &[crate::render::passes::whole_viewport(colour.extent)]);
+            raw.cmd_set_scissor(cmd, 0, &[area]);
+            raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                layout,
+                0,
+                &[self.pipelines.frame_set],
+                &offsets,
+            );
+            for (model, instances) in &self.batches {
+                let gpu_model = &self.models[*model];
+                raw.cmd_bind_index_buffer(cmd, gpu_model.indices.raw, 0, vk::IndexType::UINT32);
+                for draw in &gpu_model.draws {
+                    let material = gpu_model.materials.get(draw.material).cloned().unwrap_or_default();
+                    let pipeline =
+                        if material.double_sided { &self.pipelines.double_sided } else { &self.pipelines.single_sided };
+                    raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                    let set = self.material_sets[*model][draw.material.min(self.material_sets[*model].len() - 1)];
+                    raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 1, &[set], &[]);
+                    let normal_scale = material.normal_texture.map_or(0.0, |(_, s)| s);
+                    let push = [material.base_colour, [material.metallic, material.roughness, normal_scale, 0.0]];
+                    let bytes: Vec<u8> = push.iter().flatten().flat_map(|f| f.to_ne_bytes()).collect();
+                    raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, &bytes);
+                    raw.cmd_draw_indexed(
+                        cmd,
+                        draw.index_count,
+                        instances.len() as u32,
+                        draw.first_index,
+                        draw.vertex_offset,
+                        instances.start,
+                    );
+                }
+            }
+            raw.cmd_end_rendering(cmd);
+        }
+    }
+
+    /// Triangles drawn per frame (every object's model).
+    pub fn triangles(&self) -> usize {
+        self.batches
+            .iter()
+            .map(|(m, r)| self.models[*m].draws.iter().map(|d| d.index_count as usize / 3).sum::<usize>() * r.len())
+            .sum()
+    }
+}
