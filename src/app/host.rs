@@ -7,7 +7,7 @@
 //! `animate` and `profile` run through it; `view` hosts the ocean in its window the same way
 //! (app/window/presenter.rs).
 
-use crate::app::objects::{ObjectFrame, Objects};
+use crate::app::objects::{ObjectFrame, Objects, DEPTH_FORMAT};
 use crate::embed::camera::scene_view;
 use crate::embed::{
     FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets, IN_PLACE_USAGE,
@@ -31,9 +31,6 @@ use ash::vk;
 
 /// The LDR image's format: 8-bit UNORM, the tone mapping encodes sRGB (as a PNG stores it).
 const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
-
-/// The depth image's format where objects are drawn (reversed Z).
-const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The host's own pass: copying its two images to the CPU.
 const READBACK: &str = "readback";

@@ -71,6 +71,8 @@ pub fn check_physical_device(entry: &ash::Entry, instance: &ash::Instance, physi
 #[derive(Clone, Debug)]
 pub struct OceanDesc {
     /// The sea, sun, sky and rendering settings (its camera is replaced by the host's each frame).
+    /// Its `[[object]]`s are the host's to draw (the commands' host draws them with
+    /// `app::objects`); the ocean depth-tests against whatever the host drew.
     pub scene: Scene,
     /// The targets' width in pixels.
     pub width: u32,
@@ -231,8 +233,10 @@ impl<'g> Ocean<'g> {
     /// Makes the ocean's pipelines and resources on the host's device. Fails naming a format the
     /// ocean cannot write or test against, a frame count or size out of range, or what the
     /// device lacks.
-    pub fn new(gpu: &'g Gpu, desc: OceanDesc) -> Result<Ocean<'g>> {
+    pub fn new(gpu: &'g Gpu, mut desc: OceanDesc) -> Result<Ocean<'g>> {
         check_desc(gpu, &desc)?;
+        // A scene's objects are its host's to draw.
+        desc.scene.objects.clear();
         let mut ocean = Ocean {
             gpu,
             renderer: None,
@@ -328,7 +332,8 @@ impl<'g> Ocean<'g> {
     /// A new sea, sun, sky or settings. Where the pipelines depend on what changed (the sky's
     /// model, the tone, the shadow map, what a scene specialized for its camera leaves out) they
     /// are rebuilt: the host has then waited for every frame in flight.
-    pub fn set_scene(&mut self, scene: Scene) -> Result<()> {
+    pub fn set_scene(&mut self, mut scene: Scene) -> Result<()> {
+        scene.objects.clear();
         scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
         // The scene is kept even if the rebuild fails: the next resize or scene change retries.
         self.desc.scene = scene;

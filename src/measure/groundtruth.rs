@@ -296,6 +296,7 @@ pub fn render(
     mut progress: impl FnMut(u64, u64),
 ) -> Result<GroundTruth> {
     sampling.check()?;
+    scene.refuse_objects("the ground truth")?;
     // A cone reaching below the horizon would lose the part of the sun's energy that no
     // reflected ray can gather there: it is narrowed to the sun's elevation (the disc at least).
     let sampling = Sampling {

@@ -521,6 +521,21 @@ impl Scene {
     }
 }
 
+impl Scene {
+    /// Err where the scene places objects and `what` (a measurement that draws the ocean alone)
+    /// would drop them.
+    pub fn refuse_objects(&self, what: &str) -> Result<()> {
+        match self.objects.first() {
+            None => Ok(()),
+            Some(first) => Err(Error::Argument(format!(
+                "{what} draws no objects, and the scene places {} ([[object]] file = {:?}): `ocean render`, `animate`, `profile` and `view` draw them",
+                self.objects.len(),
+                first.file.display().to_string()
+            ))),
+        }
+    }
+}
+
 impl Object {
     fn validate(&self) -> Result<(), String> {
         let d = MAX_OBJECT_DISTANCE_M;

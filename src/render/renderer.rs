@@ -242,6 +242,8 @@ impl<'g> Renderer<'g> {
     /// A renderer for `width` x `height` images of scenes with `scene`'s sky-map anisotropy.
     /// With supersampling the grid keeps its cell size in output pixels.
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
+        // The ocean alone: a host draws the objects (embed::Ocean hands it none).
+        scene.refuse_objects("a measurement of the ocean's own frame")?;
         let device = &gpu.device;
         // The sky's model is the scene's.
         let mut options = options;

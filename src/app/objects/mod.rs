@@ -34,6 +34,10 @@ use upload::{GpuModel, BASE_COLOUR_FORMAT, NORMAL_MAP_FORMAT};
 /// The pass's name in profiles and debug labels.
 pub const NAME: &str = "objects";
 
+/// The depth the commands' hosts draw objects with (reversed Z: 1 near, 0 far; every device
+/// supports it as a depth attachment).
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
 /// glsl/object.glsl's `ObjectFrame` (std140).
 #[repr(C)]
 #[derive(Clone, Copy, Default)]

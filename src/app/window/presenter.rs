@@ -5,6 +5,7 @@
 //! are recreated together when the surface changes (resize, out of date, suboptimal, restore
 //! after a minimize); while the window has no area there is no swapchain and nothing is drawn.
 
+use crate::app::objects::{ObjectFrame, Objects, DEPTH_FORMAT};
 use crate::embed::camera::scene_view;
 use crate::embed::{
     FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, ShaderConfig, Shading, Targets,
@@ -17,6 +18,7 @@ use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::{Commands, Wait};
 use crate::vk::device::HDR_FORMAT;
+use crate::vk::external::hdr_format_max;
 use crate::vk::gpu::Gpu;
 use crate::vk::image::{copy_to_buffer, Image};
 use crate::vk::memory::Location;
@@ -61,6 +63,8 @@ struct Drawing<'g> {
     // Field order is drop order: the ocean waits for the device before anything goes.
     ocean: Ocean<'g>,
     colour: Image<'g>,
+    /// The scene's objects and their depth (shared by the frames in flight, like the colour).
+    objects: Option<(Objects<'g>, Image<'g>)>,
 }
 
 pub struct Presenter<'g> {
@@ -221,16 +225,29 @@ impl<'g> Presenter<'g> {
             return Ok(()); // minimized: the next recreate builds one for the restored swapchain
         };
         let extent = swapchain.extent;
-        // The frame is wholly the ocean's: it draws in the colour image in place.
-        let colour =
-            Image::aliased(self.gpu, "window colour", HDR_FORMAT, IN_PLACE_VIEW_FORMATS[1], extent, IN_PLACE_USAGE)?;
+        let objects = if scene.objects.is_empty() {
+            None
+        } else {
+            let slots = self.slots.len() as u32;
+            let objects = Objects::new(self.gpu, &scene.objects, HDR_FORMAT, DEPTH_FORMAT, true, slots)?;
+            let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+            Some((objects, Image::new(self.gpu, "window depth", DEPTH_FORMAT, extent, 1, usage)?))
+        };
+        // A frame without objects is wholly the ocean's: it draws in the colour image in place.
+        let colour = if objects.is_none() {
+            Image::aliased(self.gpu, "window colour", HDR_FORMAT, IN_PLACE_VIEW_FORMATS[1], extent, IN_PLACE_USAGE)?
+        } else {
+            use vk::ImageUsageFlags as U;
+            let usage = U::COLOR_ATTACHMENT | U::SAMPLED | U::TRANSFER_SRC;
+            Image::new(self.gpu, "window colour", HDR_FORMAT, extent, 1, usage)?
+        };
         let desc = OceanDesc {
             scene: scene.clone(),
             width: extent.width,
             height: extent.height,
             formats: HostFormats {
                 colour: HDR_FORMAT,
-                depth: None,
+                depth: objects.as_ref().map(|_| DEPTH_FORMAT),
                 reversed_z: true,
                 ldr: Some(swapchain.choice.format.format),
             },
@@ -238,10 +255,10 @@ impl<'g> Presenter<'g> {
             sky: true,
             radiance_scale: 1.0,
             shading: Shading { shader: self.shader, ..Shading::default() },
-            in_place: Some(HostImage::from(&colour)),
+            in_place: objects.is_none().then(|| HostImage::from(&colour)),
         };
         let ocean = Ocean::new(self.gpu, desc)?;
-        self.drawing = Some(Drawing { ocean, colour });
+        self.drawing = Some(Drawing { ocean, colour, objects });
         self.scene = Some(scene.clone());
         Ok(())
     }
@@ -268,14 +285,30 @@ impl<'g> Presenter<'g> {
         if changed {
             // A change the pipelines depend on rebuilds them: every frame in flight is done first.
             self.wait_idle()?;
-            self.drawing.as_mut().expect("checked above").ocean.set_scene(scene.clone())?;
-            self.scene = Some(scene.clone());
+            let drawing = self.drawing.as_mut().expect("checked above");
+            let same_objects = match &drawing.objects {
+                Some((objects, _)) => objects.draws(&scene.objects),
+                None => scene.objects.is_empty(),
+            };
+            if same_objects {
+                drawing.ocean.set_scene(scene.clone())?;
+                self.scene = Some(scene.clone());
+            } else {
+                // Other objects: other models, and with or without a depth to composite against.
+                self.rebuild(scene)?;
+            }
         }
         let drawing = self.drawing.as_mut().expect("checked above");
         // Whatever can fail on the host fails here, before an image is acquired.
         let (width, height) = (drawing.colour.extent.width, drawing.colour.extent.height);
         let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
         drawing.ocean.update(slot, &FrameInput { time_s: scene.render.time_s, view, projection })?;
+        if let Some((objects, _)) = &mut drawing.objects {
+            let light = drawing.ocean.light().expect("an updated ocean has its light");
+            let waves = crate::model::waves::generate(scene);
+            let max = hdr_format_max(HDR_FORMAT).unwrap_or(f32::MAX);
+            objects.update(slot, &ObjectFrame::new(scene, &waves, view, projection, &light, 1.0, max))?;
+        }
         self.prepare_capture(capture)?;
         let swapchain = self.swapchain.as_ref().expect("checked above");
         assert!(capture != Capture::Shown || swapchain.choice.copyable, "check can_copy_shown() first");
@@ -311,8 +344,25 @@ impl<'g> Presenter<'g> {
         // The colour's contents are not kept; the frame before last read it (tone mapping, or a
         // radiance screenshot's copy), earlier on this queue: the ocean's first write waits.
         let stage = vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY;
-        let colour_entry = ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
-        let targets = Targets { colour, colour_entry, depth: None, ldr: Some((shown, ImageState::ACQUIRED)) };
+        let mut colour_entry = ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
+        let mut depth = None;
+        if let Some((objects, depth_image)) = &drawing.objects {
+            // The objects come first: their writes wait for the frame before's reads of the
+            // colour, and of the depth for its tests (the frames in flight share both).
+            let depth_target = HostImage::from(depth_image);
+            let t = &mut self.tracker;
+            t.external(&colour, colour_entry.layout, colour_entry.stage, colour_entry.access);
+            t.image(&colour, 0, 1, Access::ColorAttachmentWrite, true);
+            let tests = ImageState::DEPTH_ATTACHMENT;
+            t.external(&depth_target, vk::ImageLayout::UNDEFINED, tests.stage, tests.access);
+            t.image(&depth_target, 0, 1, Access::DepthAttachmentReadWrite, true);
+            t.flush(device, cmd);
+            objects.record(cmd, slot, &colour, &depth_target, 0.0);
+            t.forget(depth_target.raw);
+            colour_entry = ImageState::COLOR_ATTACHMENT;
+            depth = Some((depth_target, tests));
+        }
+        let targets = Targets { colour, colour_entry, depth, ldr: Some((shown, ImageState::ACQUIRED)) };
         drawing.ocean.record(cmd, slot, &targets)?;
         // From the exit states embed::Ocean::record documents for a frame with an LDR target.
         let t = &mut self.tracker;
