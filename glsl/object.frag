@@ -1,8 +1,8 @@
 #version 450
 // An object's surface in the ocean's light: glTF's metallic-roughness model (Lambertian diffuse,
 // GGX microfacets with Smith's height-correlated masking and Schlick's Fresnel; glTF 2.0
-// specification, appendix B), lit by the sun and by the sky above and the sea below on order-2
-// spherical harmonics (model::environment), then seen through the air between the eye and the
+// specification, appendix B), lit by the sun and by the sky above and the sea below (the
+// irradiance table of model::environment), then seen through the air between the eye and the
 // object (the instance's in-scatter and transmittance).
 #include "object.glsl"
 
@@ -17,13 +17,22 @@ const float PI = 3.14159265358979;
 // The dielectric's reflectance at normal incidence (glTF's 4%: an index of 1.5).
 const float DIELECTRIC_F0 = 0.04;
 
-vec3 sh_irradiance(vec3 n) {
-    float y[9] = float[](0.2820948, 0.4886025 * n.y, 0.4886025 * n.z, 0.4886025 * n.x,
-                         1.0925484 * n.x * n.y, 1.0925484 * n.y * n.z, 0.3153916 * (3.0 * n.z * n.z - 1.0),
-                         1.0925484 * n.x * n.z, 0.5462742 * (n.x * n.x - n.y * n.y));
-    vec3 e = vec3(0.0);
-    for (int i = 0; i < 9; i++) e += frame.sh[i].rgb * y[i];
-    return max(e, vec3(0.0));
+// Bilinear in the irradiance table (model::environment::table_lookup).
+vec3 irradiance(vec3 n) {
+    float theta = acos(clamp(n.z, -1.0, 1.0));
+    // At the poles every column holds the same normal's value.
+    float phi = (n.x == 0.0 && n.y == 0.0) ? 0.0 : atan(n.y, n.x);
+    float r = theta / PI * float(IRRADIANCE_ROWS - 1);
+    int r0 = min(int(r), IRRADIANCE_ROWS - 2);
+    float fr = r - float(r0);
+    float c = fract(phi / (2.0 * PI)) * float(IRRADIANCE_COLUMNS);
+    int c0 = min(int(c), IRRADIANCE_COLUMNS - 1);
+    float fc = c - float(c0);
+    int c1 = (c0 + 1) % IRRADIANCE_COLUMNS;
+    int row = r0 * IRRADIANCE_COLUMNS, next = row + IRRADIANCE_COLUMNS;
+    vec3 top = mix(frame.irradiance[row + c0].rgb, frame.irradiance[row + c1].rgb, fc);
+    vec3 bottom = mix(frame.irradiance[next + c0].rgb, frame.irradiance[next + c1].rgb, fc);
+    return mix(top, bottom, fr);
 }
 
 // v / |v|, or `fallback` where v has no direction (interpolated normals that cancel).
@@ -109,7 +118,7 @@ void main() {
     float a004 = min(q.x * q.x, exp2(-9.28 * nv)) * q.x + q.y;
     vec2 ab = vec2(-1.04, 1.04) * a004 + q.zw;
     vec3 specular_albedo = f0 * ab.x + ab.y;
-    radiance += diffuse_albedo / PI * sh_irradiance(n) + specular_albedo / PI * sh_irradiance(r);
+    radiance += diffuse_albedo / PI * irradiance(n) + specular_albedo / PI * irradiance(r);
 
     vec3 seen = radiance * o.transmittance.rgb + o.inscatter.rgb;
     out_colour = vec4(min(seen, vec3(frame.sun_irradiance.w)), 1.0);

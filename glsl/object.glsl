@@ -1,6 +1,9 @@
 // The object pass's bindings (src/app/objects): the frame's light and camera, each object's
 // placement, and the drawn model's vertices and material.
 
+const int IRRADIANCE_ROWS = 17;
+const int IRRADIANCE_COLUMNS = 32;
+
 // Set 0: the frame (one window of the ring per frame slot, dynamic offsets).
 layout(set = 0, binding = 0) uniform ObjectFrame {
     // Eye-relative world (z up, metres) to clip space.
@@ -10,9 +13,9 @@ layout(set = 0, binding = 0) uniform ObjectFrame {
     // rgb: the sun's irradiance on a surface facing it (host unit x sr); w: the colour
     // format's largest finite value.
     vec4 sun_irradiance;
-    // Irradiance on a normal n is sum_i sh[i].rgb Y_i(n) (model::environment, the clamped
-    // cosine's band weights included).
-    vec4 sh[9];
+    // The environment's irradiance on a surface of each normal: rows of zenith angles from the
+    // zenith to the nadir, columns of azimuths from +x (model::environment's table).
+    vec4 irradiance[IRRADIANCE_ROWS * IRRADIANCE_COLUMNS];
 } frame;
 
 struct Instance {

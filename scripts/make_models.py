@@ -199,7 +199,7 @@ def hull(b, m, length, beam, depth, freeboard, stations=16, points=9, bluff=0.25
     # The deck closes the sheer line.
     for i in range(stations):
         p, q = rows[i], rows[i + 1]
-        b.quad(m, p[0], p[-1], q[-1], q[0])
+        b.quad(m, p[0], q[0], q[-1], p[-1])
 
 
 def boat():

@@ -194,8 +194,12 @@ fn broken_files_are_refused_in_one_line_naming_the_file() {
 }
 
 /// The project's own models (scripts/make_models.py, in scenes/models/): each loads, has the size
-/// it is made to, stands through its waterline, and faces outwards (a positive enclosed volume:
-/// the divergence theorem over its triangles, each wound counter-clockwise from outside).
+/// it is made to, stands through its waterline, and faces outwards: a positive enclosed volume
+/// (the divergence theorem over its triangles, each wound counter-clockwise from outside), and
+/// face by face, a ray leaving a face along its normal crosses the rest of its mesh an even
+/// number of times (it starts outside). Parts of one mesh that touch or overlap (a boom inside
+/// its mast, a deckhouse on a deckhouse) make the rays of their buried faces odd: at most 5% of
+/// the area (the ship's two deckhouses are 4.3%; the boat's deck wound inwards was 22%).
 #[test]
 fn our_models_load_at_their_sizes_and_face_outwards() {
     // name, (length along x, height along y) in metres, roughly.
@@ -214,6 +218,29 @@ fn our_models_load_at_their_sizes_and_face_outwards() {
                 volume += a.dot((b - a).cross(c - a)) / 6.0;
             }
         }
+        let (mut inward, mut area) = (0.0, 0.0);
+        for mesh in &model.meshes {
+            let triangles: Vec<[glam::Vec3; 3]> =
+                mesh.indices.chunks_exact(3).map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize])).collect();
+            let bvh = ocean::model::bvh::build(&triangles);
+            for t in &triangles {
+                let [a, b, c] = t.map(|p| p.as_dvec3());
+                let normal = (b - a).cross(c - a);
+                let (centroid, n) = ((a + b + c) / 3.0, normal.normalize());
+                // Off the normal by a hair, so that the ray misses edges it would graze.
+                let dir = (n + glam::DVec3::new(1e-3, 2e-3, 3e-3)).normalize();
+                let (mut origin, mut crossings) = (centroid + n * 1e-4, 0);
+                while let Some(hit) = bvh.intersect(origin, dir, 1e-6, f64::INFINITY) {
+                    crossings += 1;
+                    origin += dir * hit.t;
+                }
+                area += normal.length() / 2.0;
+                if crossings % 2 == 1 {
+                    inward += normal.length() / 2.0;
+                }
+            }
+        }
+        assert!(inward <= 0.05 * area, "{name}: {:.1}% of the area faces inwards", 100.0 * inward / area);
         let bounding = (size.x * size.y * size.z) as f64;
         assert!(volume > 0.01 * bounding && volume < bounding, "{name}: volume {volume} of {bounding}");
         assert!(model.materials.iter().all(|m| m.roughness > 0.0 && m.base_colour[3] == 1.0), "{name}");

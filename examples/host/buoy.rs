@@ -50,10 +50,11 @@ impl BuoyPipeline {
         let assembly =
             vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
         let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
-        // Clip y points down, which turns the counter-clockwise faces clockwise on screen.
+        // Faces wound counter-clockwise from outside stay counter-clockwise by Vulkan's rule: its
+        // signed area is taken with framebuffer y down, and the projection puts clip y down too.
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .cull_mode(vk::CullModeFlags::BACK)
-            .front_face(vk::FrontFace::CLOCKWISE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
         let multisample =
             vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);

@@ -12,9 +12,11 @@
 //!   a₁ = −(6/L) h sin ψ · S′(αL/2) S(βB/2),
 //!   a₂ = −(6/B) h sin ψ · S(αL/2) S′(βB/2),
 //! with S(x) = sin x / x. For a hull short against the wave, a₀ → the height at the centre and
-//! a₁, a₂ → the slopes there. Heights are the trains' first-order part: the trochoids' horizontal
-//! motion moves a point's height by O(k h²), at most the sea's mean-height offset (centimetres on
-//! the presets' seas).
+//! a₁, a₂ → the slopes there. The trochoids move the water sideways too: the fit is centred on
+//! the rest position whose displaced point lies under the hull's centre (waves::water_under), and
+//! the heave adds the rest plane's offset above mean sea level (Σ k h²/2, a metre in a storm),
+//! so that a point hull sits exactly on the drawn surface. Over the rectangle the sideways motion
+//! is left to first order: it moves the plane by O(k h²) per train.
 
 use crate::model::waves::WaveSet;
 
@@ -40,6 +42,7 @@ pub struct Pose {
 /// the eye, as the trains' phases are) and turned `heading_rad` counter-clockwise from +x, at
 /// time `t`.
 pub fn ride(waves: &WaveSet, t: f64, centre: [f64; 2], heading_rad: f64, plane: Waterplane) -> Pose {
+    let centre = waves.water_under(centre, t).0;
     let (sin_h, cos_h) = heading_rad.sin_cos();
     let (along, across) = ([cos_h, sin_h], [-sin_h, cos_h]);
     let (half_l, half_b) = (0.5 * plane.length_m.max(0.0), 0.5 * plane.beam_m.max(0.0));
@@ -57,7 +60,7 @@ pub fn ride(waves: &WaveSet, t: f64, centre: [f64; 2], heading_rad: f64, plane: 
         slope_u += h * sin_psi * train.k * dot(along) * slope_factor(x) * sinc(y);
         slope_v += h * sin_psi * train.k * dot(across) * sinc(x) * slope_factor(y);
     }
-    Pose { heave_m: a0, pitch_rad: slope_u.atan(), roll_rad: slope_v.atan() }
+    Pose { heave_m: waves.mean_height_offset + a0, pitch_rad: slope_u.atan(), roll_rad: slope_v.atan() }
 }
 
 /// S(x) = sin x / x, 1 at 0 (its series below 1e-4, where 1 − x²/6 is exact in f64).
@@ -134,7 +137,8 @@ mod tests {
         let plane = Waterplane { length_m: 6.0, beam_m: 2.2 };
         for (t, centre, heading) in [(0.0, [0.0, 0.0], 0.0), (3.7, [40.0, -12.0], 1.1), (11.0, [-5.0, 8.0], -2.6)] {
             let ours = ride(&waves, t, centre, heading, plane);
-            let brute = fitted(&waves, t, centre, heading, plane);
+            // Fitted about the rest position under the centre, as ride centres it.
+            let brute = fitted(&waves, t, waves.water_under(centre, t).0, heading, plane);
             // The midpoint grid's own error is O((k L / n)²): below 1e-5 relative here.
             assert!((ours.heave_m - brute.heave_m).abs() < 1e-5, "{ours:?} against {brute:?}");
             assert!((ours.pitch_rad - brute.pitch_rad).abs() < 1e-5, "{ours:?} against {brute:?}");
@@ -148,16 +152,24 @@ mod tests {
         let swell = train(100.0, 0.0, 1.0, 0.0);
         let waves = sea(vec![swell, train(2.0, 0.0, 0.05, 0.7)]);
         let point = Waterplane { length_m: 0.0, beam_m: 0.0 };
-        // A quarter wavelength ahead the swell passes through zero, falling towards +x.
-        let p = ride(&sea(vec![swell]), 0.0, [25.0, 0.0], 0.0, point);
-        assert!(p.heave_m.abs() < 1e-12, "{p:?}");
-        let slope = -swell.k * swell.amplitude; // d/dx of cos(-k x) at k x = pi / 2
-        assert!((p.pitch_rad - slope.atan()).abs() < 1e-12 && p.roll_rad.abs() < 1e-12, "{p:?}");
+        // A point hull sits on the drawn surface: the trochoid's height over its centre, the
+        // rest plane's offset included.
+        let mut swell_only = sea(vec![swell]);
+        swell_only.mean_height_offset = swell.k * swell.amplitude * swell.amplitude / 2.0;
+        for x in [0.0, 11.0, 25.0, 60.0] {
+            let p = ride(&swell_only, 0.0, [x, 0.0], 0.0, point);
+            let (rest, height) = swell_only.water_under([x, 0.0], 0.0);
+            assert!((p.heave_m - height).abs() < 1e-12, "{p:?} against {height}");
+            // Its slope: the rest position's first-order slope, d/dx of h cos(-k x).
+            let slope = swell.k * swell.amplitude * (-swell.k * rest[0]).sin();
+            assert!((p.pitch_rad - slope.atan()).abs() < 1e-12 && p.roll_rad.abs() < 1e-12, "{p:?}");
+        }
         // A 20 m hull spans ten wavelengths of the chop: S(k L / 2) = S(10 pi) = 0.
         let hull = Waterplane { length_m: 20.0, beam_m: 4.0 };
         let with_chop = ride(&waves, 0.0, [0.0, 0.0], 0.0, hull);
         let without = ride(&sea(vec![swell]), 0.0, [0.0, 0.0], 0.0, hull);
-        assert!((with_chop.heave_m - without.heave_m).abs() < 1e-12, "{with_chop:?} {without:?}");
+        // (The chop moves the rest centre by 3 cm, where the swell's crest is flat: 2e-6 m.)
+        assert!((with_chop.heave_m - without.heave_m).abs() < 1e-5, "{with_chop:?} {without:?}");
         // Turned about, the bow sees the slope the other way, the port side the other side.
         let ahead = ride(&waves, 1.0, [3.0, 1.0], 0.4, hull);
         let astern = ride(&waves, 1.0, [3.0, 1.0], 0.4 + std::f64::consts::PI, hull);

@@ -236,14 +236,19 @@ impl WaveSet {
         self.trains.iter().map(|t| t.amplitude).sum()
     }
 
-    /// Height above mean sea level of the water directly below the origin (the eye) at time t:
-    /// the rest position x whose displaced point lies at the origin, x + D_xy(x) = 0, by Newton's
-    /// method in f64 over every train, then the rest plane's offset plus D_z(x).
+    /// Height above mean sea level of the water directly below the origin (the eye) at time t.
     pub fn water_height_at_origin(&self, t: f64) -> f64 {
-        let mut x = [0.0f64; 2];
+        self.water_under([0.0, 0.0], t).1
+    }
+
+    /// The rest position whose displaced point lies over `p` (m, from the eye) at time t, and
+    /// the water's height there above mean sea level: x + D_xy(x) = p by Newton's method in f64
+    /// over every train, then the rest plane's offset plus D_z(x).
+    pub fn water_under(&self, p: [f64; 2], t: f64) -> ([f64; 2], f64) {
+        let mut x = p;
         let mut height = 0.0;
         for _ in 0..32 {
-            let (mut f, mut jac, mut dz) = ([x[0], x[1]], [[1.0, 0.0], [0.0, 1.0]], 0.0);
+            let (mut f, mut jac, mut dz) = ([x[0] - p[0], x[1] - p[1]], [[1.0, 0.0], [0.0, 1.0]], 0.0);
             for tr in &self.trains {
                 let (d, k) = (tr.direction, tr.k);
                 let (s, c) = (tr.phase_at(t) - k * (d[0] * x[0] + d[1] * x[1])).sin_cos();
@@ -270,6 +275,6 @@ impl WaveSet {
             };
             x = [x[0] - step[0], x[1] - step[1]];
         }
-        height
+        (x, height)
     }
 }

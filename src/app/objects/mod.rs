@@ -11,6 +11,7 @@ mod upload;
 
 use crate::embed::Light;
 use crate::error::{Error, Result, VkContext};
+use crate::model::environment::{IRRADIANCE_COLUMNS, IRRADIANCE_ROWS};
 use crate::model::floating::Waterplane;
 use crate::model::gltf::{self, Model};
 use crate::model::placement::{place, waterplane};
@@ -40,12 +41,12 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// glsl/object.glsl's `ObjectFrame` (std140).
 #[repr(C)]
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy)]
 struct FrameUniforms {
     clip_from_relative: [[f32; 4]; 4],
     sun_direction: [f32; 4],
     sun_irradiance: [f32; 4],
-    sh: [[f32; 4]; 9],
+    irradiance: [[f32; 4]; IRRADIANCE_ROWS * IRRADIANCE_COLUMNS],
 }
 
 /// glsl/object.glsl's `Instance` (std430).
@@ -263,7 +264,7 @@ impl<'g> Objects<'g> {
     /// Writes frame `slot`'s camera, light and placements (its previous use has finished).
     pub fn update(&mut self, slot: usize, frame: &ObjectFrame) -> Result<()> {
         let light = frame.light;
-        let sh = self.light.environment(frame.scene, light, frame.radiance_scale);
+        let table = self.light.environment(frame.scene, light, frame.radiance_scale);
         let sun = light.sun_direction;
         let uniforms = FrameUniforms {
             clip_from_relative: frame.clip_from_relative.as_mat4().to_cols_array_2d(),
@@ -274,7 +275,7 @@ impl<'g> Objects<'g> {
                 light.sun_illuminance[2],
                 frame.colour_max,
             ],
-            sh: sh.map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]),
+            irradiance: table.try_into().expect("the table's size"),
         };
         self.uniforms.write_at(slot as u64 * self.uniform_stride, &[uniforms])?;
         let instances: Vec<Instance> = self

@@ -100,9 +100,12 @@ impl<'g> ObjectPipelines<'g> {
             depth_bias: None,
             cull_back_faces: cull,
         };
-        // Models wind counter-clockwise seen from outside; the clip space's y points down, which
-        // turns them clockwise on the screen.
-        let single_sided = graphics_pipeline(device, layout.raw, &desc("objects", Some(vk::FrontFace::CLOCKWISE)))?;
+        // Models wind counter-clockwise seen from outside (glTF's rule), which stays
+        // counter-clockwise by Vulkan's: its signed area is taken with framebuffer y down, and the
+        // projection puts clip y down too (tests/objects.rs sees the sea through the hull's
+        // interior from inside it, never the inner walls).
+        let single_sided =
+            graphics_pipeline(device, layout.raw, &desc("objects", Some(vk::FrontFace::COUNTER_CLOCKWISE)))?;
         let double_sided = graphics_pipeline(device, layout.raw, &desc("objects double-sided", None))?;
         Ok(ObjectPipelines {
             device,

@@ -1,0 +1,208 @@
+//! Objects on the sea (`[[object]]`): every preset and extreme placement renders clean under
+//! validation; the objects occlude the sea and the sea hides what is under water, found at the
+//! pixels the f64 placement projects to; bad input gets one line naming the file and the key.
+
+mod common;
+
+use common::{assert_clean, gpu, render};
+use glam::DVec3;
+use ocean::app::{render_on, RenderRequest};
+use ocean::embed::camera::scene_view;
+use ocean::model::placement::{place, waterplane};
+use ocean::model::scene::Scene;
+use ocean::render::renderer::{Options, RenderedFrame, Renderer};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
+}
+
+fn scenes_in(dir: &Path) -> Vec<PathBuf> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    found.sort();
+    found
+}
+
+#[test]
+fn every_object_scene_renders_clean() {
+    let gpu = gpu();
+    let mut paths = scenes_in(&root().join("scenes/objects"));
+    paths.extend(scenes_in(&root().join("scenes/extreme/objects")));
+    let names: Vec<String> = paths.iter().map(|p| p.file_stem().unwrap().to_string_lossy().into_owned()).collect();
+    for wanted in
+        ["boat_sunset", "pier_noon", "buoys_storm", "ship_aircraft", "behind_eye", "eye_inside", "harbour_200"]
+    {
+        assert!(names.iter().any(|n| n == wanted), "missing scene {wanted}");
+    }
+    for path in &paths {
+        let scene = Scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!scene.objects.is_empty(), "{}: places no object", path.display());
+        let (report, frame) = render(&gpu, &scene, 256, 192);
+        assert_clean(&report, &path.display().to_string());
+        assert!(frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite() && *c >= 0.0)), "{}", path.display());
+        assert!(frame.pass_ms.is_empty() || frame.pass_ms.iter().any(|(n, _)| n == "objects"), "{:?}", frame.pass_ms);
+    }
+}
+
+/// The pixel (column, row) a world point projects to in a `width` x `height` frame of `scene`,
+/// None behind the eye or off the picture.
+fn project(scene: &Scene, width: u32, height: u32, world: DVec3) -> Option<(usize, usize)> {
+    let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
+    let clip = projection * view * world.extend(1.0);
+    if clip.w <= 0.0 {
+        return None;
+    }
+    let (x, y) = ((clip.x / clip.w * 0.5 + 0.5) * width as f64, (clip.y / clip.w * 0.5 + 0.5) * height as f64);
+    ((0.0..width as f64).contains(&x) && (0.0..height as f64).contains(&y)).then_some((x as usize, y as usize))
+}
+
+/// A calm sea with the boat beam-on 20 m ahead, its waterline at mean sea level.
+fn calm_boat() -> Scene {
+    let text = format!(
+        r#"
+        [camera]
+        height_m = 3.0
+        pitch_deg = -8.0
+        fov_y_deg = 40.0
+        [wind]
+        speed_mps = 3.0
+        [sun]
+        elevation_deg = 40.0
+        azimuth_deg = 180.0
+        [[object]]
+        file = "{}"
+        position_m = [20.0, 0.0, 0.0]
+        heading_deg = 90.0
+        "#,
+        root().join("scenes/models/boat.gltf").display()
+    );
+    Scene::parse(&text, "calm_boat.toml").unwrap()
+}
+
+#[test]
+fn objects_occlude_the_sea_and_the_sea_hides_their_keels() {
+    let gpu = gpu();
+    let scene = calm_boat();
+    let (w, h) = (320, 240);
+    let (report, with) = render(&gpu, &scene, w, h);
+    assert_clean(&report, "calm boat");
+    let mut bare = scene.clone();
+    bare.objects.clear();
+    let (_, without) = render(&gpu, &bare, w, h);
+
+    let waves = ocean::model::waves::generate(&scene);
+    let (view, _) = scene_view(&scene, w as f64 / h as f64, true);
+    let eye = view.inverse().w_axis.truncate();
+    let model = ocean::model::gltf::load(&scene.objects[0].file).unwrap();
+    let object = &scene.objects[0];
+    let placement = place(&scene, &waves, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
+    let world = |model_point: [f64; 3]| eye + placement.relative_from_model.transform_point3(DVec3::from(model_point));
+    let at = |frame: &RenderedFrame, (x, y): (usize, usize)| frame.hdr[y * w as usize + x];
+    let differs = |a: [f32; 4], b: [f32; 4]| (0..3).map(|c| (a[c] - b[c]).abs() / b[c].max(1e-3)).fold(0.0, f32::max);
+
+    // Half way up the mast, the cabin's side and the hull's above the water, facing the eye
+    // (the port side: the bow points north, the eye looks east): the object.
+    let points = [("the mast", [0.4, 5.0, 0.0]), ("the cabin", [-0.3, 1.0, -0.6]), ("the topsides", [0.0, 0.45, -1.0])];
+    for (what, point) in points {
+        let pixel = project(&scene, w, h, world(point)).unwrap_or_else(|| panic!("{what} is off the picture"));
+        let (a, b) = (at(&with, pixel), at(&without, pixel));
+        assert!(differs(a, b) > 0.1, "{what} at {pixel:?}: {a:?} is the bare sea's {b:?}");
+    }
+    // The keel, 0.8 m under water behind the near side's waterline: the sea in front hides it.
+    let keel = project(&scene, w, h, world([0.0, -0.8, 0.0])).expect("the keel's pixel");
+    let (a, b) = (at(&with, keel), at(&without, keel));
+    assert!(differs(a, b) < 1e-3, "the keel at {keel:?} shows through the sea: {a:?} against {b:?}");
+    // Far from the boat the frame is the bare sea's, the sky's included.
+    for pixel in [(5, 5), (5, h as usize - 5), (w as usize - 5, h as usize - 5), (w as usize - 5, 60)] {
+        let (a, b) = (at(&with, pixel), at(&without, pixel));
+        assert!(differs(a, b) < 1e-3, "{pixel:?}: {a:?} against {b:?}");
+    }
+}
+
+fn render_error(scene: Scene) -> String {
+    let gpu = gpu();
+    let request = RenderRequest { validation: true, ..RenderRequest::new(scene, 64, 48) };
+    match render_on(&gpu, &request) {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn scene_with(object: &str) -> std::result::Result<Scene, String> {
+    Scene::parse(&format!("[[object]]\n{object}\n"), "objects.toml").map_err(|e| e.to_string())
+}
+
+#[test]
+fn bad_objects_get_one_line_naming_the_file_and_the_key() {
+    let tmp = std::env::temp_dir().join(format!("ocean-objects-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+
+    // Scene keys: an unknown key, a scale out of range, a position that is not finite.
+    let e = scene_with("file = \"a.gltf\"\ncolour = 3").unwrap_err();
+    assert!(e.contains("objects.toml") && e.contains("unknown field `colour`"), "{e}");
+    let e = scene_with("file = \"a.gltf\"\nscale = 0.0").unwrap_err();
+    assert!(e.contains("object 1 (a.gltf): scale = 0 is out of range"), "{e}");
+    let e = scene_with("file = \"a.gltf\"\nposition_m = [nan, 0.0, 0.0]").unwrap_err();
+    assert!(e.contains("position_m.x = NaN is out of range"), "{e}");
+    let e = scene_with("position_m = [1.0, 0.0, 0.0]").unwrap_err();
+    assert!(e.contains("missing field `file`"), "{e}");
+    let e = scene_with("file = \"a.gltf\"\nmotion = \"sinking\"").unwrap_err();
+    assert!(e.contains("unknown variant `sinking`"), "{e}");
+
+    // Files: missing, not glTF, a valid file with a skin.
+    let missing = tmp.join("missing.gltf");
+    let e = render_error(scene_with(&format!("file = {:?}", missing.display().to_string())).unwrap());
+    assert!(e.contains("missing.gltf") && e.contains("no such glTF file") && !e.contains('\n'), "{e}");
+    let broken = tmp.join("broken.gltf");
+    std::fs::write(&broken, "{ this is not json").unwrap();
+    let e = render_error(scene_with(&format!("file = {:?}", broken.display().to_string())).unwrap());
+    assert!(e.contains("broken.gltf") && e.contains("not a readable glTF 2.0 file") && !e.contains('\n'), "{e}");
+
+    // A scene file names its objects relative to itself.
+    let scene_file = tmp.join("relative.toml");
+    std::fs::write(&scene_file, "[[object]]\nfile = \"models/boat.gltf\"\n").unwrap();
+    let scene = Scene::load(&scene_file).unwrap();
+    assert_eq!(scene.objects[0].file, tmp.join("models/boat.gltf"));
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn measurements_of_the_oceans_own_frame_refuse_objects() {
+    let gpu = gpu();
+    let scene = calm_boat();
+    let e = Renderer::new(&gpu, &scene, 64, 48, Options::default()).err().expect("refused").to_string();
+    assert!(e.contains("draws no objects") && e.contains("boat.gltf"), "{e}");
+    let sampling = ocean::measure::groundtruth::Sampling::new(1);
+    let e = ocean::measure::groundtruth::render(&gpu, &scene, 16, 12, &sampling, |_, _| {}).err().expect("refused");
+    assert!(e.to_string().contains("the ground truth draws no objects"), "{e}");
+}
+
+/// From inside a hull the walls around the eye face away from it: culled, so the sea outside
+/// shows where they stand (the winding glTF states and Vulkan's rule for it agree). Culling the
+/// wrong side would show the hull's inner walls instead.
+#[test]
+fn from_inside_a_hull_the_eye_sees_the_sea_through_its_walls() {
+    let gpu = gpu();
+    let scene = Scene::load(&root().join("scenes/extreme/objects/eye_inside.toml")).unwrap();
+    let (w, h) = (256, 192);
+    let (report, inside) = render(&gpu, &scene, w, h);
+    assert_clean(&report, "eye inside");
+    let mut bare = scene.clone();
+    bare.objects.clear();
+    let (_, sea) = render(&gpu, &bare, w, h);
+    // Below the horizon (the view pitches down 5 degrees) the walls would fill the sides.
+    let rows = (h as usize * 3 / 4)..h as usize;
+    let pixels: Vec<usize> = rows.flat_map(|y| (0..w as usize).map(move |x| y * w as usize + x)).collect();
+    let same = pixels
+        .iter()
+        .filter(|&&i| (0..3).all(|c| (inside.hdr[i][c] - sea.hdr[i][c]).abs() <= 1e-3 * sea.hdr[i][c].max(1e-3)))
+        .count();
+    assert!(same == pixels.len(), "{} of {} pixels below are the sea's", same, pixels.len());
+    // Above, the deckhouses' undersides face the eye: drawn.
+    let top = (0..w as usize).filter(|&x| (inside.hdr[x][2] - sea.hdr[x][2]).abs() > 0.1 * sea.hdr[x][2]).count();
+    assert!(top > w as usize / 2, "{top} of the top row's pixels show the ship");
+}
