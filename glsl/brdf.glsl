@@ -144,7 +144,11 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
 // METHOD_FULL corrected to the sea's own over all its slopes (masking.glsl), about up, the
 // sea's normal. glint: where the reflected sun's glints are drawn from (glints.glsl; unused
 // without GLINTS).
-vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint) {
+#ifdef HAS_LOCAL_REFLECTIONS
+vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2);
+#endif
+
+vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint, vec3 point) {
     // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
     // where cos_v = 0 is the formulas' own finite limit.
     float vn = dot(v, n);
@@ -189,7 +193,18 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
     vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean) : vec4(0.0);
-    if (TERM_SKY) color += fresnel * light.sky_scale * sky.rgb;
+    // The host's objects the sky lookup's mirror direction meets (shade.glsl local_reflection)
+    // stand in front of the sky, over the share of the footprint they cover.
+    vec4 local = vec4(0.0);
+#ifdef HAS_LOCAL_REFLECTIONS
+    if (LOCAL_REFLECTIONS && TERM_SKY) {
+        VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
+        vec2 zeta = slopes.mean + lean;
+        vec3 facet = normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n);
+        local = local_reflection(point, reflect(-v, facet), sigma2);
+    }
+#endif
+    if (TERM_SKY) color += fresnel * (light.sky_scale * sky.rgb * (1.0 - local.a) + local.rgb);
     if (TERM_SEA) color += (1.0 - fresnel * (1.0 - sky.a)) * frame.sea_albedo.rgb * light.sky_irradiance / PI;
     return color;
 }

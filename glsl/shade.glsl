@@ -32,6 +32,10 @@ layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixe
 #include "train_blocks.glsl"
 #endif
 #include "sky.glsl"
+// The sea's reflections of the host's objects (constant 15; passes/reflections.rs builds what
+// local_reflection reads): left out where the host hands no depth, or asks for none.
+layout(constant_id = 15) const bool LOCAL_REFLECTIONS = false;
+#define HAS_LOCAL_REFLECTIONS
 #include "brdf.glsl"
 layout(set = 0, binding = 5) uniform sampler2D aerial_inscatter;
 layout(set = 0, binding = 6) uniform sampler2D aerial_transmittance;
@@ -51,6 +55,131 @@ layout(set = 0, binding = 8) uniform sampler2DShadow sun_shadow_map;
 layout(set = 0, binding = 9) uniform sampler2D scene_depth;
 
 #include "atmosphere.glsl"
+
+// The objects' radiance premultiplied by their coverage, mipmapped, and their nearest forward
+// depth per cell of each level (glsl/reflection_sources.comp, reflection_depth_mip.comp).
+layout(set = 0, binding = 14) uniform sampler2D reflection_colour;
+layout(set = 0, binding = 15) uniform sampler2D reflection_depth;
+
+// Cells a reflected ray visits at most: skipping up the pyramid, a ray crosses a 1024-pixel
+// screen in about 2 log2(1024) of them; the rest go to refining near objects and to the pixels
+// it passes behind one.
+const int REFLECTION_STEPS = 64;
+// How deep an object is taken to be behind its visible surface, as a share of its distance: a
+// 1 m buoy at 20 m, a 20 m hull at 400 m. A ray passing farther behind it goes on, so a near
+// silhouette leaves no streak over what lies beyond it, and what stands in front of the
+// reflecting point (nearer the eye by more) is never taken for its reflection.
+const float OBJECT_DEPTH_SHARE = 0.05;
+// The reflection fades out over this many pixels, at least, before a screen edge.
+const float EDGE_FADE_PX = 16.0;
+
+// How far behind a pixel's nearest object depth `nearest` a ray may pass and still meet it: the
+// object's assumed depth, and more where its surface recedes across the pixel (seen at a grazing
+// angle, a hull's side spans metres of depth within one pixel): as far as the neighbours the ray
+// goes on towards, where they are the same kind of surface (no farther than twice the assumed
+// depth beyond, so that a silhouette over a far background is not one).
+float surface_back(ivec2 cell, float nearest, vec2 ds) {
+    ivec2 last = textureSize(reflection_depth, 0) - 1;
+    ivec2 step_to = ivec2(sign(ds));
+    float back = nearest * (1.0 + OBJECT_DEPTH_SHARE);
+    float beyond = nearest * (1.0 + 3.0 * OBJECT_DEPTH_SHARE);
+    for (int k = 0; k < 2; k++) {
+        ivec2 next = clamp(cell + (k == 0 ? ivec2(step_to.x, 0) : ivec2(0, step_to.y)), ivec2(0), last);
+        float d = texelFetch(reflection_depth, next, 0).r;
+        if (d < beyond) back = max(back, d);
+    }
+    return back;
+}
+
+// The pixel position (in the reflection images' base level) of camera-relative point q at
+// forward depth z = q . forward (> 0).
+vec2 reflection_screen(vec3 q, float z, vec2 size) {
+    vec3 right = frame.cam_right.xyz, down = frame.cam_down.xyz;
+    vec2 ndc = vec2(dot(q, right) / dot(right, right), dot(q, down) / dot(down, down)) / z;
+    return (ndc * 0.5 + 0.5) * size;
+}
+
+// The objects the sea point `point` (camera-relative) mirrors along unit `r`, its slopes'
+// variance sigma2 widening the reflection's cone: rgb the objects' mean radiance over the cone's
+// footprint where the ray meets them, premultiplied by a, the share of the footprint they cover
+// (0 where the ray meets nothing on screen). The ray is marched in screen space, where 1 / depth
+// is linear, through the depth pyramid: a cell whose nearest object lies beyond the ray's
+// farthest point there is stepped over whole, and the walk climbs a level; otherwise it goes
+// down one, and on level 0 the ray meets the object if it is no farther behind it than the
+// object's assumed depth (McGuire & Mara 2014's screen-space march; the hierarchy is Uludag's,
+// GPU Pro 5, 2014).
+vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2) {
+    if (!LOCAL_REFLECTIONS) return vec4(0.0);
+    vec2 size = vec2(textureSize(reflection_depth, 0));
+    vec3 forward = frame.cam_forward.xyz;
+    float z0 = dot(point, forward), rf = dot(r, forward);
+    if (!(z0 > 0.0)) return vec4(0.0);
+    // Far enough that the segment's end is at the vanishing point to within a pixel, or half way
+    // to the eye's plane for a ray turning back towards the eye (its depth stays positive).
+    float reach = 1e4 * z0;
+    if (rf < 0.0) reach = min(reach, 0.5 * z0 / -rf);
+    vec3 end = point + r * reach;
+    float z1 = dot(end, forward);
+    vec2 s0 = reflection_screen(point, z0, size), s1 = reflection_screen(end, z1, size);
+    // The start is on screen (it is a pixel's); a start a hair outside is clamped in.
+    s0 = clamp(s0, vec2(0.0), size - 1e-3);
+    float k0 = 1.0 / z0, k1 = 1.0 / z1;
+    vec2 ds = s1 - s0;
+    float len = max(abs(ds.x), abs(ds.y));
+    if (len < 1.0) return vec4(0.0);   // the reflection stays in its own pixel
+    // Where the ray leaves the screen.
+    vec2 exits = vec2(ds.x > 0.0 ? (size.x - s0.x) / ds.x : ds.x < 0.0 ? -s0.x / ds.x : 1.0,
+                      ds.y > 0.0 ? (size.y - s0.y) / ds.y : ds.y < 0.0 ? -s0.y / ds.y : 1.0);
+    float end_alpha = min(1.0, min(exits.x, exits.y));
+    float nudge = 1e-3 / len;                   // past a cell's edge
+    float alpha = 1.0 / len;                    // a pixel on: the point's own pixel is sea
+    int level = 0;
+    int top = textureQueryLevels(reflection_depth) - 1;
+    float hit = -1.0;
+    // The cell a step is in is the one holding the point half a pixel on along the ray: a
+    // point on a cell's edge, rounded in f32, could otherwise count as still in the cell it
+    // left (a near-vertical ray moves a millionth of a pixel across an edge it crosses), and that
+    // cell's parent be skipped in place of the one it goes on into.
+    float ahead = 0.5 / len;
+    for (int i = 0; i < REFLECTION_STEPS; i++) {
+        if (alpha >= end_alpha) break;
+        vec2 s = s0 + ds * (alpha + ahead);
+        float cell_px = float(1 << level);   // exact (a driver's exp2 may be approximate)
+        ivec2 cell = clamp(ivec2(floor(s / cell_px)), ivec2(0), textureSize(reflection_depth, level) - 1);
+        // Where the ray leaves the cell (a coarse level's last cell also holds an odd level's
+        // trailing texels, so clamping the cell keeps it conservative).
+        vec2 bound = (vec2(cell) + step(0.0, ds)) * cell_px;
+        vec2 leave = vec2(ds.x != 0.0 ? (bound.x - s0.x) / ds.x : 1.0, ds.y != 0.0 ? (bound.y - s0.y) / ds.y : 1.0);
+        float exit_alpha = min(min(leave.x, leave.y), end_alpha);
+        float za = 1.0 / (k0 + alpha * (k1 - k0)), zb = 1.0 / (k0 + exit_alpha * (k1 - k0));
+        float nearest = texelFetch(reflection_depth, cell, level).r;
+        if (max(za, zb) < nearest) {
+            alpha = max(exit_alpha, alpha) + nudge;
+            level = min(level + 1, top);
+        } else if (level > 0) {
+            level--;
+        } else if (min(za, zb) <= surface_back(cell, nearest, ds)) {
+            hit = alpha;
+            break;
+        } else {
+            alpha = max(exit_alpha, alpha) + nudge;
+        }
+    }
+    if (hit < 0.0) return vec4(0.0);
+    vec2 at = s0 + ds * hit;
+    float z = 1.0 / (k0 + hit * (k1 - k0));
+    // The path from the sea to the object, and the cone of the slopes' 2-sigma reflections: a
+    // facet tilted by atan(2 sigma) turns the reflection by twice that.
+    float path = abs(rf) > 1e-3 ? (z - z0) / rf : hit * reach;
+    float sigma = sqrt(max(sigma2.x, sigma2.y));
+    float radius_m = path * tan(min(2.0 * atan(2.0 * sigma), 1.4));
+    float pixel_m = z * 2.0 * length(frame.cam_down.xyz) / size.y;
+    float radius_px = radius_m / pixel_m;
+    vec4 seen = textureLod(reflection_colour, at / size, log2(max(2.0 * radius_px, 1.0)));
+    // Towards the screen's edges the footprint leaves what the screen holds: fade, no edge.
+    float margin = min(min(at.x, size.x - at.x), min(at.y, size.y - at.y));
+    return seen * smoothstep(0.0, 1.0, margin / max(radius_px, EDGE_FADE_PX));
+}
 
 // The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and
 // distance d from the eye along the unit ray u: slice k of the atlas holds the path to
@@ -244,7 +373,14 @@ void main() {
     int trains = int(frame.grid_dims.z);
     float curvature = resolves ? s.curvature : (trains > 0 ? wave_prefix[trains - 1].z : 0.0);
     GlintSite glint = GlintSite(x, u.xy, pixel.a_u_w, pixel.a_v_w, pixel.w, v_up, curvature, sigma2);
-    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, sun_visibility(p, ray, covered), light, glint) : vec3(0.0);
+    // The point the pixel sees, for its local reflections: on the displaced surface where the
+    // grid drew it (reversed Z: ray near / depth), else on the mean sea.
+    vec3 point = sea_point(x);
+    if (LOCAL_REFLECTIONS && covered) {
+        float depth = texelFetch(scene_depth, p, 0).r;
+        if (depth > 0.0) point = ray * (frame.shadow.x / depth);
+    }
+    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, sun_visibility(p, ray, covered), light, glint, point) : vec3(0.0);
     if (SKY_PHYSICAL && AERIAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, u, length(sea_point(x)));

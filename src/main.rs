@@ -61,6 +61,18 @@ struct MethodArgs {
     /// or as its expected value (every other method's, and the only one they have).
     #[arg(long, value_enum)]
     glints: Option<Switch>,
+    /// How the sea reflects the scene's objects: `screen` traces each pixel's reflection in
+    /// screen space against the objects' depth (glsl/shade.glsl local_reflection), `none` leaves
+    /// them to the sky's reflection alone. Without objects there is nothing to reflect either way.
+    #[arg(long, value_enum, default_value_t = Reflections::Screen)]
+    reflections: Reflections,
+}
+
+/// The local reflections' methods (`--reflections`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Reflections {
+    None,
+    Screen,
 }
 
 impl MethodArgs {
@@ -77,7 +89,8 @@ impl MethodArgs {
             Some(Switch::Off) => false,
             None => self.method == Method::Full,
         };
-        Ok(ShaderConfig { method: self.method, glints, ..ShaderConfig::default() })
+        let reflections = self.reflections == Reflections::Screen;
+        Ok(ShaderConfig { method: self.method, glints, reflections, ..ShaderConfig::default() })
     }
 }
 

@@ -43,7 +43,9 @@ fn omissions_keep_the_picture() {
         let scene = Scene::load(&dir.join(file)).unwrap();
         let (special, fast) = render(&gpu, &scene, true);
         let (general, slow) = render(&gpu, &scene, false);
-        assert!(general.omitted.is_empty());
+        // Without objects nothing is reflected locally, specialized or not.
+        let structural = |o: &ocean::render::specialize::Omission| o.what.starts_with("local reflections");
+        assert!(general.omitted.iter().all(structural), "{:?}", general.omitted);
         for what in &expected {
             assert!(
                 special.omitted.iter().any(|o| o.what.starts_with(what) && !o.why.is_empty()),
@@ -52,7 +54,8 @@ fn omissions_keep_the_picture() {
             );
         }
         if expected.is_empty() {
-            assert!(special.omitted.iter().all(|o| o.what.starts_with("resolve")), "{file}: {:?}", special.omitted);
+            let expected = |o: &ocean::render::specialize::Omission| o.what.starts_with("resolve") || structural(o);
+            assert!(special.omitted.iter().all(expected), "{file}: {:?}", special.omitted);
         }
         // The same picture: to binary16 rounding of the brightest value.
         let d = difference(&fast, &slow);

@@ -72,7 +72,9 @@ impl<'g> OffscreenHost<'g> {
             None
         } else {
             let objects = Objects::new(gpu, &scene.objects, HDR_FORMAT, DEPTH_FORMAT, true, 1)?;
-            let depth = Image::new(gpu, "host depth", DEPTH_FORMAT, extent, 1, U::DEPTH_STENCIL_ATTACHMENT)?;
+            // Sampled too: the sea's reflections of the objects read it.
+            let depth =
+                Image::new(gpu, "host depth", DEPTH_FORMAT, extent, 1, U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED)?;
             Some((objects, depth))
         };
         let in_place = shading.ssaa == 1 && objects.is_none();

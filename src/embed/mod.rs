@@ -259,6 +259,18 @@ impl<'g> Ocean<'g> {
         // The shading's own `background` stays: the sea's aerial perspective goes with it, which
         // a host with its own sky keeps; the composite leaves that host's sky alone.
         let mut shader = desc.shading.shader;
+        // Local reflections need the host's depth (its objects) and the sky term they replace.
+        let mut omitted = Vec::new();
+        if shader.reflections && (desc.formats.depth.is_none() || !shader.terms.sky) {
+            shader.reflections = false;
+            let why = if desc.formats.depth.is_none() {
+                "the host hands no depth: no objects to reflect"
+            } else {
+                "the sky term is off: the objects' reflections stand in for part of it"
+            };
+            let what = "local reflections (their sources pass and depth pyramid)";
+            omitted.push(Omission { what: what.into(), why: why.into() });
+        }
         // The loop the device runs, so that `shader()` names it.
         shader.train_reads = crate::render::passes::shade::train_reads_on(&self.gpu.device, shader.train_reads);
         let options = Options {
@@ -270,10 +282,12 @@ impl<'g> Ocean<'g> {
             ..Options::default()
         };
         if !desc.shading.specialize_for_scene_camera || desc.width == 0 || desc.height == 0 {
-            return (options, Vec::new());
+            return (options, omitted);
         }
         let wave_set = waves::generate(&desc.scene);
-        specialize::plan(&desc.scene, &wave_set, desc.width, desc.height, options)
+        let (options, mut more) = specialize::plan(&desc.scene, &wave_set, desc.width, desc.height, options);
+        omitted.append(&mut more);
+        (options, omitted)
     }
 
     /// Makes the renderer for the current size and scene (the old one goes first: its memory is

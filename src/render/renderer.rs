@@ -20,6 +20,7 @@ use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::placeholders::PlaceholdersPass;
 use crate::render::passes::readback::ReadbackPass;
+use crate::render::passes::reflections::ReflectionsPass;
 use crate::render::passes::resolve::ResolvePass;
 use crate::render::passes::shade::ShadePass;
 use crate::render::passes::shadow::ShadowPass;
@@ -256,6 +257,9 @@ impl<'g> Renderer<'g> {
         // The sun's shadow map: only for the sun term over a displaced grid, unless the scene
         // turns it off.
         options.shader.shadow &= options.shader.shadow_map_unneeded(scene.render.shadow_map).is_none();
+        // The sea reflects a host's objects: in its frame with depth, through the sky term.
+        let host_depth = matches!(options.output, Output::Host(h) if h.formats.depth.is_some());
+        options.shader.reflections &= host_depth && options.shader.terms.sky && !options.shader.draws_nothing();
         let frames_in_flight = options.frames_in_flight.max(1);
         let spec = ResourceSpec {
             width,
@@ -274,6 +278,7 @@ impl<'g> Renderer<'g> {
                 Output::Host(host) => host.in_place,
                 Output::Readback => None,
             },
+            reflections: options.shader.reflections,
         };
         let resources = Resources::new(gpu, &spec)?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
@@ -302,6 +307,9 @@ impl<'g> Renderer<'g> {
                 passes.push(Box::new(ShadowPass::new(device, &resources, options.shader)?));
             }
             passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
+            if let Some(images) = &resources.reflections {
+                passes.push(Box::new(ReflectionsPass::new(gpu, &resources, images, frames_in_flight)?));
+            }
             passes.push(Box::new(ShadePass::new(device, &resources, options.shader)?));
         }
         if let Some(resolved) = &resources.resolved {

@@ -59,7 +59,23 @@ pub struct ResourceSpec {
     /// A host's colour image the frame is drawn in place of our HDR image (embed::OceanDesc::
     /// in_place): its format and size are the HDR image's, without supersampling.
     pub in_place: Option<HostImage>,
+    /// Whether the sea reflects the host's objects (passes/reflections.rs).
+    pub reflections: bool,
 }
+
+/// What the sea's local reflections read (passes/reflections.rs), at the host's size, every
+/// level down to 1 x 1.
+pub struct ReflectionImages<'g> {
+    /// The objects' radiance premultiplied by their coverage (glsl/reflection_sources.comp).
+    pub colour: Image<'g>,
+    /// Their nearest forward depth per cell of each level (R32F).
+    pub depth: Image<'g>,
+    /// A view of each level of `depth`, for the pyramid's storage writes and reads.
+    pub depth_levels: Vec<Owned<'g, vk::ImageView>>,
+}
+
+/// The depth pyramid's format: forward depths in metres, to 100 km and beyond in full precision.
+pub const REFLECTION_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 /// The physical atmosphere's tables (glsl/atmosphere.glsl), sampled linearly, clamped.
 pub struct AtmosphereTables<'g> {
@@ -151,6 +167,8 @@ pub struct Resources<'g> {
     /// The measured exposure (glsl/exposure.comp writes it, the tone mapping reads it as a
     /// uniform block: MeasuredExposure); bound always, written only with render.ev100 = "auto".
     pub exposure: Buffer<'g>,
+    /// The local reflections' sources, in a host's frame that reflects its objects.
+    pub reflections: Option<ReflectionImages<'g>>,
 }
 
 /// Rays per side of the aerial perspective's camera volume, and slices along each.
@@ -181,6 +199,7 @@ impl<'g> Resources<'g> {
             eye_sky,
             aerial,
             in_place,
+            reflections,
         } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
@@ -292,6 +311,18 @@ impl<'g> Resources<'g> {
             single_level_sampler(gpu, filter, Some(vk::CompareOp::LESS_OR_EQUAL), "sun shadow sampler")?;
         let depth_sampler = single_level_sampler(gpu, vk::Filter::NEAREST, None, "depth sampler")?;
         let mean_fresnel = mean_fresnel_buffer(gpu)?;
+        let reflections = if reflections {
+            let extent = vk::Extent2D { width, height };
+            let levels = 32 - width.max(height).leading_zeros();
+            let usage = I::STORAGE | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
+            let colour = Image::new(gpu, "reflection colour", HDR_FORMAT, extent, levels, usage)?;
+            let depth =
+                Image::new(gpu, "reflection depth", REFLECTION_DEPTH_FORMAT, extent, levels, I::STORAGE | I::SAMPLED)?;
+            let depth_levels = (0..levels).map(|level| depth.level_view(level)).collect::<Result<Vec<_>>>()?;
+            Some(ReflectionImages { colour, depth, depth_levels })
+        } else {
+            None
+        };
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
@@ -302,7 +333,7 @@ impl<'g> Resources<'g> {
             depth,
             shadow_map: shadow_map_image,
             shadows: shadow_map.is_some(),
-            depth_read: shadow_map.is_some() || composite,
+            depth_read: shadow_map.is_some() || composite || reflections.is_some(),
             shadow_sampler,
             depth_sampler,
             resolved,
@@ -314,6 +345,7 @@ impl<'g> Resources<'g> {
             eye_sky,
             mean_fresnel,
             exposure,
+            reflections,
         })
     }
 

@@ -1,9 +1,10 @@
 //! 2D images placed in our allocator, with a view of all levels and one per level on demand.
 
-use super::barrier::single_layer_levels;
+use super::barrier::{single_layer_levels, Access, Tracker};
 use super::external::HostImage;
 use super::gpu::Gpu;
 use super::memory::{Allocation, Location, ResourceKind};
+use super::owned::Owned;
 use crate::error::{Result, VkContext};
 use ash::vk;
 
@@ -160,6 +161,12 @@ impl<'g> Image<'g> {
         Ok(image)
     }
 
+    /// A view of level `level` alone (storage access to one level of a pyramid).
+    pub fn level_view(&self, level: u32) -> Result<Owned<'g, vk::ImageView>> {
+        let view = create_view(self.gpu, self.raw, self.format, self.levels(level, 1), &format!("level {level}"))?;
+        Ok(Owned::new(&self.gpu.device, view, "image level"))
+    }
+
     pub fn full_range(&self) -> vk::ImageSubresourceRange {
         self.levels(0, self.mip_levels)
     }
@@ -207,6 +214,62 @@ fn create_view(
     let view = unsafe { gpu.raw().create_image_view(&info, None) }.during("vkCreateImageView")?;
     gpu.device.set_name(view, name);
     Ok(view)
+}
+
+/// A view of a host's depth image's depth aspect alone, the one a shader samples (a combined
+/// depth-stencil view cannot be). The host made it SAMPLED (embed::OceanDesc::shading's
+/// reflections) and keeps it alive while the view lives.
+pub fn host_depth_view<'g>(gpu: &'g Gpu, host: &HostImage) -> Result<Owned<'g, vk::ImageView>> {
+    let range = single_layer_levels(vk::ImageAspectFlags::DEPTH, 0, 1);
+    let view = create_view(gpu, host.raw, host.format, range, "host depth, sampled")?;
+    Ok(Owned::new(&gpu.device, view, "host depth, sampled"))
+}
+
+/// Records a linear blit of colour level `level - 1` of `image` (in TRANSFER_SRC_OPTIMAL) onto
+/// level `level` (in TRANSFER_DST_OPTIMAL): one step of a mipmap. The format supports linear
+/// blits (checked at device choice, or one the specification requires it of).
+fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level: u32) {
+    let size = |l: u32| vk::Offset3D {
+        x: (image.extent.width >> l).max(1) as i32,
+        y: (image.extent.height >> l).max(1) as i32,
+        z: 1,
+    };
+    let layer = |l: u32| vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: l,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let blit = vk::ImageBlit {
+        src_subresource: layer(level - 1),
+        src_offsets: [vk::Offset3D::default(), size(level - 1)],
+        dst_subresource: layer(level),
+        dst_offsets: [vk::Offset3D::default(), size(level)],
+    };
+    // SAFETY: `cmd` is recording outside a rendering scope and the two levels are in the
+    // layouts named (the caller's barriers).
+    unsafe {
+        device.cmd_blit_image(
+            cmd,
+            image.raw,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            image.raw,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[blit],
+            vk::Filter::LINEAR,
+        )
+    };
+}
+
+/// Fills levels 1.. of `image` from level 0, each a linear blit of the one above, with the
+/// barriers between them; the levels are left in transfer layouts for the caller to declare on.
+pub fn mipmap(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracker, image: &Image) {
+    for level in 1..image.mip_levels {
+        tracker.image(image, level - 1, 1, Access::TransferRead, false);
+        tracker.image(image, level, 1, Access::TransferWrite, true);
+        tracker.flush(device, cmd);
+        blit_level(device, cmd, image, level);
+    }
 }
 
 /// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.

@@ -190,7 +190,7 @@ pub fn upload<'g>(
     }
     for model in &gpu_models {
         for texture in &model.textures {
-            generate_mips(device, cmd, &mut tracker, texture);
+            crate::vk::image::mipmap(device, cmd, &mut tracker, texture);
         }
         // Later frames read them: the barriers' second scope covers later submissions too.
         tracker.buffer(&model.vertices, Access::VertexStorageRead);
@@ -238,43 +238,4 @@ fn copy_to_image(device: &ash::Device, cmd: vk::CommandBuffer, staging: &Buffer,
     unsafe {
         device.cmd_copy_buffer_to_image(cmd, staging.raw, to.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &region)
     };
-}
-
-/// Each level a linear blit of the one above (RGBA8 UNORM and SRGB support linear blits on every
-/// Vulkan device: the spec's mandatory format features).
-fn generate_mips(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracker, image: &Image) {
-    for level in 1..image.mip_levels {
-        tracker.image(image, level - 1, 1, Access::TransferRead, false);
-        tracker.image(image, level, 1, Access::TransferWrite, true);
-        tracker.flush(device, cmd);
-        let size = |l: u32| vk::Offset3D {
-            x: (image.extent.width >> l).max(1) as i32,
-            y: (image.extent.height >> l).max(1) as i32,
-            z: 1,
-        };
-        let layer = |l: u32| vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: l,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let blit = vk::ImageBlit {
-            src_subresource: layer(level - 1),
-            src_offsets: [vk::Offset3D::default(), size(level - 1)],
-            dst_subresource: layer(level),
-            dst_offsets: [vk::Offset3D::default(), size(level)],
-        };
-        // SAFETY: the two levels were just moved to TRANSFER_SRC and TRANSFER_DST.
-        unsafe {
-            device.cmd_blit_image(
-                cmd,
-                image.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[blit],
-                vk::Filter::LINEAR,
-            )
-        };
-    }
 }

@@ -230,7 +230,8 @@ impl<'g> Presenter<'g> {
         } else {
             let slots = self.slots.len() as u32;
             let objects = Objects::new(self.gpu, &scene.objects, HDR_FORMAT, DEPTH_FORMAT, true, slots)?;
-            let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+            // Sampled too: the sea's reflections of the objects read it.
+            let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
             Some((objects, Image::new(self.gpu, "window depth", DEPTH_FORMAT, extent, 1, usage)?))
         };
         // A frame without objects is wholly the ocean's: it draws in the colour image in place.

@@ -12,6 +12,7 @@ pub mod host_tonemap;
 pub mod ocean;
 pub mod placeholders;
 pub mod readback;
+pub mod reflections;
 pub mod resolve;
 pub mod shade;
 pub mod shadow;

@@ -105,6 +105,10 @@ pub struct ShaderConfig {
     /// (constant 14, glsl/shade.glsl ray_hit_strength): its gate and its loop. Left out where no
     /// pixel in view can resolve enough of the slopes for the step to be taken.
     pub ray_hit: bool,
+    /// Whether the sea reflects the host's objects (constant 15, glsl/shade.glsl
+    /// local_reflection; passes/reflections.rs builds what it reads). The renderer keeps it only
+    /// in a host's frame with depth (objects to reflect) and with the sky term.
+    pub reflections: bool,
 }
 
 impl Default for ShaderConfig {
@@ -122,6 +126,7 @@ impl Default for ShaderConfig {
             aerial: true,
             glints: true,
             ray_hit: true,
+            reflections: true,
         }
     }
 }
@@ -194,6 +199,7 @@ impl ShaderConfig {
             self.aerial as u32,
             self.draws_glints() as u32,
             self.steps_to_ray_hit() as u32,
+            self.reflections as u32,
         ])
     }
 

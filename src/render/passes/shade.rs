@@ -23,6 +23,10 @@ const AERIAL_TRANSMITTANCE_BINDING: u32 = 6;
 /// The sun's shadow map and the camera's depth (glsl/shade.glsl; placeholders without shadows).
 const SUN_SHADOW_BINDING: u32 = 8;
 const SCENE_DEPTH_BINDING: u32 = 9;
+/// The local reflections' sources (glsl/shade.glsl local_reflection; the eye's sky table stands
+/// in without them, its code specialized away).
+const REFLECTION_COLOUR_BINDING: u32 = 14;
+const REFLECTION_DEPTH_BINDING: u32 = 15;
 
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
@@ -77,6 +81,8 @@ impl<'g> ShadePass<'g> {
                 (MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, compute),
                 (EYE_SKY_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (SEA_LIGHT_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (REFLECTION_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (REFLECTION_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
             ],
         )?;
         bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, r.mean_fresnel.raw);
@@ -102,7 +108,21 @@ impl<'g> ShadePass<'g> {
             read,
             r.shadow_sampler.raw,
         );
-        let depth = if r.shadows { &r.depth } else { &r.shadow_map };
+        // Trilinear over the objects' radiance (the sky map's sampler: clamped, every level);
+        // texelFetch in their depth.
+        let (colour, depth_pyramid) = match &r.reflections {
+            Some(images) => (images.colour.view, images.depth.view),
+            None => (r.eye_sky.view, r.eye_sky.view),
+        };
+        bindings.write_image(REFLECTION_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, colour, read, r.sky_sampler.raw);
+        bindings.write_image(
+            REFLECTION_DEPTH_BINDING,
+            D::COMBINED_IMAGE_SAMPLER,
+            depth_pyramid,
+            read,
+            r.depth_sampler.raw,
+        );
+        let depth = if r.shadows || r.reflections.is_some() { &r.depth } else { &r.shadow_map };
         bindings.write_image(SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, depth.view, read, r.depth_sampler.raw);
         bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
         write_frame_uniforms(&bindings, r, true);
@@ -148,8 +168,12 @@ impl Pass for ShadePass<'_> {
             t.image(&tables.sea_irradiance, 0, 1, Access::ComputeSampled, false);
         }
         t.image(&r.shadow_map, 0, 1, Access::ComputeSampled, false);
-        if r.shadows {
+        if r.shadows || r.reflections.is_some() {
             t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
+        }
+        if let Some(images) = &r.reflections {
+            t.image(&images.colour, 0, images.colour.mip_levels, Access::ComputeSampled, false);
+            t.image(&images.depth, 0, images.depth.mip_levels, Access::ComputeSampled, false);
         }
         if self.counts {
             t.buffer(&r.train_counts, Access::ComputeStorageReadWrite);

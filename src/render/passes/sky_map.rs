@@ -109,40 +109,6 @@ impl Pass for SkyMipsPass {
     fn record(&self, rec: &mut Recorder, r: &Resources) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         let sky = &r.sky_map;
-        for level in 1..sky.mip_levels {
-            rec.tracker.image(sky, level - 1, 1, Access::TransferRead, false);
-            rec.tracker.image(sky, level, 1, Access::TransferWrite, true);
-            rec.tracker.flush(device, cmd);
-            let size = |l: u32| vk::Offset3D {
-                x: (sky.extent.width >> l).max(1) as i32,
-                y: (sky.extent.height >> l).max(1) as i32,
-                z: 1,
-            };
-            let layer = |l: u32| vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: l,
-                base_array_layer: 0,
-                layer_count: 1,
-            };
-            let blit = vk::ImageBlit {
-                src_subresource: layer(level - 1),
-                src_offsets: [vk::Offset3D::default(), size(level - 1)],
-                dst_subresource: layer(level),
-                dst_offsets: [vk::Offset3D::default(), size(level)],
-            };
-            // SAFETY: the two levels were just transitioned to TRANSFER_SRC / TRANSFER_DST; the
-            // format's linear-filtered blit support was checked at device choice.
-            unsafe {
-                device.cmd_blit_image(
-                    cmd,
-                    sky.raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    sky.raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[blit],
-                    vk::Filter::LINEAR,
-                )
-            };
-        }
+        crate::vk::image::mipmap(device, cmd, rec.tracker, sky);
     }
 }

@@ -1,0 +1,180 @@
+//! Reflection sources (compute and blits): what the sea's local reflections read, built from the
+//! host's colour and depth after it drew its objects, where the sea's depth (the visibility
+//! pass's) leaves them in view, before the shading pass traces the
+//! reflected rays (glsl/shade.glsl local_reflection). Level 0 of the objects' premultiplied
+//! radiance and of their forward depth (glsl/reflection_sources.comp), the radiance's mipmap by
+//! linear blits (each level the mean radiance and coverage of its footprint), the depth's by a
+//! nearest-of reduction per level (glsl/reflection_depth_mip.comp). Only in a host's frame with
+//! depth whose shading reflects objects. The host's images may change from frame to frame, so
+//! each frame slot has its own set, rewritten as the frame is recorded (the slot's previous frame
+//! has finished: the host's precondition), with its own view of the host depth's depth aspect.
+
+use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
+use crate::error::Result;
+use crate::render::resources::{ReflectionImages, Resources, FRAME_BINDING};
+use crate::shaders;
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::device::Device;
+use crate::vk::external::HostImage;
+use crate::vk::gpu::Gpu;
+use crate::vk::image::host_depth_view;
+use crate::vk::owned::Owned;
+use crate::vk::pipeline::{compute_pipeline, Bindings};
+use ash::vk;
+use std::cell::RefCell;
+
+const HOST_COLOUR_BINDING: u32 = 1;
+const HOST_DEPTH_BINDING: u32 = 2;
+const SOURCE_COLOUR_BINDING: u32 = 3;
+const SOURCE_DEPTH_BINDING: u32 = 4;
+const SEA_DEPTH_BINDING: u32 = 5;
+
+/// The host depth view a slot's set names, and the image it views.
+type SlotView<'g> = Option<(vk::Image, Owned<'g, vk::ImageView>)>;
+
+pub struct ReflectionsPass<'g> {
+    gpu: &'g Gpu,
+    /// One set per frame slot, identically laid out.
+    sources: Vec<Bindings<'g>>,
+    sources_pipeline: Owned<'g, vk::Pipeline>,
+    /// Per level from 1: finer level in, coarser out.
+    mips: Vec<Bindings<'g>>,
+    mip_pipeline: Owned<'g, vk::Pipeline>,
+    /// Each slot's view of the host depth's depth aspect (made again when the host's image
+    /// changes).
+    depth_views: RefCell<Vec<SlotView<'g>>>,
+}
+
+impl ReflectionsPass<'_> {
+    pub const NAME: &'static str = "reflection sources";
+}
+
+impl<'g> ReflectionsPass<'g> {
+    pub fn new(gpu: &'g Gpu, r: &Resources, images: &ReflectionImages, slots: u32) -> Result<Self> {
+        let device: &'g Device = &gpu.device;
+        use vk::DescriptorType as D;
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let sources = (0..slots)
+            .map(|_| {
+                let b = Bindings::new(
+                    device,
+                    Self::NAME,
+                    &[
+                        (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
+                        (HOST_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                        (HOST_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                        (SOURCE_COLOUR_BINDING, D::STORAGE_IMAGE, compute),
+                        (SOURCE_DEPTH_BINDING, D::STORAGE_IMAGE, compute),
+                        (SEA_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                    ],
+                )?;
+                write_frame_uniforms(&b, r, false);
+                let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+                b.write_image(SEA_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, r.depth.view, read, r.depth_sampler.raw);
+                let general = vk::ImageLayout::GENERAL;
+                let none = vk::Sampler::null();
+                b.write_image(SOURCE_COLOUR_BINDING, D::STORAGE_IMAGE, images.colour.level0_view, general, none);
+                b.write_image(SOURCE_DEPTH_BINDING, D::STORAGE_IMAGE, images.depth_levels[0].raw, general, none);
+                Ok(b)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let sources_pipeline =
+            compute_pipeline(device, sources[0].layout(), shaders::REFLECTION_SOURCES_COMP, Self::NAME)?;
+        let mips = (1..images.depth.mip_levels as usize)
+            .map(|level| {
+                let b = Bindings::new(
+                    device,
+                    "reflection depth mip",
+                    &[(0, D::STORAGE_IMAGE, compute), (1, D::STORAGE_IMAGE, compute)],
+                )?;
+                let general = vk::ImageLayout::GENERAL;
+                b.write_image(0, D::STORAGE_IMAGE, images.depth_levels[level - 1].raw, general, vk::Sampler::null());
+                b.write_image(1, D::STORAGE_IMAGE, images.depth_levels[level].raw, general, vk::Sampler::null());
+                Ok(b)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let mip_pipeline = match mips.first() {
+            Some(b) => {
+                compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip")?
+            }
+            // A 1 x 1 frame has no level to reduce: the pipeline is made but never bound.
+            None => {
+                let b = Bindings::new(device, "reflection depth mip", &[(0, D::STORAGE_IMAGE, compute)])?;
+                compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip")?
+            }
+        };
+        Ok(ReflectionsPass {
+            gpu,
+            sources,
+            sources_pipeline,
+            mips,
+            mip_pipeline,
+            depth_views: RefCell::new((0..slots).map(|_| None).collect()),
+        })
+    }
+
+    /// Slot `slot`'s set pointed at this frame's host images.
+    fn bind_host(&self, slot: usize, colour: &HostImage, depth: &HostImage, sampler: vk::Sampler) -> Result<()> {
+        let mut views = self.depth_views.borrow_mut();
+        if views[slot].as_ref().is_none_or(|(image, _)| *image != depth.raw) {
+            // The slot's previous frame, the last user of the old view, has finished.
+            views[slot] = Some((depth.raw, host_depth_view(self.gpu, depth)?));
+        }
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let b = &self.sources[slot];
+        let view = views[slot].as_ref().map(|(_, v)| v.raw).expect("made above");
+        b.write_image(HOST_COLOUR_BINDING, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, colour.view, read, sampler);
+        b.write_image(HOST_DEPTH_BINDING, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, view, read, sampler);
+        Ok(())
+    }
+}
+
+impl Pass for ReflectionsPass<'_> {
+    fn name(&self) -> &'static str {
+        Self::NAME
+    }
+
+    fn declare(&self, r: &Resources, f: &Frame, t: &mut Tracker) {
+        let Some(images) = &r.reflections else { return };
+        if let Some(host) = &f.host {
+            t.image(&host.colour, 0, 1, Access::ComputeSampled, false);
+            if let Some(depth) = &host.depth {
+                t.image(depth, 0, 1, Access::ComputeSampled, false);
+            }
+        }
+        t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
+        t.image(&images.colour, 0, 1, Access::ComputeStorageWrite, true);
+        t.image(&images.depth, 0, 1, Access::ComputeStorageWrite, true);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let (Some(images), Some(host)) = (&r.reflections, rec.frame.host) else { return };
+        let Some(depth) = host.depth else { return };
+        // texelFetch ignores the sampler's filtering; any valid sampler does.
+        if let Err(e) = self.bind_host(rec.frame.slot, &host.colour, &depth, r.depth_sampler.raw) {
+            // A view that cannot be made (out of memory) leaves this frame without reflections.
+            crate::say!("local reflections left out this frame: {e}");
+            return;
+        }
+        dispatch_over(rec, self.sources_pipeline.raw, &self.sources[rec.frame.slot], images.colour.extent);
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        // The radiance's levels: each the linear mean of the one above.
+        let colour = &images.colour;
+        crate::vk::image::mipmap(device, cmd, rec.tracker, colour);
+        rec.tracker.image(colour, 0, colour.mip_levels, Access::ComputeSampled, false);
+        // The depth's levels: each the nearest of the texels below it.
+        for (i, bindings) in self.mips.iter().enumerate() {
+            let level = i as u32 + 1;
+            rec.tracker.image(&images.depth, level - 1, 1, Access::ComputeStorageRead, false);
+            rec.tracker.image(&images.depth, level, 1, Access::ComputeStorageWrite, true);
+            rec.tracker.flush(device, cmd);
+            let extent = vk::Extent2D {
+                width: (images.depth.extent.width >> level).max(1),
+                height: (images.depth.extent.height >> level).max(1),
+            };
+            dispatch_over(rec, self.mip_pipeline.raw, bindings, extent);
+        }
+        rec.tracker.image(&images.depth, 0, images.depth.mip_levels, Access::ComputeSampled, false);
+        rec.tracker.flush(device, cmd);
+    }
+}
