@@ -41,7 +41,7 @@ fn a_host_frame_passes_the_best_practices_checks() {
     let mut ocean = Ocean::new(&gpu, desc).unwrap();
     use vk::ImageUsageFlags as U;
     let colour = host.image(COLOUR_FORMAT, w, h, U::COLOR_ATTACHMENT | U::SAMPLED);
-    let depth = host.image(DEPTH_FORMAT, w, h, U::DEPTH_STENCIL_ATTACHMENT);
+    let depth = host.image(DEPTH_FORMAT, w, h, U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED);
     let ldr = host.image(vk::Format::R8G8B8A8_UNORM, w, h, U::COLOR_ATTACHMENT);
     let projection = Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0))
         * Mat4::perspective_infinite_reverse_rh(1.0, w as f32 / h as f32, 0.1);

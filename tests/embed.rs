@@ -92,7 +92,7 @@ fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occl
     let colour = host.image(COLOUR_FORMAT, W, H, U::COLOR_ATTACHMENT | U::TRANSFER_SRC | U::SAMPLED);
     let ldr = ldr_format.map(|f| host.image(f, W, H, U::COLOR_ATTACHMENT | U::TRANSFER_SRC));
     let ldr_out = ldr.as_ref().map(|_| host.readback(4 * (W * H) as u64));
-    let depth = host.image(DEPTH_FORMAT, W, H, U::DEPTH_STENCIL_ATTACHMENT | U::TRANSFER_SRC);
+    let depth = host.image(DEPTH_FORMAT, W, H, U::DEPTH_STENCIL_ATTACHMENT | U::TRANSFER_SRC | U::SAMPLED);
     let pixels = (W * H) as usize;
     let colour_out = host.readback(8 * pixels as u64);
     let depth_out = host.readback(4 * pixels as u64);
@@ -399,7 +399,12 @@ fn misuse_gets_an_error_not_a_crash() {
     let under_water = FrameInput { view: DMat4::look_to_rh(DVec3::new(0.0, 0.0, -1.0), DVec3::X, DVec3::Z), ..input };
     assert!(message(ocean.update(0, &under_water)).contains("not above the water"));
     let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
-    let depth = host.image(DEPTH_FORMAT, W / 2, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
+    let depth = host.image(
+        DEPTH_FORMAT,
+        W / 2,
+        H,
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+    );
     let targets = Targets {
         colour: colour.image,
         colour_entry: ImageState::COLOR_ATTACHMENT,
@@ -407,7 +412,8 @@ fn misuse_gets_an_error_not_a_crash() {
         ldr: None,
     };
     assert!(message(ocean.record(host.cmd, 1, &targets)).contains("depth target is 80x120"));
-    let full_depth = host.image(DEPTH_FORMAT, W, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
+    let full_depth =
+        host.image(DEPTH_FORMAT, W, H, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED);
     let targets = Targets { depth: Some((full_depth.image, ImageState::DEPTH_ATTACHMENT)), ..targets };
     assert!(message(ocean.record(host.cmd, 1, &targets)).contains("frame slot 1 was not updated"));
     // A size the device cannot hold: an error, and the ocean says so until a resize succeeds.

@@ -83,16 +83,28 @@ fn calm_boat() -> Scene {
     Scene::parse(&text, "calm_boat.toml").unwrap()
 }
 
+/// Shading without the sea's reflections of the objects: what occlusion alone leaves.
+fn without_reflections() -> ocean::embed::Shading {
+    ocean::embed::Shading {
+        shader: ocean::embed::ShaderConfig { reflections: false, ..Default::default() },
+        ..Default::default()
+    }
+}
+
 #[test]
 fn objects_occlude_the_sea_and_the_sea_hides_their_keels() {
     let gpu = gpu();
     let scene = calm_boat();
     let (w, h) = (320, 240);
-    let (report, with) = render(&gpu, &scene, w, h);
+    let (report, with) = common::render_with(&gpu, &scene, w, h, without_reflections());
     assert_clean(&report, "calm boat");
     let mut bare = scene.clone();
     bare.objects.clear();
-    let (_, without) = render(&gpu, &bare, w, h);
+    let (bare_report, without) = render(&gpu, &bare, w, h);
+    // Without objects nothing is reflected, and the report says what was left out and why.
+    let omitted = bare_report.omitted.iter().find(|o| o.what.starts_with("local reflections"));
+    assert!(omitted.is_some_and(|o| o.why.contains("no objects")), "{:?}", bare_report.omitted);
+    assert!(!bare_report.pipelines.iter().any(|p| p == "reflection sources"), "{:?}", bare_report.pipelines);
 
     let waves = ocean::model::waves::generate(&scene);
     let (view, _) = scene_view(&scene, w as f64 / h as f64, true);
@@ -189,7 +201,7 @@ fn from_inside_a_hull_the_eye_sees_the_sea_through_its_walls() {
     let gpu = gpu();
     let scene = Scene::load(&root().join("scenes/extreme/objects/eye_inside.toml")).unwrap();
     let (w, h) = (256, 192);
-    let (report, inside) = render(&gpu, &scene, w, h);
+    let (report, inside) = common::render_with(&gpu, &scene, w, h, without_reflections());
     assert_clean(&report, "eye inside");
     let mut bare = scene.clone();
     bare.objects.clear();
@@ -205,4 +217,38 @@ fn from_inside_a_hull_the_eye_sees_the_sea_through_its_walls() {
     // Above, the deckhouses' undersides face the eye: drawn.
     let top = (0..w as usize).filter(|&x| (inside.hdr[x][2] - sea.hdr[x][2]).abs() > 0.1 * sea.hdr[x][2]).count();
     assert!(top > w as usize / 2, "{top} of the top row's pixels show the ship");
+}
+
+/// On a mirror-calm sea the objects' reflections stand where a plane mirror puts them: the
+/// cabin's side reflected at the pixel its image below the waterline projects to (within a
+/// pixel), its paint's hue in place of the sky's, and nothing there without reflections.
+#[test]
+fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
+    let gpu = gpu();
+    let mut scene = calm_boat();
+    scene.wind.speed_mps = 0.0;
+    let (w, h) = (320, 240);
+    let (report, mirrored) = render(&gpu, &scene, w, h);
+    assert_clean(&report, "mirror-calm boat");
+    let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    let waves = ocean::model::waves::generate(&scene);
+    let (view, _) = scene_view(&scene, w as f64 / h as f64, true);
+    let eye = view.inverse().w_axis.truncate();
+    let model = ocean::model::gltf::load(&scene.objects[0].file).unwrap();
+    let object = &scene.objects[0];
+    let placement = place(&scene, &waves, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
+    // The cabin's side facing the eye, and its image in the mean sea (z = 0 in the world).
+    let side = eye + placement.relative_from_model.transform_point3(DVec3::new(-0.3, 1.0, -0.6));
+    let image = DVec3::new(side.x, side.y, -side.z);
+    let pixel = project(&scene, w, h, image).expect("the mirror image is on screen");
+    let at = |frame: &RenderedFrame, (x, y): (usize, usize)| frame.hdr[y * w as usize + x];
+    // The teak's red over blue, against the sea's, within a pixel of the image.
+    let warmth = |p: [f32; 4]| p[0] / p[2].max(1e-6);
+    let best = (-1i64..=1)
+        .flat_map(|dy| (-1i64..=1).map(move |dx| (dx, dy)))
+        .map(|(dx, dy)| ((pixel.0 as i64 + dx) as usize, (pixel.1 as i64 + dy) as usize))
+        .map(|p| warmth(at(&mirrored, p)))
+        .fold(0.0, f32::max);
+    let sea = warmth(at(&plain, pixel));
+    assert!(best > 1.5 * sea && best > 0.5, "the cabin's image at {pixel:?}: warmth {best} against the sea's {sea}");
 }

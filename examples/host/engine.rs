@@ -430,7 +430,8 @@ impl Swapchain {
                     depth: host.image(
                         DEPTH_FORMAT,
                         extent,
-                        U::DEPTH_STENCIL_ATTACHMENT,
+                        // Sampled too: the ocean's reflections of the host's objects read it.
+                        U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED,
                         vk::ImageAspectFlags::DEPTH,
                     )?,
                 });

@@ -80,7 +80,8 @@ pub fn run(
     use vk::ImageUsageFlags as U;
     let targets = HostTargets {
         colour: Image::new(gpu, "host colour", HDR_FORMAT, extent, 1, U::COLOR_ATTACHMENT | U::SAMPLED)?,
-        depth: Image::new(gpu, "host depth", DEPTH_FORMAT, extent, 1, U::DEPTH_STENCIL_ATTACHMENT)?,
+        // Sampled too: the ocean's reflections of the host's objects read it.
+        depth: Image::new(gpu, "host depth", DEPTH_FORMAT, extent, 1, U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED)?,
         ldr: Image::new(gpu, "host ldr", LDR_FORMAT, extent, 1, U::COLOR_ATTACHMENT)?,
     };
     let desc = OceanDesc {
