@@ -145,7 +145,10 @@ vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2) {
         if (alpha >= end_alpha) break;
         vec2 s = s0 + ds * (alpha + ahead);
         float cell_px = float(1 << level);   // exact (a driver's exp2 may be approximate)
-        ivec2 cell = clamp(ivec2(floor(s / cell_px)), ivec2(0), textureSize(reflection_depth, level) - 1);
+        // The level's size by arithmetic: textureSize with a level that differs between lanes
+        // returned one lane's size for all on lavapipe, and a comb of lost rays with it.
+        ivec2 level_texels = max(ivec2(size) >> level, ivec2(1));
+        ivec2 cell = clamp(ivec2(floor(s / cell_px)), ivec2(0), level_texels - 1);
         // Where the ray leaves the cell (a coarse level's last cell also holds an odd level's
         // trailing texels, so clamping the cell keeps it conservative).
         vec2 bound = (vec2(cell) + step(0.0, ds)) * cell_px;
