@@ -60,6 +60,18 @@ fn project(scene: &Scene, width: u32, height: u32, world: DVec3) -> Option<(usiz
     ((0.0..width as f64).contains(&x) && (0.0..height as f64).contains(&y)).then_some((x as usize, y as usize))
 }
 
+/// Where a point of the scene's first object's model stands in the world at time 0, for a
+/// `width` x `height` frame of the scene's camera (the f64 placement the commands draw with).
+fn first_object_in_world(scene: &Scene, width: u32, height: u32) -> impl Fn([f64; 3]) -> DVec3 {
+    let waves = ocean::model::waves::generate(scene);
+    let (view, _) = scene_view(scene, width as f64 / height as f64, true);
+    let eye = view.inverse().w_axis.truncate();
+    let object = &scene.objects[0];
+    let model = ocean::model::gltf::load(&object.file).unwrap();
+    let placement = place(scene, &waves, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
+    move |model_point| eye + placement.relative_from_model.transform_point3(DVec3::from(model_point))
+}
+
 /// A calm sea with the boat beam-on 20 m ahead, its waterline at mean sea level.
 fn calm_boat() -> Scene {
     let text = format!(
@@ -106,13 +118,7 @@ fn objects_occlude_the_sea_and_the_sea_hides_their_keels() {
     assert!(omitted.is_some_and(|o| o.why.contains("no objects")), "{:?}", bare_report.omitted);
     assert!(!bare_report.pipelines.iter().any(|p| p == "reflection sources"), "{:?}", bare_report.pipelines);
 
-    let waves = ocean::model::waves::generate(&scene);
-    let (view, _) = scene_view(&scene, w as f64 / h as f64, true);
-    let eye = view.inverse().w_axis.truncate();
-    let model = ocean::model::gltf::load(&scene.objects[0].file).unwrap();
-    let object = &scene.objects[0];
-    let placement = place(&scene, &waves, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
-    let world = |model_point: [f64; 3]| eye + placement.relative_from_model.transform_point3(DVec3::from(model_point));
+    let world = first_object_in_world(&scene, w, h);
     let at = |frame: &RenderedFrame, (x, y): (usize, usize)| frame.hdr[y * w as usize + x];
     let differs = |a: [f32; 4], b: [f32; 4]| (0..3).map(|c| (a[c] - b[c]).abs() / b[c].max(1e-3)).fold(0.0, f32::max);
 
@@ -231,14 +237,8 @@ fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
     let (report, mirrored) = render(&gpu, &scene, w, h);
     assert_clean(&report, "mirror-calm boat");
     let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
-    let waves = ocean::model::waves::generate(&scene);
-    let (view, _) = scene_view(&scene, w as f64 / h as f64, true);
-    let eye = view.inverse().w_axis.truncate();
-    let model = ocean::model::gltf::load(&scene.objects[0].file).unwrap();
-    let object = &scene.objects[0];
-    let placement = place(&scene, &waves, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
     // The cabin's side facing the eye, and its image in the mean sea (z = 0 in the world).
-    let side = eye + placement.relative_from_model.transform_point3(DVec3::new(-0.3, 1.0, -0.6));
+    let side = first_object_in_world(&scene, w, h)([-0.3, 1.0, -0.6]);
     let image = DVec3::new(side.x, side.y, -side.z);
     let pixel = project(&scene, w, h, image).expect("the mirror image is on screen");
     let at = |frame: &RenderedFrame, (x, y): (usize, usize)| frame.hdr[y * w as usize + x];

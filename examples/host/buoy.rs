@@ -5,7 +5,7 @@ use super::engine::Host;
 use super::{shaders, BUOY, DEPTH_FORMAT, HDR_FORMAT};
 use ash::vk;
 use glam::{Mat4, Quat};
-use ocean::embed::{HostImage, Light};
+use ocean::embed::{begin_cleared_rendering, HostImage, Light};
 
 /// The host's own pipeline: the buoy, drawn before the ocean into the HDR colour and depth.
 pub struct BuoyPipeline {
@@ -98,23 +98,6 @@ impl BuoyPipeline {
         clip_from_world: Mat4,
         light: &Light,
     ) {
-        let colour = [vk::RenderingAttachmentInfo::default()
-            .image_view(hdr.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: hdr.extent };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colour)
-            .depth_attachment(&depth_attachment);
         // The ocean's sun and sky (klux in its unit, OceanDesc::radiance_scale = 1): the buoy lit
         // as the sea around it is.
         let sun = light.sun_direction.as_vec3();
@@ -122,21 +105,13 @@ impl BuoyPipeline {
         let vertex = clip_from_box.to_cols_array();
         let (e, s) = (light.sun_illuminance, light.sky_illuminance);
         let fragment = [sun.x, sun.y, sun.z, 0.0, e[0], e[1], e[2], 0.0, s[0], s[1], s[2], 0.0];
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: hdr.extent.width as f32,
-            height: hdr.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
         let bytes = |v: &[f32]| v.iter().flat_map(|f| f.to_ne_bytes()).collect::<Vec<u8>>();
-        // SAFETY: the targets are in attachment layouts (barriers before); the pipeline was made
-        // for their formats; the push constants fit the layout's ranges.
+        // Reversed Z: the far plane is 0.
+        begin_cleared_rendering(&host.device, cmd, hdr, depth, 0.0);
+        // SAFETY: inside the rendering scope begun above (the targets in attachment layouts,
+        // barriers before); the pipeline was made for their formats; the push constants fit the
+        // layout's ranges.
         unsafe {
-            host.device.cmd_begin_rendering(cmd, &info);
-            host.device.cmd_set_viewport(cmd, 0, &[viewport]);
-            host.device.cmd_set_scissor(cmd, 0, &[area]);
             host.device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             host.device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::VERTEX, 0, &bytes(&vertex));
             host.device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::FRAGMENT, 64, &bytes(&fragment));

@@ -7,7 +7,7 @@
 //! `animate` and `profile` run through it; `view` hosts the ocean in its window the same way
 //! (app/window/presenter.rs).
 
-use crate::app::objects::{ObjectFrame, Objects, DEPTH_FORMAT};
+use crate::app::objects::{Objects, DEPTH_FORMAT};
 use crate::embed::camera::scene_view;
 use crate::embed::{
     FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Shading, Targets, IN_PLACE_USAGE,
@@ -22,7 +22,6 @@ use crate::vk::buffer::Buffer;
 use crate::vk::clock::{host_now_ns, DeviceClock};
 use crate::vk::commands::Commands;
 use crate::vk::device::HDR_FORMAT;
-use crate::vk::external::hdr_format_max;
 use crate::vk::gpu::Gpu;
 use crate::vk::image::{copy_to_buffer, Image};
 use crate::vk::memory::Location;
@@ -152,20 +151,7 @@ impl<'g> OffscreenHost<'g> {
         self.cpu_spans.push("scene and waves", t);
         if let Some((objects, _)) = &mut self.objects {
             let t = host_now_ns();
-            let light = self.ocean.light().expect("an updated ocean has its light");
-            let waves = crate::model::waves::generate(scene);
-            objects.update(
-                0,
-                &ObjectFrame::new(
-                    scene,
-                    &waves,
-                    view,
-                    projection,
-                    &light,
-                    1.0,
-                    hdr_format_max(HDR_FORMAT).unwrap_or(f32::MAX),
-                ),
-            )?;
+            objects.update_for(0, scene, view, projection, &self.ocean)?;
             self.cpu_spans.push("objects", t);
         }
         let t = host_now_ns();

@@ -29,7 +29,9 @@ pub use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
 pub use crate::render::renderer::TrainCounts;
 pub use crate::render::timeline::{GpuFrame, GpuSpan};
 pub use crate::vk::device::HostEnabled;
-pub use crate::vk::external::{aspect_of, clear_targets, ldr_encodes_srgb, transition, HostImage, ImageState};
+pub use crate::vk::external::{
+    aspect_of, begin_cleared_rendering, clear_targets, ldr_encodes_srgb, transition, HostImage, ImageState,
+};
 pub use crate::vk::gpu::{Gpu, HostDevice};
 pub use crate::vk::memory::MemoryReport;
 

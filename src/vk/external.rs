@@ -96,10 +96,17 @@ pub fn transition(device: &ash::Device, cmd: vk::CommandBuffer, moves: &[(HostIm
     unsafe { device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barriers)) };
 }
 
-/// Clears a host's colour to black and its depth to `far` (0 reversed, 1 standard) in one
-/// rendering scope, both in their attachment layouts: a host frame that starts with the ocean,
-/// nothing of the host's own drawn (a bench, a test).
-pub fn clear_targets(device: &ash::Device, cmd: vk::CommandBuffer, colour: &HostImage, depth: &HostImage, far: f32) {
+/// Begins a rendering scope over the whole of a host's colour and depth, the colour cleared to
+/// black and the depth to `far` (0 reversed, 1 standard), the viewport and scissor set to the
+/// whole target: where a host draws its objects. Both are in their attachment layouts and `cmd`
+/// is recording outside a rendering scope (this helper's precondition); the caller ends the scope.
+pub fn begin_cleared_rendering(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    colour: &HostImage,
+    depth: &HostImage,
+    far: f32,
+) {
     let colour_attachment = [vk::RenderingAttachmentInfo::default()
         .image_view(colour.view)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -117,12 +124,30 @@ pub fn clear_targets(device: &ash::Device, cmd: vk::CommandBuffer, colour: &Host
         .layer_count(1)
         .color_attachments(&colour_attachment)
         .depth_attachment(&depth_attachment);
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: colour.extent.width as f32,
+        height: colour.extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
     // SAFETY: the caller's `cmd` is recording outside a rendering scope and the images are in
     // their attachment layouts (this helper's documented precondition).
     unsafe {
         device.cmd_begin_rendering(cmd, &info);
-        device.cmd_end_rendering(cmd);
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[area]);
     }
+}
+
+/// Clears a host's colour to black and its depth to `far` (0 reversed, 1 standard) in one
+/// rendering scope, both in their attachment layouts: a host frame that starts with the ocean,
+/// nothing of the host's own drawn (a bench, a test).
+pub fn clear_targets(device: &ash::Device, cmd: vk::CommandBuffer, colour: &HostImage, depth: &HostImage, far: f32) {
+    begin_cleared_rendering(device, cmd, colour, depth, far);
+    // SAFETY: the scope was begun just above on `cmd`.
+    unsafe { device.cmd_end_rendering(cmd) };
 }
 
 /// The aspects a layout transition of an image of `format` names: depth, with stencil where the

@@ -272,16 +272,11 @@ pub fn mipmap(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracke
     }
 }
 
-/// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
-pub fn copy_to_buffer(
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    extent: vk::Extent2D,
-    buffer: vk::Buffer,
-) {
-    let region = vk::BufferImageCopy {
-        buffer_offset: 0,
+/// A copy of the whole of colour level 0 of an `extent` image to or from a tightly packed buffer
+/// at `buffer_offset`.
+pub fn level0_region(extent: vk::Extent2D, buffer_offset: u64) -> vk::BufferImageCopy {
+    vk::BufferImageCopy {
+        buffer_offset,
         buffer_row_length: 0,
         buffer_image_height: 0,
         image_subresource: vk::ImageSubresourceLayers {
@@ -292,7 +287,18 @@ pub fn copy_to_buffer(
         },
         image_offset: vk::Offset3D::default(),
         image_extent: vk::Extent3D { width: extent.width, height: extent.height, depth: 1 },
-    };
+    }
+}
+
+/// Copies a whole single-level colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
+pub fn copy_to_buffer(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    buffer: vk::Buffer,
+) {
+    let region = level0_region(extent, 0);
     // SAFETY: the image was declared TransferRead (TRANSFER_SRC_OPTIMAL) and the buffer
     // TransferWrite, and the buffer holds the whole image.
     unsafe { device.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region]) };

@@ -19,7 +19,7 @@ use crate::model::scene::{Object, Scene};
 use crate::model::sky::SUN_ANGULAR_RADIUS;
 use crate::model::waves::WaveSet;
 use crate::vk::buffer::Buffer;
-use crate::vk::external::HostImage;
+use crate::vk::external::{begin_cleared_rendering, hdr_format_max, HostImage};
 use crate::vk::gpu::Gpu;
 use crate::vk::image::Image;
 use crate::vk::memory::Location;
@@ -261,6 +261,24 @@ impl<'g> Objects<'g> {
         self.objects.len() == objects.len() && self.objects.iter().zip(objects).all(|((a, _), b)| a == b)
     }
 
+    /// Writes frame `slot` of `scene` seen with `view` and `projection` (the matrices the host
+    /// handed `ocean`, updated for the slot already), in the ocean's light and the host's unit.
+    pub fn update_for(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        view: DMat4,
+        projection: DMat4,
+        ocean: &crate::embed::Ocean,
+    ) -> Result<()> {
+        let light = ocean.light().expect("an updated ocean has its light");
+        let waves = crate::model::waves::generate(scene);
+        let desc = ocean.desc();
+        let max = hdr_format_max(desc.formats.colour).unwrap_or(f32::MAX);
+        let frame = ObjectFrame::new(scene, &waves, view, projection, &light, desc.radiance_scale as f64, max);
+        self.update(slot, &frame)
+    }
+
     /// Writes frame `slot`'s camera, light and placements (its previous use has finished).
     pub fn update(&mut self, slot: usize, frame: &ObjectFrame) -> Result<()> {
         let light = frame.light;
@@ -311,32 +329,13 @@ impl<'g> Objects<'g> {
     /// the far plane) and draws the objects of frame `slot`. Both are in attachment layouts.
     pub fn record(&self, cmd: vk::CommandBuffer, slot: usize, colour: &HostImage, depth: &HostImage, far: f32) {
         let raw = &self.gpu.device.raw;
-        let colour_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(colour.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: far, stencil: 0 } });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: colour.extent };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colour_attachment)
-            .depth_attachment(&depth_attachment);
+        begin_cleared_rendering(raw, cmd, colour, depth, far);
         let offsets = [(slot as u64 * self.uniform_stride) as u32, (slot as u64 * self.instance_stride) as u32];
         let layout = self.pipelines.layout.raw;
-        // SAFETY: the attachments are in the layouts named (the host's barriers); the pipelines
-        // were made for their formats; each set's buffers and images live as long as self; the
-        // dynamic offsets select slot windows inside the buffers.
+        // SAFETY: inside the rendering scope begun above; the pipelines were made for the
+        // targets' formats; each set's buffers and images live as long as self; the dynamic
+        // offsets select slot windows inside the buffers.
         unsafe {
-            raw.cmd_begin_rendering(cmd, &info);
-            raw.cmd_set_viewport(cmd, 0, &[crate::render::passes::whole_viewport(colour.extent)]);
-            raw.cmd_set_scissor(cmd, 0, &[area]);
             raw.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,

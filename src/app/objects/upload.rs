@@ -220,19 +220,7 @@ fn copy_buffer(device: &ash::Device, cmd: vk::CommandBuffer, staging: &Buffer, o
 }
 
 fn copy_to_image(device: &ash::Device, cmd: vk::CommandBuffer, staging: &Buffer, offset: u64, to: &Image) {
-    let region = [vk::BufferImageCopy {
-        buffer_offset: offset,
-        buffer_row_length: 0,
-        buffer_image_height: 0,
-        image_subresource: vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        },
-        image_offset: vk::Offset3D::default(),
-        image_extent: vk::Extent3D { width: to.extent.width, height: to.extent.height, depth: 1 },
-    }];
+    let region = [crate::vk::image::level0_region(to.extent, offset)];
     // SAFETY: level 0 is in TRANSFER_DST_OPTIMAL (flushed above); the staging buffer holds
     // width x height RGBA8 texels at `offset`, a multiple of 4.
     unsafe {

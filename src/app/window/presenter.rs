@@ -5,7 +5,7 @@
 //! are recreated together when the surface changes (resize, out of date, suboptimal, restore
 //! after a minimize); while the window has no area there is no swapchain and nothing is drawn.
 
-use crate::app::objects::{ObjectFrame, Objects, DEPTH_FORMAT};
+use crate::app::objects::{Objects, DEPTH_FORMAT};
 use crate::embed::camera::scene_view;
 use crate::embed::{
     FrameInput, GpuFrame, HostFormats, HostImage, ImageState, Ocean, OceanDesc, ShaderConfig, Shading, Targets,
@@ -18,7 +18,6 @@ use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::{Commands, Wait};
 use crate::vk::device::HDR_FORMAT;
-use crate::vk::external::hdr_format_max;
 use crate::vk::gpu::Gpu;
 use crate::vk::image::{copy_to_buffer, Image};
 use crate::vk::memory::Location;
@@ -305,10 +304,7 @@ impl<'g> Presenter<'g> {
         let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
         drawing.ocean.update(slot, &FrameInput { time_s: scene.render.time_s, view, projection })?;
         if let Some((objects, _)) = &mut drawing.objects {
-            let light = drawing.ocean.light().expect("an updated ocean has its light");
-            let waves = crate::model::waves::generate(scene);
-            let max = hdr_format_max(HDR_FORMAT).unwrap_or(f32::MAX);
-            objects.update(slot, &ObjectFrame::new(scene, &waves, view, projection, &light, 1.0, max))?;
+            objects.update_for(slot, scene, view, projection, &drawing.ocean)?;
         }
         self.prepare_capture(capture)?;
         let swapchain = self.swapchain.as_ref().expect("checked above");

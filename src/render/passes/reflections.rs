@@ -39,7 +39,8 @@ pub struct ReflectionsPass<'g> {
     sources_pipeline: Owned<'g, vk::Pipeline>,
     /// Per level from 1: finer level in, coarser out.
     mips: Vec<Bindings<'g>>,
-    mip_pipeline: Owned<'g, vk::Pipeline>,
+    /// None for a 1 x 1 frame, which has no level to reduce (and no `mips`).
+    mip_pipeline: Option<Owned<'g, vk::Pipeline>>,
     /// Each slot's view of the host depth's depth aspect (made again when the host's image
     /// changes).
     depth_views: RefCell<Vec<SlotView<'g>>>,
@@ -93,16 +94,10 @@ impl<'g> ReflectionsPass<'g> {
                 Ok(b)
             })
             .collect::<Result<Vec<_>>>()?;
-        let mip_pipeline = match mips.first() {
-            Some(b) => {
-                compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip")?
-            }
-            // A 1 x 1 frame has no level to reduce: the pipeline is made but never bound.
-            None => {
-                let b = Bindings::new(device, "reflection depth mip", &[(0, D::STORAGE_IMAGE, compute)])?;
-                compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip")?
-            }
-        };
+        let mip_pipeline = mips
+            .first()
+            .map(|b| compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip"))
+            .transpose()?;
         Ok(ReflectionsPass {
             gpu,
             sources,
@@ -163,7 +158,7 @@ impl Pass for ReflectionsPass<'_> {
         crate::vk::image::mipmap(device, cmd, rec.tracker, colour);
         rec.tracker.image(colour, 0, colour.mip_levels, Access::ComputeSampled, false);
         // The depth's levels: each the nearest of the texels below it.
-        for (i, bindings) in self.mips.iter().enumerate() {
+        for (i, (bindings, pipeline)) in self.mips.iter().zip(self.mip_pipeline.iter().cycle()).enumerate() {
             let level = i as u32 + 1;
             rec.tracker.image(&images.depth, level - 1, 1, Access::ComputeStorageRead, false);
             rec.tracker.image(&images.depth, level, 1, Access::ComputeStorageWrite, true);
@@ -172,7 +167,7 @@ impl Pass for ReflectionsPass<'_> {
                 width: (images.depth.extent.width >> level).max(1),
                 height: (images.depth.extent.height >> level).max(1),
             };
-            dispatch_over(rec, self.mip_pipeline.raw, bindings, extent);
+            dispatch_over(rec, pipeline.raw, bindings, extent);
         }
         rec.tracker.image(&images.depth, 0, images.depth.mip_levels, Access::ComputeSampled, false);
         rec.tracker.flush(device, cmd);
