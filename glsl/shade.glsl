@@ -60,6 +60,9 @@ layout(set = 0, binding = 9) uniform sampler2D scene_depth;
 // depth per cell of each level (glsl/reflection_sources.comp, reflection_depth_mip.comp).
 layout(set = 0, binding = 14) uniform sampler2D reflection_colour;
 layout(set = 0, binding = 15) uniform sampler2D reflection_depth;
+// The screen rectangle (level-0 pixels: min x, min y, max x, max y) holding every object, and
+// their nearest forward depth (glsl/reflection_bounds.comp).
+layout(set = 0, binding = 16, std430) readonly buffer ReflectionBounds { vec4 rect; float nearest; } reflection_bounds;
 
 // Cells a reflected ray visits at most: skipping up the pyramid, a ray crosses a 1024-pixel
 // screen in about 2 log2(1024) of them; the rest go to refining near objects and to the pixels
@@ -133,6 +136,25 @@ vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2) {
     float end_alpha = min(1.0, min(exits.x, exits.y));
     float nudge = 1e-3 / len;                   // past a cell's edge
     float alpha = 1.0 / len;                    // a pixel on: the point's own pixel is sea
+    // Only the part of the path inside the objects' rectangle can meet one: the rest is not
+    // walked, and a path that misses it (most of the sea's) returns at once.
+    vec4 rect = reflection_bounds.rect;
+    if (rect.x >= rect.z || rect.y >= rect.w) return vec4(0.0);   // no object on screen
+    for (int axis = 0; axis < 2; axis++) {
+        float lo = rect[axis], hi = rect[axis + 2];
+        if (ds[axis] != 0.0) {
+            float a = (lo - s0[axis]) / ds[axis], b = (hi - s0[axis]) / ds[axis];
+            alpha = max(alpha, min(a, b));
+            end_alpha = min(end_alpha, max(a, b));
+        } else if (s0[axis] < lo || s0[axis] >= hi) {
+            return vec4(0.0);
+        }
+    }
+    if (alpha >= end_alpha) return vec4(0.0);
+    // Depth is monotonic along the path (1 / depth is linear): nearer than every object at both
+    // ends of its part in the rectangle, it passes in front of them all.
+    float z_far = max(1.0 / (k0 + alpha * (k1 - k0)), 1.0 / (k0 + end_alpha * (k1 - k0)));
+    if (z_far < reflection_bounds.nearest) return vec4(0.0);
     int level = 0;
     int top = textureQueryLevels(reflection_depth) - 1;
     float hit = -1.0;

@@ -72,6 +72,10 @@ pub struct ReflectionImages<'g> {
     pub depth: Image<'g>,
     /// A view of each level of `depth`, for the pyramid's storage writes and reads.
     pub depth_levels: Vec<Owned<'g, vk::ImageView>>,
+    /// The screen rectangle holding every object, in level-0 pixels (min x, min y, max x, max y;
+    /// empty, min past max, without objects), then their nearest forward depth
+    /// (glsl/reflection_bounds.comp).
+    pub bounds: Buffer<'g>,
 }
 
 /// The depth pyramid's format: forward depths in metres, to 100 km and beyond in full precision.
@@ -319,7 +323,8 @@ impl<'g> Resources<'g> {
             let depth =
                 Image::new(gpu, "reflection depth", REFLECTION_DEPTH_FORMAT, extent, levels, I::STORAGE | I::SAMPLED)?;
             let depth_levels = (0..levels).map(|level| depth.level_view(level)).collect::<Result<Vec<_>>>()?;
-            Some(ReflectionImages { colour, depth, depth_levels })
+            let bounds = Buffer::new(gpu, "reflection bounds", 32, B::STORAGE_BUFFER, Location::Gpu)?;
+            Some(ReflectionImages { colour, depth, depth_levels, bounds })
         } else {
             None
         };

@@ -19,7 +19,7 @@ use crate::vk::external::HostImage;
 use crate::vk::gpu::Gpu;
 use crate::vk::image::host_depth_view;
 use crate::vk::owned::Owned;
-use crate::vk::pipeline::{compute_pipeline, Bindings};
+use crate::vk::pipeline::{compute_pipeline, specialized_compute_pipeline, Bindings, Specialization};
 use ash::vk;
 use std::cell::RefCell;
 
@@ -28,6 +28,9 @@ const HOST_DEPTH_BINDING: u32 = 2;
 const SOURCE_COLOUR_BINDING: u32 = 3;
 const SOURCE_DEPTH_BINDING: u32 = 4;
 const SEA_DEPTH_BINDING: u32 = 5;
+/// Cells of the pyramid level the objects' screen rectangle is found from, at most: 16 per
+/// invocation of glsl/reflection_bounds.comp's one workgroup of 256.
+const BOUNDS_CELLS: u32 = 4096;
 
 /// The host depth view a slot's set names, and the image it views.
 type SlotView<'g> = Option<(vk::Image, Owned<'g, vk::ImageView>)>;
@@ -41,6 +44,10 @@ pub struct ReflectionsPass<'g> {
     mips: Vec<Bindings<'g>>,
     /// None for a 1 x 1 frame, which has no level to reduce (and no `mips`).
     mip_pipeline: Option<Owned<'g, vk::Pipeline>>,
+    /// The objects' screen rectangle from the pyramid's level `bounds_level`.
+    bounds: Bindings<'g>,
+    bounds_pipeline: Owned<'g, vk::Pipeline>,
+    bounds_level: u32,
     /// Each slot's view of the host depth's depth aspect (made again when the host's image
     /// changes).
     depth_views: RefCell<Vec<SlotView<'g>>>,
@@ -98,12 +105,39 @@ impl<'g> ReflectionsPass<'g> {
             .first()
             .map(|b| compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip"))
             .transpose()?;
+        // The finest level with at most BOUNDS_CELLS cells: a few reads per invocation of one
+        // workgroup, cells of 16 pixels at 1024 x 768 and 32 at 1920 x 1080.
+        let extent = images.depth.extent;
+        let bounds_level = (0..images.depth.mip_levels)
+            .find(|&l| ((extent.width >> l).max(1) * (extent.height >> l).max(1)) <= BOUNDS_CELLS)
+            .unwrap_or(images.depth.mip_levels - 1);
+        let bounds = Bindings::new(
+            device,
+            "reflection bounds",
+            &[(0, D::STORAGE_IMAGE, compute), (1, D::STORAGE_IMAGE, compute), (2, D::STORAGE_BUFFER, compute)],
+        )?;
+        let general = vk::ImageLayout::GENERAL;
+        bounds.write_image(0, D::STORAGE_IMAGE, images.depth_levels[0].raw, general, vk::Sampler::null());
+        let coarse = images.depth_levels[bounds_level as usize].raw;
+        bounds.write_image(1, D::STORAGE_IMAGE, coarse, general, vk::Sampler::null());
+        bounds.write_buffer(2, D::STORAGE_BUFFER, images.bounds.raw);
+        let spec = Specialization::words(&[bounds_level]);
+        let bounds_pipeline = specialized_compute_pipeline(
+            device,
+            bounds.layout(),
+            shaders::REFLECTION_BOUNDS_COMP,
+            Some(&spec),
+            "reflection bounds",
+        )?;
         Ok(ReflectionsPass {
             gpu,
             sources,
             sources_pipeline,
             mips,
             mip_pipeline,
+            bounds,
+            bounds_pipeline,
+            bounds_level,
             depth_views: RefCell::new((0..slots).map(|_| None).collect()),
         })
     }
@@ -140,6 +174,7 @@ impl Pass for ReflectionsPass<'_> {
         t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
         t.image(&images.colour, 0, 1, Access::ComputeStorageWrite, true);
         t.image(&images.depth, 0, 1, Access::ComputeStorageWrite, true);
+        t.buffer(&images.bounds, Access::ComputeStorageWrite);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
@@ -169,6 +204,16 @@ impl Pass for ReflectionsPass<'_> {
             };
             dispatch_over(rec, pipeline.raw, bindings, extent);
         }
+        // The rectangle, from the level written last or before (level 0 is bound for its size).
+        rec.tracker.image(&images.depth, 0, 1, Access::ComputeStorageRead, false);
+        rec.tracker.image(&images.depth, self.bounds_level, 1, Access::ComputeStorageRead, false);
+        rec.tracker.flush(device, cmd);
+        // SAFETY: `cmd` is recording outside a rendering scope; the set was made for this
+        // pipeline's layout and its images and buffer were declared above.
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.bounds_pipeline.raw) };
+        self.bounds.bind(cmd, vk::PipelineBindPoint::COMPUTE, &[]);
+        // SAFETY: as above.
+        unsafe { device.cmd_dispatch(cmd, 1, 1, 1) };
         rec.tracker.image(&images.depth, 0, images.depth.mip_levels, Access::ComputeSampled, false);
         rec.tracker.flush(device, cmd);
     }

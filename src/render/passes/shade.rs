@@ -27,6 +27,7 @@ const SCENE_DEPTH_BINDING: u32 = 9;
 /// in without them, its code specialized away).
 const REFLECTION_COLOUR_BINDING: u32 = 14;
 const REFLECTION_DEPTH_BINDING: u32 = 15;
+const REFLECTION_BOUNDS_BINDING: u32 = 16;
 
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
@@ -83,6 +84,7 @@ impl<'g> ShadePass<'g> {
                 (SEA_LIGHT_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (REFLECTION_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (REFLECTION_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (REFLECTION_BOUNDS_BINDING, D::STORAGE_BUFFER, compute),
             ],
         )?;
         bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, r.mean_fresnel.raw);
@@ -122,6 +124,9 @@ impl<'g> ShadePass<'g> {
             read,
             r.depth_sampler.raw,
         );
+        // Without reflections any storage buffer stands in (never read).
+        let bounds = r.reflections.as_ref().map_or(r.mean_fresnel.raw, |images| images.bounds.raw);
+        bindings.write_buffer(REFLECTION_BOUNDS_BINDING, D::STORAGE_BUFFER, bounds);
         let depth = if r.shadows || r.reflections.is_some() { &r.depth } else { &r.shadow_map };
         bindings.write_image(SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, depth.view, read, r.depth_sampler.raw);
         bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
@@ -174,6 +179,7 @@ impl Pass for ShadePass<'_> {
         if let Some(images) = &r.reflections {
             t.image(&images.colour, 0, images.colour.mip_levels, Access::ComputeSampled, false);
             t.image(&images.depth, 0, images.depth.mip_levels, Access::ComputeSampled, false);
+            t.buffer(&images.bounds, Access::ComputeStorageRead);
         }
         if self.counts {
             t.buffer(&r.train_counts, Access::ComputeStorageReadWrite);
