@@ -17,6 +17,18 @@ const float PI = 3.14159265358979;
 // The dielectric's reflectance at normal incidence (glTF's 4%: an index of 1.5).
 const float DIELECTRIC_F0 = 0.04;
 
+// The share of the sun a point p (eye-relative) of normal n sees past the waves and the objects
+// in the sun's shadow map: 1 outside the map or without the sun's view. The point is moved a
+// texel's diagonal along its normal first, so that a surface does not shadow itself between the
+// map's texel centres (the caster pass's slope bias covers the rest).
+float sun_visibility(vec3 p, vec3 n) {
+    if (frame.shadow.x == 0.0) return 1.0;
+    vec4 clip = frame.sun_clip_from_relative * vec4(p + n * frame.shadow.y, 1.0);
+    vec3 map = vec3(clip.xy * 0.5 + 0.5, clip.z);
+    if (any(lessThan(map, vec3(0.0))) || any(greaterThan(map, vec3(1.0)))) return 1.0;
+    return texture(sun_shadow_map, map);
+}
+
 // Bilinear in the irradiance table (model::environment::table_lookup).
 vec3 irradiance(vec3 n) {
     float theta = acos(clamp(n.z, -1.0, 1.0));
@@ -107,7 +119,7 @@ void main() {
         float vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
         vec3 specular = f * (d * vis);
         vec3 diffuse = (1.0 - f) * diffuse_albedo / PI;
-        radiance += (diffuse + specular) * frame.sun_irradiance.rgb * nl;
+        radiance += (diffuse + specular) * frame.sun_irradiance.rgb * (nl * sun_visibility(p, face));
     }
     // The environment: its irradiance for the diffuse part, and for the specular part the same
     // low-frequency light about the mirror direction, weighted by the split-sum's directional

@@ -13,6 +13,10 @@ layout(set = 0, binding = 0) uniform ObjectFrame {
     // rgb: the sun's irradiance on a surface facing it (host unit x sr); w: the colour
     // format's largest finite value.
     vec4 sun_irradiance;
+    // Eye-relative world to the sun's shadow map's clip space (embed::Ocean::sun_shadow).
+    mat4 sun_clip_from_relative;
+    // x: 1 where the map holds the sun's view this frame, 0 where everything is lit.
+    vec4 shadow;
     // The environment's irradiance on a surface of each normal: rows of zenith angles from the
     // zenith to the nadir, columns of azimuths from +x (model::environment's table).
     vec4 irradiance[IRRADIANCE_ROWS * IRRADIANCE_COLUMNS];
@@ -28,6 +32,8 @@ struct Instance {
     vec4 transmittance;
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { Instance instances[]; };
+// The sun's shadow map: the waves and every object, seen from the sun (depth 0 nearest it).
+layout(set = 0, binding = 2) uniform sampler2DShadow sun_shadow_map;
 
 // Set 1: the model's vertices (pulled by index) and a material's textures.
 struct Vertex {

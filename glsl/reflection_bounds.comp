@@ -4,7 +4,7 @@
 // reflected ray whose screen path misses the rectangle, or stays nearer than every object,
 // meets nothing, and skips its march (glsl/shade.glsl local_reflection). One
 // workgroup; each invocation folds a strided share of the level's cells.
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 0, r32f) uniform readonly image2D base;     // level 0: its size only
 layout(set = 0, binding = 1, r32f) uniform readonly image2D coarse;   // level `shift`
 layout(set = 0, binding = 2, std430) writeonly buffer Bounds { vec4 rect; float nearest; } bounds;
@@ -30,7 +30,7 @@ void main() {
     ivec2 cells = imageSize(coarse), pixels = imageSize(base);
     ivec4 mine = ivec4(0x7fffffff, 0x7fffffff, -1, -1);
     float nearest = NO_OBJECT;
-    for (int k = int(i); k < cells.x * cells.y; k += 256) {
+    for (int k = int(i); k < cells.x * cells.y; k += 64) {
         ivec2 c = ivec2(k % cells.x, k / cells.x);
         float depth = imageLoad(coarse, c).r;
         if (!(depth < NO_OBJECT)) continue;

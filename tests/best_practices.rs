@@ -37,6 +37,7 @@ fn a_host_frame_passes_the_best_practices_checks() {
         radiance_scale: 1.0,
         shading: Default::default(),
         in_place: None,
+        shadow_casters: false,
     };
     let mut ocean = Ocean::new(&gpu, desc).unwrap();
     use vk::ImageUsageFlags as U;

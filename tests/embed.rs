@@ -233,6 +233,7 @@ fn desc(scene: Scene, reversed: bool) -> OceanDesc {
         radiance_scale: 1.0,
         shading: Default::default(),
         in_place: None,
+        shadow_casters: false,
     }
 }
 

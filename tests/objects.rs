@@ -72,10 +72,17 @@ fn first_object_in_world(scene: &Scene, width: u32, height: u32) -> impl Fn([f64
     move |model_point| eye + placement.relative_from_model.transform_point3(DVec3::from(model_point))
 }
 
+/// `settings` (scene keys) with the boat `ahead_m` in front of the eye, bow north, fixed.
+fn boat_scene(settings: &str, ahead_m: f64, name: &str) -> Scene {
+    let boat = root().join("scenes/models/boat.gltf");
+    let object =
+        format!("[[object]]\nfile = \"{}\"\nposition_m = [{ahead_m}, 0.0, 0.0]\nheading_deg = 90.0\n", boat.display());
+    Scene::parse(&format!("{settings}\n{object}"), name).unwrap()
+}
+
 /// A calm sea with the boat beam-on 20 m ahead, its waterline at mean sea level.
 fn calm_boat() -> Scene {
-    let text = format!(
-        r#"
+    let settings = r#"
         [camera]
         height_m = 3.0
         pitch_deg = -8.0
@@ -85,14 +92,8 @@ fn calm_boat() -> Scene {
         [sun]
         elevation_deg = 40.0
         azimuth_deg = 180.0
-        [[object]]
-        file = "{}"
-        position_m = [20.0, 0.0, 0.0]
-        heading_deg = 90.0
-        "#,
-        root().join("scenes/models/boat.gltf").display()
-    );
-    Scene::parse(&text, "calm_boat.toml").unwrap()
+        "#;
+    boat_scene(settings, 20.0, "calm_boat.toml")
 }
 
 /// Shading without the sea's reflections of the objects: what occlusion alone leaves.
@@ -205,7 +206,9 @@ fn measurements_of_the_oceans_own_frame_refuse_objects() {
 #[test]
 fn from_inside_a_hull_the_eye_sees_the_sea_through_its_walls() {
     let gpu = gpu();
-    let scene = Scene::load(&root().join("scenes/extreme/objects/eye_inside.toml")).unwrap();
+    let mut scene = Scene::load(&root().join("scenes/extreme/objects/eye_inside.toml")).unwrap();
+    // The walls alone: the ship's shadow on the sea around it is not what is looked for here.
+    scene.render.shadow_map = ocean::model::scene::ShadowMapMode::Off;
     let (w, h) = (256, 192);
     let (report, inside) = common::render_with(&gpu, &scene, w, h, without_reflections());
     assert_clean(&report, "eye inside");
@@ -251,4 +254,84 @@ fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
         .fold(0.0, f32::max);
     let sea = warmth(at(&plain, pixel));
     assert!(best > 1.5 * sea && best > 0.5, "the cabin's image at {pixel:?}: warmth {best} against the sea's {sea}");
+}
+
+/// The boat 52 m ahead with the sun low behind it, seen from 25 m up: its hull's shadow falls
+/// towards the eye across the sun's glitter, which reaches it on a 3 m/s sea.
+fn boat_against_the_sun(shadow_map: &str) -> Scene {
+    let settings = format!(
+        r#"
+        [camera]
+        height_m = 25.0
+        pitch_deg = -35.0
+        fov_y_deg = 50.0
+        [wind]
+        speed_mps = 3.0
+        [sun]
+        elevation_deg = 15.0
+        azimuth_deg = 5.0
+        [render]
+        shadow_map = "{shadow_map}"
+        "#
+    );
+    boat_scene(&settings, 52.0, "boat_against_the_sun.toml")
+}
+
+/// The objects are in the sun's shadow map: the sea's reflected sun goes where the sunlight
+/// through the hull's box meets the sea (its corners carried along the sunlight onto the mean
+/// sea, projected), and nowhere else; beside that region, at the same distance, the glitter
+/// stays. Only the sun term: the shadow takes nothing else.
+#[test]
+fn the_objects_shadow_the_sea() {
+    let gpu = gpu();
+    let (w, h) = (480, 360);
+    let sun_only = ocean::embed::Shading {
+        shader: ocean::embed::ShaderConfig {
+            reflections: false,
+            terms: ocean::embed::Terms { sun: true, sky: false, sea: false },
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let scene = boat_against_the_sun("auto");
+    let (report, shadowed) = common::render_with(&gpu, &scene, w, h, sun_only);
+    assert_clean(&report, "boat against the sun");
+    let (_, unshadowed) = common::render_with(&gpu, &boat_against_the_sun("off"), w, h, sun_only);
+    // A box inside the hull above the water (model space: x along, y up, z across), and its
+    // shadow.
+    let world = first_object_in_world(&scene, w, h);
+    let (e, a) = (scene.sun.elevation_deg.to_radians(), scene.sun.azimuth_deg.to_radians());
+    let sun = DVec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin());
+    let mut shadow = (usize::MAX, usize::MAX, 0, 0);
+    let mut hull = shadow;
+    for corner in 0..8 {
+        let pick = |bit: u32, lo: f64, hi: f64| if corner & (1 << bit) != 0 { hi } else { lo };
+        let p = world([pick(0, -2.0, 2.0), pick(1, 0.0, 0.7), pick(2, -0.7, 0.7)]);
+        let on_sea = p - sun * (p.z / sun.z);
+        for (rect, q) in [(&mut shadow, on_sea), (&mut hull, p)] {
+            let (x, y) = project(&scene, w, h, q).expect("on the picture");
+            *rect = (rect.0.min(x), rect.1.min(y), rect.2.max(x), rect.3.max(y));
+        }
+    }
+    let luminance = |p: [f32; 4]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    // The mean sun term over the rows of the shadow below the hull, in columns `cols`.
+    let rows = (hull.3 + 2)..=shadow.3;
+    assert!(!rows.is_empty(), "the shadow {shadow:?} reaches below the hull {hull:?}");
+    let mean = |frame: &RenderedFrame, cols: std::ops::RangeInclusive<usize>| {
+        let (mut sum, mut n) = (0.0, 0);
+        for y in rows.clone() {
+            for x in cols.clone() {
+                sum += luminance(frame.hdr[y * w as usize + x]) as f64;
+                n += 1;
+            }
+        }
+        sum / n as f64
+    };
+    let inside = shadow.0..=shadow.2;
+    let width = shadow.2 - shadow.0;
+    let beside = (shadow.2 + width)..=(shadow.2 + 2 * width);
+    let (lit, dark) = (mean(&unshadowed, inside.clone()), mean(&shadowed, inside));
+    assert!(lit > 0.0 && dark < 0.5 * lit, "in the hull's shadow {shadow:?}: {dark} against {lit} unshadowed");
+    let (lit, kept) = (mean(&unshadowed, beside.clone()), mean(&shadowed, beside));
+    assert!(kept > 0.85 * lit, "beside the shadow: {kept} against {lit} unshadowed");
 }

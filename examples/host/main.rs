@@ -133,6 +133,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         radiance_scale: 1.0,
         shading: Default::default(),
         in_place: None, // the buoy is drawn into our colour first: the ocean composites into it
+        shadow_casters: false,
     };
     let mut ocean = Ocean::new(&gpu, desc)?;
     let buoy = BuoyPipeline::new(&host)?;

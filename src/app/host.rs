@@ -99,6 +99,7 @@ impl<'g> OffscreenHost<'g> {
             radiance_scale: 1.0,
             shading,
             in_place: in_place.then(|| HostImage::from(&colour)),
+            shadow_casters: objects.is_some(),
         };
         let ocean = Ocean::new(gpu, desc)?;
         let pixels = width as u64 * height as u64;
@@ -147,6 +148,9 @@ impl<'g> OffscreenHost<'g> {
         self.cpu_spans.clear();
         let t = host_now_ns();
         let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
+        if let Some((objects, _)) = &self.objects {
+            self.ocean.set_shadow_casters(objects.shadow_casters(scene, view, projection))?;
+        }
         self.ocean.update(0, &FrameInput { time_s: scene.render.time_s, view, projection })?;
         self.cpu_spans.push("scene and waves", t);
         if let Some((objects, _)) = &mut self.objects {
@@ -198,6 +202,8 @@ impl<'g> OffscreenHost<'g> {
             ImageState::new(vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
         let mut targets = Targets { colour, colour_entry: discarded, depth: None, ldr: Some((ldr, discarded)) };
         if let Some((objects, depth_image)) = &self.objects {
+            // The sun's map first (the waves and the objects), which the objects then sample.
+            self.ocean.record_shadows(cmd, 0, &mut |cmd, _| objects.record_casters(cmd, 0))?;
             let depth = HostImage::from(depth_image);
             self.profiler.begin(device, cmd, crate::app::objects::NAME);
             self.tracker.image(&colour, 0, 1, Access::ColorAttachmentWrite, true);

@@ -18,11 +18,12 @@ use crate::render::frame::FrameData;
 use crate::render::passes::HostTargets;
 use crate::render::renderer::{HostOutput, Options, Output, Prepared, Renderer};
 use crate::render::specialize::{self, Omission};
+use crate::render::sun_shadow::CasterBox;
 use crate::vk::device::{HDR_BITS_FORMAT, HDR_FORMAT};
 use crate::vk::external::{hdr_format_max, HOST_DEPTH_FORMATS};
 use ash::vk;
 use camera::HostView;
-use glam::DMat4;
+use glam::{DMat4, DVec3};
 
 pub use crate::render::passes::composite::HostFormats;
 pub use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
@@ -99,6 +100,11 @@ pub struct OceanDesc {
     /// keeps it alive while the ocean lives, and hands it as the colour target of every frame.
     /// Such an ocean is made again for a new size (with a new image), not resized.
     pub in_place: Option<HostImage>,
+    /// Whether the host draws shadow casters (its objects) into the sun's shadow map each frame
+    /// ([`Ocean::record_shadows`]) and samples it ([`Ocean::sun_shadow`]): the map is then made
+    /// wherever the sun term is, displaced waves or not, and fitted to the box the host gives
+    /// ([`Ocean::set_shadow_casters`]) as well as to the sea.
+    pub shadow_casters: bool,
 }
 
 /// The usages of a host's colour image the ocean draws in place ([`OceanDesc::in_place`]): the
@@ -153,6 +159,7 @@ impl OceanDesc {
             radiance_scale: self.radiance_scale,
             sky: self.sky,
             in_place: self.in_place,
+            shadow_casters: self.shadow_casters,
         }
     }
 }
@@ -229,7 +236,35 @@ pub struct Ocean<'g> {
     /// Why the last rebuild (a resize or a scene change) failed: until one succeeds, the ocean
     /// has no pipelines and every update and record says so.
     broken: Option<String>,
+    /// The box (world, m) holding the host's shadow casters, for the next updates.
+    casters: Option<(DVec3, DVec3)>,
+    /// The sun's view of the last update: camera-relative world to the shadow map's clip space,
+    /// and a texel's larger side (m).
+    sun_view: Option<(glam::Mat4, f64)>,
 }
+
+/// The sun's shadow map, for a host's fragment shaders to shadow its objects by the waves and by
+/// each other ([`Ocean::sun_shadow`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunShadow {
+    /// The map's view (a depth format), in SHADER_READ_ONLY_OPTIMAL after
+    /// [`Ocean::record_shadows`], readable by fragment shaders until [`Ocean::record`].
+    pub view: vk::ImageView,
+    /// A comparing sampler (LESS_OR_EQUAL: 1 where lit), clamped to the edge.
+    pub sampler: vk::Sampler,
+    /// Camera-relative world (origin at the eye, z up, m) to the map's clip space (x, y over
+    /// [-1, 1], depth over [0, 1] nearest the sun first); None while the sun has no view (below
+    /// the horizon): everything is lit by the sun the ocean reports.
+    pub clip_from_relative: Option<glam::Mat4>,
+    /// A texel's larger side on a surface across the sunlight (m; 0 without a view): how far a
+    /// receiver is moved along its normal before the lookup, for the map's texels not to shadow
+    /// the surface they were drawn from.
+    pub texel_m: f64,
+}
+
+pub use crate::render::passes::shadow::{CasterView, DEPTH_BIAS as SHADOW_DEPTH_BIAS};
+/// The sun's shadow map's format, for a host's caster pipeline.
+pub const SHADOW_FORMAT: vk::Format = crate::vk::device::DEPTH_FORMAT;
 
 impl<'g> Ocean<'g> {
     /// Makes the ocean's pipelines and resources on the host's device. Fails naming a format the
@@ -249,6 +284,8 @@ impl<'g> Ocean<'g> {
             light: None,
             last_frame: None,
             broken: None,
+            casters: None,
+            sun_view: None,
             desc,
         };
         ocean.build()?;
@@ -418,7 +455,9 @@ impl<'g> Ocean<'g> {
         let max = hdr_format_max(self.desc.formats.colour).unwrap_or(65504.0);
         let host = (mat4_f32(view.clip_from_relative), [self.desc.radiance_scale, max, far, 0.0]);
         renderer.begin_host_frame(slot)?;
-        let prepared = renderer.prepare_host(slot, &scene, host)?;
+        let casters = self.casters.map(|(min, max)| CasterBox { min: min - view.eye, max: max - view.eye });
+        let prepared = renderer.prepare_host(slot, &scene, host, casters)?;
+        self.sun_view = prepared.data().sun_view.map(|v| (v.view_proj.as_mat4(), v.texel_m[0].max(v.texel_m[1])));
         let u = &prepared.data().uniforms;
         let unit = |v: [f32; 4]| [v[0], v[1], v[2]].map(|x| x * self.desc.radiance_scale);
         self.light = Some(Light {
@@ -546,6 +585,59 @@ impl<'g> Ocean<'g> {
     /// counts them ([`ShaderConfig::count_trains`]; profiling only).
     pub fn train_counts(&self) -> Result<Option<TrainCounts>> {
         self.renderer.as_ref().map_or(Ok(None), |r| r.train_counts())
+    }
+
+    /// Sets the box (the ocean's world, m: its least and greatest corners) that holds the shadow
+    /// casters the host draws in [`Ocean::record_shadows`], for the sun's view of the next
+    /// updates to cover them and the sea they shadow; None: no casters. Fails naming a corner
+    /// that is not finite or a box turned inside out.
+    pub fn set_shadow_casters(&mut self, bounds: Option<(DVec3, DVec3)>) -> Result<()> {
+        if let Some((min, max)) = bounds {
+            if !(min.is_finite() && max.is_finite()) {
+                return Err(Error::Argument(format!("shadow casters' box {min} .. {max} is not finite")));
+            }
+            if min.cmpgt(max).any() {
+                return Err(Error::Argument(format!(
+                    "shadow casters' box {min} .. {max}: a least corner above its greatest"
+                )));
+            }
+        }
+        self.casters = bounds;
+        Ok(())
+    }
+
+    /// Records the sun's shadow map of frame `slot` (updated, not yet recorded) into the host's
+    /// command buffer `cmd` (recording, outside a rendering scope), before the host draws its
+    /// objects: the waves, then `casters`, which the host records its casters' draws with
+    /// (inside the map's rendering scope: a depth-only pipeline for [`SHADOW_FORMAT`], compare
+    /// LESS, bias [`SHADOW_DEPTH_BIAS`]; not called while the sun has no view). The map is then
+    /// readable by the host's fragment shaders ([`Ocean::sun_shadow`]) until [`Ocean::record`]
+    /// of the same frame, which then does not draw it again. Needs [`OceanDesc::shadow_casters`];
+    /// Ok(false) where the ocean has no shadow map (no sun term, or `render.shadow_map` off).
+    pub fn record_shadows(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        casters: &mut dyn FnMut(vk::CommandBuffer, &CasterView),
+    ) -> Result<bool> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        self.check_built()?;
+        if !self.desc.shadow_casters {
+            return Err(Error::Argument("record_shadows: the ocean was made without shadow_casters".into()));
+        }
+        let Some(renderer) = self.renderer.as_mut() else { return Ok(false) };
+        let prepared = self.prepared[slot]
+            .as_ref()
+            .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
+        renderer.record_host_shadows(cmd, slot, prepared, casters)
+    }
+
+    /// The sun's shadow map of the last update, where the ocean has one; its contents are the
+    /// frame's after [`Ocean::record_shadows`].
+    pub fn sun_shadow(&self) -> Option<SunShadow> {
+        let (view, sampler) = self.renderer.as_ref()?.sun_shadow_map()?;
+        let (clip_from_relative, texel_m) = self.sun_view.map_or((None, 0.0), |(m, t)| (Some(m), t));
+        Some(SunShadow { view, sampler, clip_from_relative, texel_m })
     }
 
     /// The names of the ocean's passes in a frame, in order.

@@ -432,6 +432,18 @@ fn mat(m: Mat4) -> [[f32; 4]; 4] {
 /// Frame data for rendering at `width` x `height` (with supersampling, the sample grid's size, and
 /// `cell_px` the grid cell in those samples).
 pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f64) -> FrameData {
+    build_with_casters(scene, waves, width, height, cell_px, None)
+}
+
+/// `build`, the sun's view also fitted to a host's shadow casters (sun_shadow::fit).
+pub fn build_with_casters(
+    scene: &Scene,
+    waves: &WaveSet,
+    width: u32,
+    height: u32,
+    cell_px: f64,
+    casters: Option<crate::render::sun_shadow::CasterBox>,
+) -> FrameData {
     let camera = CameraFrame::new(scene, waves, width, height);
     let grid = GridLayout::new(&camera, waves, cell_px, width, height);
     let sky = SkyModel::new(scene.sun.elevation_deg, scene.sun.azimuth_deg, scene.sky.turbidity);
@@ -476,7 +488,7 @@ pub fn build(scene: &Scene, waves: &WaveSet, width: u32, height: u32, cell_px: f
         let probes = crate::render::sun_shadow::displaced_probes(&camera, waves, cell_px, (width, height), 1.0);
         let eye = DVec3::new(scene.camera.x_m, scene.camera.y_m, camera.plane_height);
         let size = scene.render.shadow_map_size;
-        crate::render::sun_shadow::fit(&probes, waves, &camera, DVec3::from(sky.sun_dir), eye, size)
+        crate::render::sun_shadow::fit(&probes, waves, &camera, DVec3::from(sky.sun_dir), eye, size, casters)
     } else {
         None
     };

@@ -73,6 +73,8 @@ pub struct FrameSlot<'g> {
     pub grid: GridIndices<'g>,
     /// Whether a frame was recorded into a host's command buffer since the slot was last taken.
     pub host_recorded: bool,
+    /// Whether a host recorded the slot's shadow map ahead of its frame (and began its profile).
+    pub shadows_recorded: bool,
 }
 
 impl<'g> FrameSlot<'g> {
@@ -86,6 +88,7 @@ impl<'g> FrameSlot<'g> {
             submission: None,
             grid: GridIndices::new(gpu),
             host_recorded: false,
+            shadows_recorded: false,
         })
     }
 }

@@ -23,11 +23,12 @@ use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::reflections::ReflectionsPass;
 use crate::render::passes::resolve::ResolvePass;
 use crate::render::passes::shade::ShadePass;
-use crate::render::passes::shadow::ShadowPass;
+use crate::render::passes::shadow::{CasterView, ShadowPass};
 use crate::render::passes::sky_map::{SkyMapPass, SkyMipsPass};
 use crate::render::passes::tonemap::TonemapPass;
 use crate::render::passes::{Frame, HostTargets, Pass, Recorder};
 use crate::render::resources::{ResourceSpec, Resources};
+use crate::render::sun_shadow::CasterBox;
 use crate::render::timeline::{CpuSpans, GpuFrame, Submission};
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::clock::{host_now_ns, DeviceClock};
@@ -73,6 +74,9 @@ pub struct HostOutput {
     /// The host's colour image, drawn in place of the ocean's own HDR image (a frame wholly the
     /// ocean's: `owns_frame`; embed::OceanDesc::in_place).
     pub in_place: Option<HostImage>,
+    /// Whether the host draws shadow casters into the sun's map (embed::OceanDesc::shadow_casters):
+    /// the map is then made wherever the sun term is, displaced waves or not.
+    pub shadow_casters: bool,
 }
 
 impl HostOutput {
@@ -103,6 +107,13 @@ pub struct Options {
     pub frames_in_flight: u32,
     /// Pipeline statistics per pass, where the device has them (profiling; off for normal frames).
     pub statistics: bool,
+}
+
+impl Options {
+    /// Whether a host draws shadow casters into the sun's map (HostOutput::shadow_casters).
+    pub fn casts_shadows(&self) -> bool {
+        matches!(self.output, Output::Host(h) if h.shadow_casters)
+    }
 }
 
 impl Default for Options {
@@ -162,6 +173,8 @@ pub struct Renderer<'g> {
     cpu_spans: CpuSpans,
     clock: DeviceClock,
     /// In execution order.
+    /// The sun's shadow map pass, outside `passes`: a host may record it ahead of the frame.
+    shadow: Option<ShadowPass<'g>>,
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
     tracker: Tracker,
@@ -256,7 +269,8 @@ impl<'g> Renderer<'g> {
         );
         // The sun's shadow map: only for the sun term over a displaced grid, unless the scene
         // turns it off.
-        options.shader.shadow &= options.shader.shadow_map_unneeded(scene.render.shadow_map).is_none();
+        options.shader.shadow &=
+            options.shader.shadow_map_unneeded(scene.render.shadow_map, options.casts_shadows()).is_none();
         // The sea reflects a host's objects: in its frame with depth, through the sky term.
         let host_depth = matches!(options.output, Output::Host(h) if h.formats.depth.is_some());
         options.shader.reflections &= host_depth && options.shader.terms.sky && !options.shader.draws_nothing();
@@ -281,6 +295,10 @@ impl<'g> Renderer<'g> {
             reflections: options.shader.reflections,
         };
         let resources = Resources::new(gpu, &spec)?;
+        // First in every frame, or recorded ahead of it by a host that draws casters into it.
+        let shadow = (options.shader.shadow && !options.shader.draws_nothing())
+            .then(|| ShadowPass::new(device, &resources, options.shader))
+            .transpose()?;
         let mut passes: Vec<Box<dyn Pass + 'g>> = Vec::new();
         if !resources.placeholders().is_empty() {
             passes.push(Box::new(PlaceholdersPass));
@@ -303,9 +321,6 @@ impl<'g> Renderer<'g> {
         if options.shader.draws_nothing() {
             passes.push(Box::new(BlackPass));
         } else {
-            if options.shader.shadow {
-                passes.push(Box::new(ShadowPass::new(device, &resources, options.shader)?));
-            }
             passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
             if let Some(images) = &resources.reflections {
                 passes.push(Box::new(ReflectionsPass::new(gpu, &resources, images, frames_in_flight)?));
@@ -351,7 +366,7 @@ impl<'g> Renderer<'g> {
                 passes.push(Box::new(ReadbackPass));
             }
         }
-        let scopes = passes.len() as u32;
+        let scopes = (passes.len() + usize::from(shadow.is_some())) as u32;
         let slots = (0..frames_in_flight as usize)
             .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics))
             .collect::<Result<Vec<_>>>()?;
@@ -368,6 +383,7 @@ impl<'g> Renderer<'g> {
             last_gpu_frame: None,
             cpu_spans: CpuSpans::default(),
             clock: DeviceClock::new(device),
+            shadow,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -417,7 +433,7 @@ impl<'g> Renderer<'g> {
 
     /// The names of the passes, in execution order.
     pub fn pass_names(&self) -> Vec<&'static str> {
-        self.passes.iter().map(|p| p.name()).collect()
+        self.shadow.iter().map(|p| p.name()).chain(self.passes.iter().map(|p| p.name())).collect()
     }
 
     /// GPU time per pass (ms) of the most recent frame known to be finished.
@@ -535,14 +551,21 @@ impl<'g> Renderer<'g> {
     /// The host's part of a frame in `slot`: checks the scene against the renderer, builds the
     /// frame and writes the slot's uniforms and grid.
     fn prepare(&mut self, slot: usize, scene: &Scene) -> Result<Prepared> {
-        self.prepare_with(slot, scene, None)
+        self.prepare_with(slot, scene, None, None)
     }
 
     /// `prepare` for a frame in a host's frame: `host` holds the camera-relative world to the
     /// host's clip space and the host's radiance scale, colour maximum and far depth
     /// (FrameUniforms::host_clip, host).
-    pub fn prepare_host(&mut self, slot: usize, scene: &Scene, host: ([[f32; 4]; 4], [f32; 4])) -> Result<Prepared> {
-        self.prepare_with(slot, scene, Some(host))
+    /// `casters` holds the host's shadow casters (camera-relative), for the sun's view to cover.
+    pub fn prepare_host(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        host: ([[f32; 4]; 4], [f32; 4]),
+        casters: Option<CasterBox>,
+    ) -> Result<Prepared> {
+        self.prepare_with(slot, scene, Some(host), casters)
     }
 
     fn prepare_with(
@@ -550,6 +573,7 @@ impl<'g> Renderer<'g> {
         slot: usize,
         scene: &Scene,
         host: Option<([[f32; 4]; 4], [f32; 4])>,
+        casters: Option<CasterBox>,
     ) -> Result<Prepared> {
         if Tone::of(scene) != self.tone {
             return Err(Error::Argument(format!(
@@ -579,8 +603,8 @@ impl<'g> Renderer<'g> {
         }
         let wave_set = waves::generate(scene);
         let k = self.ssaa;
-        let mut data =
-            frame::build(scene, &wave_set, self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
+        let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
+        let mut data = frame::build_with_casters(scene, &wave_set, width, height, cell_px, casters);
         data.uniforms.tone[1] = self.sky_map_extent;
         if let Some((clip, values)) = host {
             data.uniforms.host_clip = clip;
@@ -693,20 +717,20 @@ impl<'g> Renderer<'g> {
         let eye_current = sky_current && self.eye_built.as_ref() == Some(&eye);
         self.eye_built = Some(eye);
         self.sky_in_map = Some(sky);
-        let s = &self.slots[slot];
-        let frame = Frame {
-            slot,
-            uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
-            grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
-            sky_rows: data.sky_rows,
-            sea_rows: data.sea_rows,
-            sun_view: data.sun_view.is_some(),
-            host,
-        };
-
+        let frame = self.frame(slot, &data, host);
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        s.profiler.reset(&device.raw, cmd);
+        // A host that recorded the shadow map ahead began the slot's profile with it.
+        if !std::mem::take(&mut s.shadows_recorded) {
+            s.profiler.reset(&device.raw, cmd);
+            if let Some(pass) = &self.shadow {
+                s.profiler.begin(device, cmd, pass.name());
+                pass.declare(&self.resources, &frame, &mut self.tracker);
+                self.tracker.flush(&device.raw, cmd);
+                pass.record(&mut Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame }, &self.resources);
+                s.profiler.end(device, cmd);
+            }
+        }
         let skipped = |p: &(dyn Pass + 'g)| {
             (sky_current && p.builds_sky_map())
                 || (air_current && p.builds_for_sky())
@@ -722,6 +746,55 @@ impl<'g> Renderer<'g> {
             s.profiler.end(device, cmd);
         }
         Ok(data)
+    }
+
+    /// What the passes of frame `data` in `slot` read of it.
+    fn frame(&self, slot: usize, data: &FrameData, host: Option<HostTargets>) -> Frame {
+        let s = &self.slots[slot];
+        Frame {
+            slot,
+            uniform_offsets: [self.resources.frame_uniforms.offset(slot), self.resources.waves.offset(slot)],
+            grid: s.grid.buffer.as_ref().filter(|_| s.grid.count > 0).map(|b| (b.raw, s.grid.count)),
+            sky_rows: data.sky_rows,
+            sea_rows: data.sea_rows,
+            sun_view: data.sun_view.is_some(),
+            host,
+        }
+    }
+
+    /// Records the sun's shadow map of frame `prepared` in `slot` into a host's command buffer
+    /// `cmd` ahead of the frame (embed::Ocean::record_shadows), `casters` drawing the host's
+    /// shadow casters into it, and leaves it for the host's fragment shaders to sample. Does
+    /// nothing where the renderer has no shadow pass (Ok(false)).
+    pub fn record_host_shadows(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        prepared: &Prepared,
+        casters: &mut dyn FnMut(vk::CommandBuffer, &CasterView),
+    ) -> Result<bool> {
+        let Some(pass) = &self.shadow else { return Ok(false) };
+        let frame = self.frame(slot, &prepared.data, None);
+        let device = &self.gpu.device;
+        let s = &mut self.slots[slot];
+        s.profiler.reset(&device.raw, cmd);
+        s.profiler.begin(device, cmd, pass.name());
+        pass.declare(&self.resources, &frame, &mut self.tracker);
+        self.tracker.flush(&device.raw, cmd);
+        let view = prepared.data.sun_view.map(|v| CasterView { clip_from_relative: v.view_proj.as_mat4() });
+        let mut rec = Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame };
+        pass.record_casting(&mut rec, &self.resources, view.map(|v| (v, casters)));
+        s.profiler.end(device, cmd);
+        self.tracker.image(&self.resources.shadow_map, 0, 1, Access::FragmentSampled, false);
+        self.tracker.flush(&device.raw, cmd);
+        s.shadows_recorded = true;
+        Ok(true)
+    }
+
+    /// The sun's shadow map (SHADER_READ_ONLY_OPTIMAL after `record_host_shadows`) and its
+    /// comparing sampler, where the renderer has a shadow pass.
+    pub fn sun_shadow_map(&self) -> Option<(vk::ImageView, vk::Sampler)> {
+        self.shadow.as_ref().map(|_| (self.resources.shadow_map.view, self.resources.shadow_sampler.raw))
     }
 
     /// Waits for every frame in flight.

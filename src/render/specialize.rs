@@ -174,7 +174,9 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             );
         }
     }
-    if let (true, Some(why)) = (options.shader.shadow, options.shader.shadow_map_unneeded(scene.render.shadow_map)) {
+    if let (true, Some(why)) =
+        (options.shader.shadow, options.shader.shadow_map_unneeded(scene.render.shadow_map, options.casts_shadows()))
+    {
         options.shader.shadow = false;
         // Off is the scene's choice, not an omission: nothing requested is dropped.
         if scene.render.shadow_map != ShadowMapMode::Off {

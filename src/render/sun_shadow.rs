@@ -73,14 +73,29 @@ pub struct SunView {
     pub texel_m: [f64; 2],
 }
 
+/// The box (camera-relative world, m) holding the shadow casters a host draws into the sun's map
+/// (embed::Ocean::record_shadows): the map then covers them and the sea their shadows fall on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CasterBox {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl CasterBox {
+    pub fn corners(&self) -> impl Iterator<Item = DVec3> + '_ {
+        (0..8).map(|i| DVec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), self.max, self.min))
+    }
+}
+
 /// Texel sides are snapped to quarter octaves, and the map's centre to whole texels of the
 /// world (not of the eye), so that a moving eye or a turning view does not crawl the shadows'
 /// edges across texels frame by frame.
 const TEXEL_STEPS_PER_OCTAVE: f64 = 4.0;
 
 /// Fits the sun's view to the sea the grid displaces (`probes`, rest positions) and to the
-/// waves that can shadow it from towards the sun; None with the sun at or below the horizon or
-/// nothing displaced. `eye` is the eye's world position (m), `size` the map's texels per side.
+/// waves that can shadow it from towards the sun, and to a host's `casters` and the sea below
+/// them; None with the sun at or below the horizon or nothing displaced and no casters. `eye`
+/// is the eye's world position (m), `size` the map's texels per side.
 pub fn fit(
     probes: &[DVec2],
     waves: &WaveSet,
@@ -88,8 +103,9 @@ pub fn fit(
     sun_dir: DVec3,
     eye: DVec3,
     size: u32,
+    casters: Option<CasterBox>,
 ) -> Option<SunView> {
-    if sun_dir.z <= 0.0 || probes.is_empty() {
+    if sun_dir.z <= 0.0 || (probes.is_empty() && casters.is_none()) {
         return None;
     }
     // Light axes: `across` horizontal, `up` across the sunlight in its vertical plane.
@@ -116,6 +132,17 @@ pub fn fit(
                 lo = lo.min(light);
                 hi = hi.max(light);
             }
+        }
+    }
+    // A caster's corners, and where the sunlight through each meets the lowest trough below it
+    // (the same texel across the light, farther along it): its shadow on the sea.
+    for corner in casters.iter().flat_map(|c| c.corners().collect::<Vec<_>>()) {
+        let trough = camera.sea_point(corner.truncate()).z - amplitude;
+        let down = ((corner.z - trough) / toward_sun.z).max(0.0);
+        for world in [corner, corner - toward_sun * down] {
+            let light = DVec3::new(world.dot(across), world.dot(up), world.dot(toward_sun));
+            lo = lo.min(light);
+            hi = hi.max(light);
         }
     }
     // The probes are a sample: a probe's spacing more on every side.

@@ -46,6 +46,8 @@ struct FrameUniforms {
     clip_from_relative: [[f32; 4]; 4],
     sun_direction: [f32; 4],
     sun_irradiance: [f32; 4],
+    sun_clip_from_relative: [[f32; 4]; 4],
+    shadow: [f32; 4],
     irradiance: [[f32; 4]; IRRADIANCE_ROWS * IRRADIANCE_COLUMNS],
 }
 
@@ -73,6 +75,8 @@ pub struct ObjectFrame<'a> {
     pub radiance_scale: f64,
     /// The colour format's largest finite value.
     pub colour_max: f32,
+    /// The ocean's sun shadow map (embed::Ocean::sun_shadow), where it has one (None from `new`).
+    pub sun_shadow: Option<crate::embed::SunShadow>,
 }
 
 impl<'a> ObjectFrame<'a> {
@@ -96,6 +100,7 @@ impl<'a> ObjectFrame<'a> {
             light,
             radiance_scale,
             colour_max,
+            sun_shadow: None,
         }
     }
 }
@@ -111,8 +116,15 @@ pub struct Objects<'g> {
     instances: Buffer<'g>,
     instance_stride: u64,
     models: Vec<GpuModel<'g>>,
-    /// White (sRGB) and a flat normal (linear) for materials without textures.
-    _stand_ins: Vec<Image<'g>>,
+    /// White (sRGB) and a flat normal (linear) for materials without textures, and a lit 1 x 1
+    /// shadow map for an ocean without one.
+    stand_ins: Vec<Image<'g>>,
+    /// Samples the stand-in shadow map.
+    stand_in_shadow_sampler: Owned<'g, vk::Sampler>,
+    /// The shadow map the frame set names (its view changes when the ocean is made again).
+    shadow_bound: vk::ImageView,
+    /// Each model's bounds (model space).
+    model_bounds: Vec<(glam::Vec3, glam::Vec3)>,
     /// Per model, one set per material.
     material_sets: Vec<Vec<vk::DescriptorSet>>,
     /// The scene's objects and the model each draws.
@@ -155,7 +167,12 @@ impl<'g> Objects<'g> {
         slots: u32,
     ) -> Result<Self> {
         let (models, model_of) = load_models(objects)?;
-        let stand_ins = [([255, 255, 255, 255], BASE_COLOUR_FORMAT), ([128, 128, 255, 255], NORMAL_MAP_FORMAT)];
+        let lit = 1f32.to_ne_bytes();
+        let stand_ins = [
+            ([255, 255, 255, 255], BASE_COLOUR_FORMAT),
+            ([128, 128, 255, 255], NORMAL_MAP_FORMAT),
+            (lit, crate::embed::SHADOW_FORMAT),
+        ];
         let (gpu_models, stand_in_images) = upload::upload(gpu, &models, &stand_ins)?;
         let material_count: u32 = gpu_models.iter().map(|m| m.materials.len().max(1) as u32).sum();
         let pipelines = ObjectPipelines::new(&gpu.device, colour, depth, reversed_z, material_count)?;
@@ -176,6 +193,18 @@ impl<'g> Objects<'g> {
         // SAFETY: valid create info; anisotropy only where the feature was enabled.
         let sampler = unsafe { raw.create_sampler(&sampler_info, None) }.during("vkCreateSampler")?;
         let sampler = Owned::new(&gpu.device, sampler, "object textures");
+        let compare_info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL);
+        // SAFETY: valid create info.
+        let compare = unsafe { raw.create_sampler(&compare_info, None) }.during("vkCreateSampler")?;
+        let compare = Owned::new(&gpu.device, compare, "object stand-in shadow");
+        let shadow_bound = stand_in_images[2].view;
+        pipeline::write_texture(raw, pipelines.frame_set, pipeline::SUN_SHADOW, shadow_bound, compare.raw);
 
         let align = |size: u64, to: u64| size.div_ceil(to.max(1)) * to.max(1);
         let uniform_stride =
@@ -246,7 +275,10 @@ impl<'g> Objects<'g> {
             instances,
             instance_stride,
             models: gpu_models,
-            _stand_ins: stand_in_images,
+            stand_ins: stand_in_images,
+            stand_in_shadow_sampler: compare,
+            shadow_bound,
+            model_bounds: models.iter().map(|m| m.bounds).collect(),
             material_sets,
             objects: objects.iter().cloned().zip(model_of).collect(),
             waterplanes,
@@ -275,8 +307,104 @@ impl<'g> Objects<'g> {
         let waves = crate::model::waves::generate(scene);
         let desc = ocean.desc();
         let max = hdr_format_max(desc.formats.colour).unwrap_or(f32::MAX);
-        let frame = ObjectFrame::new(scene, &waves, view, projection, &light, desc.radiance_scale as f64, max);
+        let frame = ObjectFrame {
+            sun_shadow: ocean.sun_shadow(),
+            ..ObjectFrame::new(scene, &waves, view, projection, &light, desc.radiance_scale as f64, max)
+        };
         self.update(slot, &frame)
+    }
+
+    /// The box (world, m) holding the objects of `scene` in the view of `view` and `projection`,
+    /// for the ocean's sun view to cover them (embed::Ocean::set_shadow_casters); None when
+    /// none is in view. An object outside the view casts no shadow (the map covers what is
+    /// seen).
+    pub fn shadow_casters(&self, scene: &Scene, view: DMat4, projection: DMat4) -> Option<(DVec3, DVec3)> {
+        let waves = crate::model::waves::generate(scene);
+        let eye = view.inverse().w_axis.truncate();
+        let clip = projection * view * DMat4::from_translation(eye);
+        // The side planes of the view, and in front of the eye (clip w > 0).
+        let rows = [0, 1, 2, 3].map(|i| clip.row(i));
+        let planes = [rows[3] + rows[0], rows[3] - rows[0], rows[3] + rows[1], rows[3] - rows[1], rows[3]];
+        let mut bounds: Option<(DVec3, DVec3)> = None;
+        for (i, (object, model)) in self.objects.iter().enumerate() {
+            let p = place(scene, &waves, object, self.waterplanes[i], eye.z, scene.render.time_s);
+            let (lo, hi) = self.model_bounds[*model];
+            let corners: Vec<DVec3> = (0..8)
+                .map(|c| {
+                    let pick = glam::BVec3::new(c & 1 != 0, c & 2 != 0, c & 4 != 0);
+                    p.relative_from_model.transform_point3(DVec3::select(pick, hi.as_dvec3(), lo.as_dvec3()))
+                })
+                .collect();
+            let seen = planes.iter().all(|plane| corners.iter().any(|c| plane.truncate().dot(*c) + plane.w > 0.0));
+            if !seen {
+                continue;
+            }
+            for c in corners {
+                let world = c + eye;
+                bounds = Some(bounds.map_or((world, world), |(a, b)| (a.min(world), b.max(world))));
+            }
+        }
+        bounds
+    }
+
+    /// Draws the objects of frame `slot` into the sun's shadow map, inside the ocean's shadow
+    /// pass (embed::Ocean::record_shadows' callback).
+    pub fn record_casters(&self, cmd: vk::CommandBuffer, slot: usize) {
+        let raw = &self.gpu.device.raw;
+        self.bind_frame(cmd, slot);
+        // SAFETY: inside the ocean's shadow map scope; the caster pipeline was made for its
+        // format and no colour attachment.
+        unsafe { raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipelines.caster.raw) };
+        self.draw_all(cmd, |_| {});
+    }
+
+    /// Draws every object's meshes, instanced per model: binds each model's indices and each
+    /// mesh's material set, `before_draw` binding what else the mesh's material needs.
+    fn draw_all(&self, cmd: vk::CommandBuffer, mut before_draw: impl FnMut(&gltf::Material)) {
+        let raw = &self.gpu.device.raw;
+        let layout = self.pipelines.layout.raw;
+        for (model, instances) in &self.batches {
+            let gpu_model = &self.models[*model];
+            // SAFETY: inside a rendering scope with a pipeline of this layout bound; the index
+            // buffer and the sets live as long as self; the draws stay inside the model's
+            // indices and the slot's instances.
+            unsafe { raw.cmd_bind_index_buffer(cmd, gpu_model.indices.raw, 0, vk::IndexType::UINT32) };
+            for draw in &gpu_model.draws {
+                let material = gpu_model.materials.get(draw.material).cloned().unwrap_or_default();
+                before_draw(&material);
+                let sets = &self.material_sets[*model];
+                let set = sets[draw.material.min(sets.len() - 1)];
+                // SAFETY: as above.
+                unsafe {
+                    raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 1, &[set], &[]);
+                    raw.cmd_draw_indexed(
+                        cmd,
+                        draw.index_count,
+                        instances.len() as u32,
+                        draw.first_index,
+                        draw.vertex_offset,
+                        instances.start,
+                    );
+                }
+            }
+        }
+    }
+
+    /// Binds the frame set at slot `slot`'s windows.
+    fn bind_frame(&self, cmd: vk::CommandBuffer, slot: usize) {
+        let offsets = [(slot as u64 * self.uniform_stride) as u32, (slot as u64 * self.instance_stride) as u32];
+        // SAFETY: the dynamic offsets select slot windows inside the buffers; the set's
+        // resources live as long as self.
+        unsafe {
+            self.gpu.device.raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.pipelines.layout.raw,
+                0,
+                &[self.pipelines.frame_set],
+                &offsets,
+            )
+        };
     }
 
     /// Writes frame `slot`'s camera, light and placements (its previous use has finished).
@@ -284,6 +412,21 @@ impl<'g> Objects<'g> {
         let light = frame.light;
         let table = self.light.environment(frame.scene, light, frame.radiance_scale);
         let sun = light.sun_direction;
+        // The map the ocean made (its view changes only when the ocean is made again, after the
+        // host waited for its frames), else the lit stand-in.
+        let map = frame.sun_shadow.map_or((self.stand_ins[2].view, None), |s| (s.view, Some(s)));
+        if map.0 != self.shadow_bound {
+            let sampler = map.1.map_or(self.stand_in_shadow_sampler.raw, |s| s.sampler);
+            pipeline::write_texture(
+                &self.gpu.device.raw,
+                self.pipelines.frame_set,
+                pipeline::SUN_SHADOW,
+                map.0,
+                sampler,
+            );
+            self.shadow_bound = map.0;
+        }
+        let sun_view = frame.sun_shadow.and_then(|s| s.clip_from_relative.map(|m| (m, s.texel_m)));
         let uniforms = FrameUniforms {
             clip_from_relative: frame.clip_from_relative.as_mat4().to_cols_array_2d(),
             sun_direction: [sun.x as f32, sun.y as f32, sun.z as f32, SUN_ANGULAR_RADIUS as f32],
@@ -293,6 +436,9 @@ impl<'g> Objects<'g> {
                 light.sun_illuminance[2],
                 frame.colour_max,
             ],
+            sun_clip_from_relative: sun_view.map_or(glam::Mat4::ZERO, |(m, _)| m).to_cols_array_2d(),
+            // A texel's diagonal: the receiver's offset along its normal.
+            shadow: sun_view.map_or([0.0; 4], |(_, texel)| [1.0, (texel * std::f64::consts::SQRT_2) as f32, 0.0, 0.0]),
             irradiance: table.try_into().expect("the table's size"),
         };
         self.uniforms.write_at(slot as u64 * self.uniform_stride, &[uniforms])?;
@@ -330,44 +476,23 @@ impl<'g> Objects<'g> {
     pub fn record(&self, cmd: vk::CommandBuffer, slot: usize, colour: &HostImage, depth: &HostImage, far: f32) {
         let raw = &self.gpu.device.raw;
         begin_cleared_rendering(raw, cmd, colour, depth, far);
-        let offsets = [(slot as u64 * self.uniform_stride) as u32, (slot as u64 * self.instance_stride) as u32];
+        self.bind_frame(cmd, slot);
         let layout = self.pipelines.layout.raw;
-        // SAFETY: inside the rendering scope begun above; the pipelines were made for the
-        // targets' formats; each set's buffers and images live as long as self; the dynamic
-        // offsets select slot windows inside the buffers.
-        unsafe {
-            raw.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                layout,
-                0,
-                &[self.pipelines.frame_set],
-                &offsets,
-            );
-            for (model, instances) in &self.batches {
-                let gpu_model = &self.models[*model];
-                raw.cmd_bind_index_buffer(cmd, gpu_model.indices.raw, 0, vk::IndexType::UINT32);
-                for draw in &gpu_model.draws {
-                    let material = gpu_model.materials.get(draw.material).cloned().unwrap_or_default();
-                    let pipeline =
-                        if material.double_sided { &self.pipelines.double_sided } else { &self.pipelines.single_sided };
-                    raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-                    let set = self.material_sets[*model][draw.material.min(self.material_sets[*model].len() - 1)];
-                    raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 1, &[set], &[]);
-                    let normal_scale = material.normal_texture.map_or(0.0, |(_, s)| s);
-                    let push = [material.base_colour, [material.metallic, material.roughness, normal_scale, 0.0]];
-                    let bytes: Vec<u8> = push.iter().flatten().flat_map(|f| f.to_ne_bytes()).collect();
-                    raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, &bytes);
-                    raw.cmd_draw_indexed(
-                        cmd,
-                        draw.index_count,
-                        instances.len() as u32,
-                        draw.first_index,
-                        draw.vertex_offset,
-                        instances.start,
-                    );
-                }
+        self.draw_all(cmd, |material| {
+            let pipeline =
+                if material.double_sided { &self.pipelines.double_sided } else { &self.pipelines.single_sided };
+            let normal_scale = material.normal_texture.map_or(0.0, |(_, s)| s);
+            let push = [material.base_colour, [material.metallic, material.roughness, normal_scale, 0.0]];
+            let bytes: Vec<u8> = push.iter().flatten().flat_map(|f| f.to_ne_bytes()).collect();
+            // SAFETY: inside the rendering scope; the pipelines were made for the targets' formats
+            // and this layout, whose push range holds the material's 32 bytes.
+            unsafe {
+                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, &bytes);
             }
+        });
+        // SAFETY: the scope begun above.
+        unsafe {
             raw.cmd_end_rendering(cmd);
         }
     }

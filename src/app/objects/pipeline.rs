@@ -1,17 +1,19 @@
 //! The object pass's pipeline layout, descriptor sets and pipelines (glsl/object.vert and
-//! object.frag): set 0 the frame (its light and camera, the objects' placements; dynamic offsets
-//! select the frame slot), set 1 one per material of each model (the model's vertices and the
+//! object.frag, and the vertex stage alone for the sun's shadow map): set 0 the frame (its light,
+//! camera and sun shadow map, the objects' placements; dynamic offsets select the frame slot), set 1 one per material of each model (the model's vertices and the
 //! material's textures), the material's factors in push constants.
 
+use crate::embed::{SHADOW_DEPTH_BIAS, SHADOW_FORMAT};
 use crate::error::{Result, VkContext};
 use crate::shaders;
 use crate::vk::device::Device;
 use crate::vk::owned::Owned;
-use crate::vk::pipeline::{graphics_pipeline, GraphicsDesc};
+use crate::vk::pipeline::{graphics_pipeline, GraphicsDesc, Specialization};
 use ash::vk;
 
 pub const FRAME_UNIFORMS: u32 = 0;
 pub const INSTANCES: u32 = 1;
+pub const SUN_SHADOW: u32 = 2;
 pub const VERTICES: u32 = 0;
 pub const BASE_COLOUR: u32 = 1;
 pub const NORMAL_MAP: u32 = 2;
@@ -24,6 +26,9 @@ pub struct ObjectPipelines<'g> {
     /// Back faces culled (single-sided materials), and none culled (double-sided).
     pub single_sided: Owned<'g, vk::Pipeline>,
     pub double_sided: Owned<'g, vk::Pipeline>,
+    /// Depth only, from the sun, into the ocean's shadow map (embed::Ocean::record_shadows):
+    /// no face culled, so that open and single-sided surfaces cast too.
+    pub caster: Owned<'g, vk::Pipeline>,
     pub layout: Owned<'g, vk::PipelineLayout>,
     pool: Owned<'g, vk::DescriptorPool>,
     _frame_layout: Owned<'g, vk::DescriptorSetLayout>,
@@ -54,6 +59,7 @@ impl<'g> ObjectPipelines<'g> {
         let frame_bindings = [
             binding(FRAME_UNIFORMS, D::UNIFORM_BUFFER_DYNAMIC, S::VERTEX | S::FRAGMENT),
             binding(INSTANCES, D::STORAGE_BUFFER_DYNAMIC, S::VERTEX | S::FRAGMENT),
+            binding(SUN_SHADOW, D::COMBINED_IMAGE_SAMPLER, S::FRAGMENT),
         ];
         let material_bindings = [
             binding(VERTICES, D::STORAGE_BUFFER, S::VERTEX),
@@ -79,7 +85,7 @@ impl<'g> ObjectPipelines<'g> {
             vk::DescriptorPoolSize { ty: D::UNIFORM_BUFFER_DYNAMIC, descriptor_count: 1 },
             vk::DescriptorPoolSize { ty: D::STORAGE_BUFFER_DYNAMIC, descriptor_count: 1 },
             vk::DescriptorPoolSize { ty: D::STORAGE_BUFFER, descriptor_count: material_sets },
-            vk::DescriptorPoolSize { ty: D::COMBINED_IMAGE_SAMPLER, descriptor_count: 2 * material_sets },
+            vk::DescriptorPoolSize { ty: D::COMBINED_IMAGE_SAMPLER, descriptor_count: 2 * material_sets + 1 },
         ];
         let info = vk::DescriptorPoolCreateInfo::default().max_sets(1 + material_sets).pool_sizes(&sizes);
         // SAFETY: valid create info built from locals.
@@ -107,10 +113,23 @@ impl<'g> ObjectPipelines<'g> {
         let single_sided =
             graphics_pipeline(device, layout.raw, &desc("objects", Some(vk::FrontFace::COUNTER_CLOCKWISE)))?;
         let double_sided = graphics_pipeline(device, layout.raw, &desc("objects double-sided", None))?;
+        let sun_view = Specialization::words(&[1]);
+        let caster = GraphicsDesc {
+            name: "object shadow casters",
+            fragment: None,
+            specialization: Some(&sun_view),
+            color_format: None,
+            depth_format: SHADOW_FORMAT,
+            depth_compare: vk::CompareOp::LESS,
+            depth_bias: Some(SHADOW_DEPTH_BIAS),
+            ..desc("object shadow casters", None)
+        };
+        let caster = graphics_pipeline(device, layout.raw, &caster)?;
         Ok(ObjectPipelines {
             device,
             single_sided,
             double_sided,
+            caster,
             layout,
             pool,
             _frame_layout: frame_layout,

@@ -220,9 +220,10 @@ fn copy_buffer(device: &ash::Device, cmd: vk::CommandBuffer, staging: &Buffer, o
 }
 
 fn copy_to_image(device: &ash::Device, cmd: vk::CommandBuffer, staging: &Buffer, offset: u64, to: &Image) {
-    let region = [crate::vk::image::level0_region(to.extent, offset)];
+    let mut region = [crate::vk::image::level0_region(to.extent, offset)];
+    region[0].image_subresource.aspect_mask = to.aspect;
     // SAFETY: level 0 is in TRANSFER_DST_OPTIMAL (flushed above); the staging buffer holds
-    // width x height RGBA8 texels at `offset`, a multiple of 4.
+    // width x height texels of 4 bytes (RGBA8, or a 32-bit depth) at `offset`, a multiple of 4.
     unsafe {
         device.cmd_copy_buffer_to_image(cmd, staging.raw, to.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &region)
     };

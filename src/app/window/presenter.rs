@@ -256,6 +256,7 @@ impl<'g> Presenter<'g> {
             radiance_scale: 1.0,
             shading: Shading { shader: self.shader, ..Shading::default() },
             in_place: objects.is_none().then(|| HostImage::from(&colour)),
+            shadow_casters: objects.is_some(),
         };
         let ocean = Ocean::new(self.gpu, desc)?;
         self.drawing = Some(Drawing { ocean, colour, objects });
@@ -302,6 +303,9 @@ impl<'g> Presenter<'g> {
         // Whatever can fail on the host fails here, before an image is acquired.
         let (width, height) = (drawing.colour.extent.width, drawing.colour.extent.height);
         let (view, projection) = scene_view(scene, width as f64 / height as f64, true);
+        if let Some((objects, _)) = &drawing.objects {
+            drawing.ocean.set_shadow_casters(objects.shadow_casters(scene, view, projection))?;
+        }
         drawing.ocean.update(slot, &FrameInput { time_s: scene.render.time_s, view, projection })?;
         if let Some((objects, _)) = &mut drawing.objects {
             objects.update_for(slot, scene, view, projection, &drawing.ocean)?;
@@ -344,7 +348,9 @@ impl<'g> Presenter<'g> {
         let mut colour_entry = ImageState::new(vk::ImageLayout::UNDEFINED, stage, vk::AccessFlags2::NONE);
         let mut depth = None;
         if let Some((objects, depth_image)) = &drawing.objects {
-            // The objects come first: their writes wait for the frame before's reads of the
+            // The sun's map first (the waves and the objects), which the objects then sample.
+            drawing.ocean.record_shadows(cmd, slot, &mut |cmd, _| objects.record_casters(cmd, slot))?;
+            // The objects come next: their writes wait for the frame before's reads of the
             // colour, and of the depth for its tests (the frames in flight share both).
             let depth_target = HostImage::from(depth_image);
             let t = &mut self.tracker;

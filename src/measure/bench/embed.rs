@@ -94,6 +94,7 @@ pub fn run(
         radiance_scale: 1.0,
         shading: Default::default(),
         in_place: None,
+        shadow_casters: false,
     };
     let mut ocean = Ocean::new(&borrowed, desc)?;
     let mut render = OffscreenHost::new(gpu, scene, width, height, Shading::default())?;

@@ -150,12 +150,12 @@ impl ShaderConfig {
 
     /// Why a frame with this configuration has no use for the sun's shadow map (None: it has);
     /// the renderer and specialize::plan both go by it.
-    pub fn shadow_map_unneeded(&self, mode: ShadowMapMode) -> Option<String> {
+    pub fn shadow_map_unneeded(&self, mode: ShadowMapMode, host_casters: bool) -> Option<String> {
         if mode == ShadowMapMode::Off {
             Some("render.shadow_map = \"off\"".to_owned())
         } else if !self.terms.sun {
             Some("no sun term to shadow".to_owned())
-        } else if self.draws_nothing() || !self.geometry {
+        } else if self.draws_nothing() || (!self.geometry && !host_casters) {
             let forced = if mode == ShadowMapMode::On { " (render.shadow_map = \"on\")" } else { "" };
             Some(format!("no train is displaced by the grid, so none casts a shadow{forced}"))
         } else {

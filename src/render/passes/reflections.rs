@@ -28,8 +28,9 @@ const HOST_DEPTH_BINDING: u32 = 2;
 const SOURCE_COLOUR_BINDING: u32 = 3;
 const SOURCE_DEPTH_BINDING: u32 = 4;
 const SEA_DEPTH_BINDING: u32 = 5;
-/// Cells of the pyramid level the objects' screen rectangle is found from, at most: 16 per
-/// invocation of glsl/reflection_bounds.comp's one workgroup of 256.
+/// Cells of the pyramid level the objects' screen rectangle is found from, at most: 64 per
+/// invocation of glsl/reflection_bounds.comp's one workgroup of 64 (larger groups sharing
+/// memory are advised against).
 const BOUNDS_CELLS: u32 = 4096;
 
 /// The host depth view a slot's set names, and the image it views.

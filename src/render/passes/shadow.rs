@@ -1,7 +1,9 @@
 //! The sun's shadow map: the visibility pass's displaced grid (the same vertices, trains and
 //! filtering) drawn depth-only from the sun (sun_shadow.rs fits the view), for the shading pass
-//! to shadow the reflected sun where a resolved crest stands between a facet and the sun. Frames
-//! whose sun has no view (down, or nothing displaced) only clear it, to "lit".
+//! to shadow the reflected sun where a resolved crest stands between a facet and the sun; a host's
+//! shadow casters are drawn into it too (embed::Ocean::record_shadows), for the sea and the
+//! host's objects to be shadowed by them. Frames whose sun has no view (down, or nothing displaced
+//! and no casters) only clear it, to "lit".
 
 use super::ocean::ShaderConfig;
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
@@ -20,6 +22,19 @@ use ash::vk;
 /// the comparison blends (2 x 2, or the nearest) its depth differs from theirs by up to 1.5
 /// texels' worth of its slope (half a texel to the nearest centre, one more across the blend).
 pub const DEPTH_BIAS: (f32, f32) = (4.0, 1.5);
+
+/// What a host's shadow casters are drawn with into the sun's map (embed::Ocean::record_shadows),
+/// inside the pass's rendering scope, its viewport and scissor the map's: a depth-only pipeline
+/// for DEPTH_FORMAT (no colour attachment), compare LESS, bias DEPTH_BIAS.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CasterView {
+    /// Camera-relative world (z up, m) to the map's clip space: depth 0 nearest the sun, 1 the
+    /// farthest that the map holds.
+    pub clip_from_relative: glam::Mat4,
+}
+
+/// A host's casters, drawn with their view.
+pub type Casters<'a, 'f> = (CasterView, &'a mut (dyn FnMut(vk::CommandBuffer, &CasterView) + 'f));
 
 pub struct ShadowPass<'g> {
     bindings: Bindings<'g>,
@@ -69,6 +84,13 @@ impl Pass for ShadowPass<'_> {
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
+        self.record_casting(rec, r, None);
+    }
+}
+
+impl ShadowPass<'_> {
+    /// The pass, with a host's `casters` drawn after the grid (none where the sun has no view).
+    pub fn record_casting(&self, rec: &mut Recorder, r: &Resources, casters: Option<Casters>) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         let extent = r.shadow_map.extent;
         let depth = vk::RenderingAttachmentInfo::default()
@@ -84,15 +106,21 @@ impl Pass for ShadowPass<'_> {
         // and no colour attachment; the slot's index buffer holds `count` valid indices.
         unsafe {
             device.cmd_begin_rendering(cmd, &info);
-            if let (Some((indices, count)), true) = (rec.frame.grid, rec.frame.sun_view) {
+            if rec.frame.sun_view {
                 device.cmd_set_viewport(cmd, 0, &[viewport]);
                 device.cmd_set_scissor(cmd, 0, &[area]);
+            }
+            if let (Some((indices, count)), true) = (rec.frame.grid, rec.frame.sun_view) {
                 self.bindings.bind(cmd, vk::PipelineBindPoint::GRAPHICS, &rec.frame.uniform_offsets);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
                 device.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, count, 1, 0, 0, 0);
             }
-            device.cmd_end_rendering(cmd);
         }
+        if let (Some((view, draw)), true) = (casters, rec.frame.sun_view) {
+            draw(cmd, &view);
+        }
+        // SAFETY: the scope begun above, the host's draws recorded inside it.
+        unsafe { device.cmd_end_rendering(cmd) };
     }
 }
