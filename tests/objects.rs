@@ -335,3 +335,65 @@ fn the_objects_shadow_the_sea() {
     let (lit, kept) = (mean(&unshadowed, beside.clone()), mean(&shadowed, beside));
     assert!(kept > 0.85 * lit, "beside the shadow: {kept} against {lit} unshadowed");
 }
+
+/// The pier seen along its side with the sun behind the eye: its deck shadows the far row of
+/// piles (the sunlight to them crosses the deck), not the near row facing the sun.
+fn pier_across_the_sun(shadow_map: &str) -> Scene {
+    let pier = root().join("scenes/models/pier.gltf");
+    let text = format!(
+        r#"
+        [camera]
+        height_m = 4.0
+        pitch_deg = -5.0
+        yaw_deg = 80.0
+        fov_y_deg = 50.0
+        [sun]
+        elevation_deg = 35.0
+        azimuth_deg = -60.0
+        [wind]
+        speed_mps = 3.0
+        [render]
+        shadow_map = "{shadow_map}"
+        [[object]]
+        file = "{}"
+        position_m = [-5.0, 12.0, 0.0]
+        "#,
+        pier.display()
+    );
+    Scene::parse(&text, "pier_across_the_sun.toml").unwrap()
+}
+
+/// The objects receive the shadows of the sun's map: the far piles darken under the deck's
+/// shadow, the near ones keep their sunlight.
+#[test]
+fn the_objects_shadow_each_other() {
+    let gpu = gpu();
+    let (w, h) = (640, 400);
+    let scene = pier_across_the_sun("auto");
+    let (report, shadowed) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    assert_clean(&report, "pier across the sun");
+    let (_, unshadowed) = common::render_with(&gpu, &pier_across_the_sun("off"), w, h, without_reflections());
+    let world = first_object_in_world(&scene, w, h);
+    let eye = scene_view(&scene, w as f64 / h as f64, true).0.inverse().w_axis.truncate();
+    let luminance = |frame: &RenderedFrame, (x, y): (usize, usize)| {
+        let p = frame.hdr[y * w as usize + x];
+        0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+    };
+    // The piles' centres half way between the water and the deck (model: x along, y up, z
+    // across), where both rows are on the picture.
+    let mut seen = 0;
+    for k in 0..11 {
+        let x = 0.3 + 2.94 * k as f64;
+        let mut rows = [world([x, 1.0, -1.3]), world([x, 1.0, 1.3])];
+        rows.sort_by(|a, b| (*a - eye).length().total_cmp(&(*b - eye).length()));
+        let (Some(near), Some(far)) = (project(&scene, w, h, rows[0]), project(&scene, w, h, rows[1])) else {
+            continue;
+        };
+        seen += 1;
+        let (lit, dark) = (luminance(&unshadowed, far), luminance(&shadowed, far));
+        assert!(dark < 0.6 * lit, "far pile {k} at {far:?}: {dark} against {lit} unshadowed");
+        let (lit, kept) = (luminance(&unshadowed, near), luminance(&shadowed, near));
+        assert!(kept > 0.9 * lit, "near pile {k} at {near:?}: {kept} against {lit} unshadowed");
+    }
+    assert!(seen >= 4, "{seen} pairs of piles on the picture");
+}
