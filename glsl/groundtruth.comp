@@ -6,7 +6,9 @@
 // groundtruth_sky.glsl, with the aerial perspective along each sample's path from the eye), the reflected sun as its irradiance over a cone around it (tile.sun_cos_kernel;
 // the disc itself at the disc's radius), the sun seen directly as its disc. A reflected ray that meets the
 // sea again is shaded there (its reflection and refracted light, and so on, up to tile.bounces
-// times); the reflected weight left after the last is recorded as cut off.
+// times); the reflected weight left after the last is recorded as cut off. The scene's objects
+// (groundtruth_objects.glsl) stand in front of the sea and the sky for the camera ray and for
+// every reflected ray; a reflected ray that meets one takes its radiance in the sky term's place.
 #include "frame.glsl"
 #include "common.glsl"
 #include "sky.glsl"
@@ -230,6 +232,11 @@ uint hash(uint x) {
     return x;
 }
 
+// The environment sample of an object's shading, stratified per pixel (set by main).
+vec2 env_xi;
+
+#include "groundtruth_objects.glsl"
+
 // What one sample sees: the reflected sun, the reflected sky and the refracted sea light where it
 // meets the sea (through every reflection traced), or the sky (and sun disc) straight on where it
 // does not.
@@ -283,8 +290,15 @@ Sample shade_hit(vec3 r, float t, Surface s) {
         vec3 origin = p + vec3(0.0, 0.0, 2.0 * hit_tolerance(t_hit, length(p)));
         bool unfinished;
         float t_next = intersect(origin, refl, 1e-3 + 1e-5 * length(p), pool, next, unfinished);
-        if (unfinished) o.unfinished += w * fresnel;
-        if (t_next < 0.0) {
+        // An object the reflected ray meets before the sea (or the sky) stands in for what lies
+        // beyond it: the sky term's share, as the renderer's local reflections take it.
+        bool walk_unfinished;
+        ObjectHit object = object_hit(origin, refl, 0.0, t_next >= 0.0 ? t_next : 3.0e38, walk_unfinished);
+        if (unfinished || walk_unfinished) o.unfinished += w * fresnel;
+        if (object.t < (t_next >= 0.0 ? t_next : 3.0e38)) {
+            o.sky += w * fresnel * object_radiance(origin, refl, object, env_xi);
+            tracing = false;
+        } else if (t_next < 0.0) {
             SeaPoint at = truth_sea_point(p);
             o.sky += w * fresnel * (SKY_PHYSICAL ? truth_sky(at, refl) : preetham_sky(refl));
             // The sun's irradiance spread evenly over a cone around it (src/measure/groundtruth.rs,
@@ -325,8 +339,23 @@ Sample shade_sample(vec3 ray) {
     uint steps = tile.max_march;
     bool unfinished;
     float t = intersect(vec3(0.0), r, 0.0, steps, s, unfinished);
+    bool walk_unfinished;
+    ObjectHit object = object_hit(vec3(0.0), r, 0.0, t >= 0.0 ? t : 3.0e38, walk_unfinished);
     Sample o;
-    if (t >= 0.0) {
+    if (object.t < (t >= 0.0 ? t : 3.0e38)) {
+        // An object seen straight on, through the air between it and the eye.
+        o.sun = o.sky = o.sea = vec3(0.0);
+        o.transmitted = 0.0;
+        o.cut_off = 0.0;
+        o.unfinished = 0.0;
+        o.camera_unfinished = unfinished || walk_unfinished;
+        o.total = object_radiance(vec3(0.0), r, object, env_xi);
+        if (SKY_PHYSICAL) {
+            vec3 transmittance;
+            vec3 inscatter = truth_aerial_from_eye(r, object.t, transmittance);
+            o.total = o.total * transmittance + inscatter;
+        }
+    } else if (t >= 0.0) {
         o = shade_hit(r, t, s);
         o.camera_unfinished = unfinished;
         // The air between the eye and the sea (the terms apart: each is the sea's own light, as
@@ -378,6 +407,11 @@ void main() {
     uint i = tile.stratum % n, j = tile.stratum / n;
     uint h = hash(tile.seed ^ hash(pixel.x + 65536u * pixel.y) ^ hash(i + 4096u * j));
     vec2 jitter = vec2(h & 0xffffu, h >> 16) * (1.0 / 65536.0);
+    // The environment's sample: the stratum's cell, rotated per pixel (Cranley-Patterson), so
+    // that it is not tied to the sample's position in the pixel.
+    uint g = hash(h ^ 0x9e3779b9u), rot = hash(pixel.x * 7919u + pixel.y * 104729u + tile.seed);
+    vec2 within = vec2(g & 0xffffu, g >> 16) * (1.0 / 65536.0);
+    env_xi = fract((vec2(j, i) + within) / float(n) + vec2(rot & 0xffffu, rot >> 16) * (1.0 / 65536.0));
     Sample o = shade_sample(camera_ray(pixel_to_ndc(vec2(pixel) + (vec2(i, j) + jitter) / float(n))));
     vec3 L = o.total;
     bool in_subset = (i & 1u) == 0u && (j & 1u) == 0u;

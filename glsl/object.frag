@@ -14,6 +14,8 @@ layout(location = 4) flat in uint in_instance;
 layout(location = 0) out vec4 out_colour;
 
 const float PI = 3.14159265358979;
+#include "object_brdf.glsl"
+
 // The dielectric's reflectance at normal incidence (glTF's 4%: an index of 1.5).
 const float DIELECTRIC_F0 = 0.04;
 
@@ -108,18 +110,8 @@ void main() {
     vec3 l = frame.sun_direction.xyz;
     float nl = dot(n, l);
     if (nl > 0.0) {
-        vec3 h = unit_or(v + l, n);
-        float nh = max(dot(n, h), 0.0);
-        float vh = max(dot(v, h), 0.0);
-        vec3 f = f0 + (1.0 - f0) * pow(1.0 - vh, 5.0);
-        // GGX: at most 1 / (pi a2) where nh = 1, finite since alpha >= the disc's radius.
-        float d_denominator = nh * nh * (a2 - 1.0) + 1.0;
-        float d = a2 / (PI * d_denominator * d_denominator);
-        // Smith's height-correlated visibility: the first term alone is >= nl alpha > 0.
-        float vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
-        vec3 specular = f * (d * vis);
-        vec3 diffuse = (1.0 - f) * diffuse_albedo / PI;
-        radiance += (diffuse + specular) * frame.sun_irradiance.rgb * (nl * sun_visibility(p, face));
+        vec3 brdf = object_brdf(n, v, l, f0, diffuse_albedo, a2);
+        radiance += brdf * frame.sun_irradiance.rgb * (nl * sun_visibility(p, face));
     }
     // The environment: its irradiance for the diffuse part, and for the specular part the same
     // low-frequency light about the mirror direction, weighted by the split-sum's directional

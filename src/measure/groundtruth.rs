@@ -5,6 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::measure::region::Region;
+use crate::measure::truth_objects::{self, TruthObjects};
 use crate::measure::truth_sky::{self, TruthSkyError, TruthSkyTables};
 use crate::model::scene::{Scene, SkyKind};
 use crate::model::waves;
@@ -127,13 +128,17 @@ impl Sampling {
 /// the steps; the reflected rays share the rest in the order they are traced, so the first
 /// reflection, which decides the reflected sun and sky, may use what the rarer later ones do not.
 /// A ray that runs out is counted in the report (`unfinished_*`), never taken silently as a miss.
-fn march_budget(wave_count: u32, bounces: u32, physical: bool) -> Result<(u32, u32)> {
+fn march_budget(wave_count: u32, bounces: u32, physical: bool, objects: bool) -> Result<(u32, u32)> {
     let iterations = wave_count.div_ceil(TRAINS_PER_ITERATION as u32);
     let per_eval = 3 * iterations + 1;
     let rays = bounces + 2;
     // The physical sky's loops: one sky ray and one aerial path per sample at most.
     let air = if physical { (truth_sky::SKY_STEPS + truth_sky::AERIAL_STEPS) as u32 } else { 0 };
-    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * iterations + 64 + air;
+    // The objects' walks: the camera ray's, each reflected ray's, and an object's two rays, and
+    // at an object its sky (physical: a sky ray each for the mirrored sky below and the sky).
+    let walks =
+        if objects { truth_objects::BVH_VISITS * truth_objects::walks_per_sample(bounces) + 2 * air } else { 0 };
+    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * iterations + 64 + air + walks;
     let steps = LOOP_BUDGET.saturating_sub(fixed) / per_eval;
     // Fewer than MIN_MARCH steps a ray cannot cross the slab: refused rather than cut short.
     if steps < MIN_MARCH * (bounces + 2) {
@@ -296,7 +301,6 @@ pub fn render(
     mut progress: impl FnMut(u64, u64),
 ) -> Result<GroundTruth> {
     sampling.check()?;
-    scene.refuse_objects("the ground truth")?;
     // A cone reaching below the horizon would lose the part of the sun's energy that no
     // reflected ray can gather there: it is narrowed to the sun's elevation (the disc at least).
     let sampling = Sampling {
@@ -326,6 +330,7 @@ pub fn render(
     let before = gpu.validation_counts().error_total();
     let wave_set = waves::generate(scene);
     let data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
+    let objects = TruthObjects::new(scene, &wave_set, width as f64 / height as f64)?;
 
     use vk::BufferUsageFlags as B;
     let uniforms = Buffer::new(
@@ -373,6 +378,21 @@ pub fn render(
     let check_words = 2 * truth_sky::CHECKS as usize;
     let check =
         Buffer::new(gpu, "ground truth sky check", (16 * check_words) as u64, B::STORAGE_BUFFER, Location::Readback)?;
+    // The objects' hierarchy, triangles and materials (a word each in their place without).
+    let words: [Vec<[u32; 4]>; 3] = match &objects {
+        Some(o) => [o.nodes.clone(), o.triangles.clone(), o.materials.iter().map(|m| m.map(f32::to_bits)).collect()],
+        None => [vec![[0; 4]], vec![[0; 4]], vec![[0; 4]]],
+    };
+    let object_buffers =
+        ["ground truth object nodes", "ground truth object triangles", "ground truth object materials"]
+            .iter()
+            .zip(&words)
+            .map(|(name, words)| {
+                let buffer = Buffer::new(gpu, name, (16 * words.len()) as u64, B::STORAGE_BUFFER, Location::Upload)?;
+                buffer.write(words)?;
+                Ok(buffer)
+            })
+            .collect::<Result<Vec<_>>>()?;
     let bindings = Bindings::with_push_constants(
         device,
         "ground truth",
@@ -381,17 +401,24 @@ pub fn render(
             (1, D::STORAGE_BUFFER, stages),
             (2, D::STORAGE_BUFFER, stages),
             (3, D::STORAGE_BUFFER, stages),
+            (4, D::STORAGE_BUFFER, stages),
+            (5, D::STORAGE_BUFFER, stages),
+            (6, D::STORAGE_BUFFER, stages),
             (8, D::STORAGE_BUFFER, stages),
         ],
         std::mem::size_of::<TilePush>() as u32,
     )?;
+    for (binding, buffer) in (4..).zip(&object_buffers) {
+        bindings.write_buffer(binding, D::STORAGE_BUFFER, buffer.raw);
+    }
     bindings.write_buffer(0, D::UNIFORM_BUFFER, uniforms.raw);
     bindings.write_buffer(1, D::STORAGE_BUFFER, waves_buffer.raw);
     bindings.write_buffer(2, D::STORAGE_BUFFER, tables.raw);
     bindings.write_buffer(3, D::STORAGE_BUFFER, check.raw);
     bindings.write_buffer(8, D::STORAGE_BUFFER, output.raw);
-    // Specialization constant 8 (glsl/sky.glsl SKY_PHYSICAL): which sky the samples see.
-    let specialization = Specialization::constants(&[(8, physical as u32)]);
+    // Specialization constants 8 (glsl/sky.glsl SKY_PHYSICAL): which sky the samples see; 20
+    // (glsl/groundtruth_objects.glsl HAS_OBJECTS): whether rays meet objects.
+    let specialization = Specialization::constants(&[(8, physical as u32), (20, objects.is_some() as u32)]);
     let pipeline = specialized_compute_pipeline(
         device,
         bindings.layout(),
@@ -403,7 +430,7 @@ pub fn render(
     let commands = Commands::new(device, "ground truth")?;
     let cmd = commands.cmd;
 
-    let (max_march, bounce_march) = march_budget(exact.len() as u32, bounces, physical)?;
+    let (max_march, bounce_march) = march_budget(exact.len() as u32, bounces, physical, objects.is_some())?;
     let push = TilePush {
         origin: [0, 0],
         samples,
@@ -823,12 +850,12 @@ mod tests {
     #[test]
     fn the_loop_budget_fits_every_scene_and_names_what_it_cannot_trace() {
         let limit = crate::model::scene::MAX_WAVES;
-        let (camera, reflected) = march_budget(limit, MAX_BOUNCES, true).unwrap();
+        let (camera, reflected) = march_budget(limit, MAX_BOUNCES, true, true).unwrap();
         assert!(camera > reflected && reflected >= MIN_MARCH * 8, "{camera}, {reflected}");
         // The default scene's march: a thousand steps and more for the camera ray.
-        let (camera, reflected) = march_budget(60, DEFAULT_BOUNCES, true).unwrap();
+        let (camera, reflected) = march_budget(60, DEFAULT_BOUNCES, true, true).unwrap();
         assert!(camera >= 1500 && reflected >= 750, "{camera}, {reflected}");
-        let e = march_budget(4096, 3, true).unwrap_err().to_string();
+        let e = march_budget(4096, 3, true, false).unwrap_err().to_string();
         assert!(e.contains("waves.count = 4096") && e.contains("--bounces 3"), "{e}");
     }
 

@@ -11,4 +11,5 @@ pub mod numerics;
 pub mod reference;
 pub mod region;
 pub mod samples;
+pub mod truth_objects;
 pub mod truth_sky;
