@@ -399,6 +399,14 @@ fn misuse_gets_an_error_not_a_crash() {
     assert!(message(ocean.update(0, &nan)).contains("NaN"));
     let under_water = FrameInput { view: DMat4::look_to_rh(DVec3::new(0.0, 0.0, -1.0), DVec3::X, DVec3::Z), ..input };
     assert!(message(ocean.update(0, &under_water)).contains("not above the water"));
+    // Shadow casters: a box that is not one, and a map asked of an ocean made without casters.
+    let nan_box = Some((DVec3::new(f64::NAN, 0.0, 0.0), DVec3::ONE));
+    assert!(message(ocean.set_shadow_casters(nan_box)).contains("not finite"));
+    let inside_out = Some((DVec3::ONE, DVec3::ZERO));
+    assert!(message(ocean.set_shadow_casters(inside_out)).contains("least corner above its greatest"));
+    ocean.update(0, &input).unwrap();
+    let drawn = ocean.record_shadows(vk::CommandBuffer::null(), 0, &mut |_, _| {});
+    assert!(drawn.unwrap_err().to_string().contains("made without shadow_casters"));
     let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
     let depth = host.image(
         DEPTH_FORMAT,

@@ -172,9 +172,9 @@ pub struct Renderer<'g> {
     /// The CPU's steps of the last `render`.
     cpu_spans: CpuSpans,
     clock: DeviceClock,
-    /// In execution order.
     /// The sun's shadow map pass, outside `passes`: a host may record it ahead of the frame.
     shadow: Option<ShadowPass<'g>>,
+    /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
     tracker: Tracker,
@@ -267,8 +267,8 @@ impl<'g> Renderer<'g> {
             options.sky_map || !options.shader.terms.sea || options.shader.method != Method::Full,
             "the full method's refracted term samples the sky map"
         );
-        // The sun's shadow map: only for the sun term over a displaced grid, unless the scene
-        // turns it off.
+        // The sun's shadow map: only for the sun term over a displaced grid or a host's casters,
+        // unless the scene turns it off.
         options.shader.shadow &=
             options.shader.shadow_map_unneeded(scene.render.shadow_map, options.casts_shadows()).is_none();
         // The sea reflects a host's objects: in its frame with depth, through the sky term.
@@ -517,6 +517,8 @@ impl<'g> Renderer<'g> {
     /// `slot` is in range (embed::Ocean checks it).
     pub fn begin_host_frame(&mut self, slot: usize) -> Result<()> {
         let s = &mut self.slots[slot];
+        // A map recorded ahead of a frame that was never recorded is not this frame's.
+        s.shadows_recorded = false;
         if !std::mem::take(&mut s.host_recorded) {
             return Ok(());
         }
