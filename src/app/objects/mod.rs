@@ -18,6 +18,7 @@ use crate::model::placement::{place, waterplane};
 use crate::model::scene::{Object, Scene};
 use crate::model::sky::SUN_ANGULAR_RADIUS;
 use crate::model::waves::WaveSet;
+use crate::render::sun_shadow::CasterBox;
 use crate::vk::buffer::Buffer;
 use crate::vk::external::{begin_cleared_rendering, hdr_format_max, HostImage};
 use crate::vk::gpu::Gpu;
@@ -329,12 +330,8 @@ impl<'g> Objects<'g> {
         for (i, (object, model)) in self.objects.iter().enumerate() {
             let p = place(scene, &waves, object, self.waterplanes[i], eye.z, scene.render.time_s);
             let (lo, hi) = self.model_bounds[*model];
-            let corners: Vec<DVec3> = (0..8)
-                .map(|c| {
-                    let pick = glam::BVec3::new(c & 1 != 0, c & 2 != 0, c & 4 != 0);
-                    p.relative_from_model.transform_point3(DVec3::select(pick, hi.as_dvec3(), lo.as_dvec3()))
-                })
-                .collect();
+            let model_box = CasterBox { min: lo.as_dvec3(), max: hi.as_dvec3() };
+            let corners: Vec<DVec3> = model_box.corners().map(|c| p.relative_from_model.transform_point3(c)).collect();
             let seen = planes.iter().all(|plane| corners.iter().any(|c| plane.truncate().dot(*c) + plane.w > 0.0));
             if !seen {
                 continue;
