@@ -32,8 +32,9 @@ struct ObjectTriangle {
 layout(set = 0, binding = 5, std430) readonly buffer ObjectTriangles { ObjectTriangle object_triangles[]; };
 layout(set = 0, binding = 6, std430) readonly buffer ObjectMaterials { vec4 object_materials[]; };
 
-// Node visits one walk may take (truth_objects::BVH_VISITS), and the deepest pending stack.
-const uint BVH_VISITS = 512u;
+// Node visits one walk may take (constant 21: truth_objects::BVH_VISITS, which the loop budget
+// reserves), and the deepest pending stack.
+layout(constant_id = 21) const uint BVH_VISITS = 512u;
 const int BVH_STACK = 48;
 
 struct ObjectHit {

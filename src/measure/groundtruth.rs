@@ -379,9 +379,9 @@ pub fn render(
     let check =
         Buffer::new(gpu, "ground truth sky check", (16 * check_words) as u64, B::STORAGE_BUFFER, Location::Readback)?;
     // The objects' hierarchy, triangles and materials (a word each in their place without).
-    let words: [Vec<[u32; 4]>; 3] = match &objects {
-        Some(o) => [o.nodes.clone(), o.triangles.clone(), o.materials.iter().map(|m| m.map(f32::to_bits)).collect()],
-        None => [vec![[0; 4]], vec![[0; 4]], vec![[0; 4]]],
+    let words: [&[[u32; 4]]; 3] = match &objects {
+        Some(o) => [&o.nodes, &o.triangles, &o.materials],
+        None => [&[[0; 4]]; 3],
     };
     let object_buffers =
         ["ground truth object nodes", "ground truth object triangles", "ground truth object materials"]
@@ -417,8 +417,13 @@ pub fn render(
     bindings.write_buffer(3, D::STORAGE_BUFFER, check.raw);
     bindings.write_buffer(8, D::STORAGE_BUFFER, output.raw);
     // Specialization constants 8 (glsl/sky.glsl SKY_PHYSICAL): which sky the samples see; 20
-    // (glsl/groundtruth_objects.glsl HAS_OBJECTS): whether rays meet objects.
-    let specialization = Specialization::constants(&[(8, physical as u32), (20, objects.is_some() as u32)]);
+    // and 21 (glsl/groundtruth_objects.glsl HAS_OBJECTS, BVH_VISITS): whether rays meet objects,
+    // and the visits a walk may take, as the loop budget reserved them.
+    let specialization = Specialization::constants(&[
+        (8, physical as u32),
+        (20, objects.is_some() as u32),
+        (21, truth_objects::BVH_VISITS),
+    ]);
     let pipeline = specialized_compute_pipeline(
         device,
         bindings.layout(),

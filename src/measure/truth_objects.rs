@@ -33,9 +33,9 @@ pub struct TruthObjects {
     /// Six vec4 per triangle in leaf order, as 32-bit words: its corners (w of the first: the
     /// material) and their normals.
     pub triangles: Vec<[u32; 4]>,
-    /// Two vec4 per material: the linear base colour (a texture's mean folded in), and
-    /// metallic, roughness.
-    pub materials: Vec<[f32; 4]>,
+    /// Two vec4 per material, as 32-bit words: the linear base colour (a texture's mean folded
+    /// in), and metallic, roughness.
+    pub materials: Vec<[u32; 4]>,
 }
 
 impl TruthObjects {
@@ -46,22 +46,22 @@ impl TruthObjects {
         }
         let (view, _) = crate::embed::camera::scene_view(scene, aspect, true);
         let eye_z = view.inverse().w_axis.z;
-        let mut models: Vec<(std::path::PathBuf, Model, u32)> = Vec::new();
+        let (models, model_of) = gltf::load_objects(&scene.objects)?;
+        // Each model's materials in turn, the first index of each model's.
         let mut materials = Vec::new();
+        let mut first_materials = Vec::new();
+        for model in &models {
+            first_materials.push((materials.len() / 2) as u32);
+            let defaults = [Material::default()];
+            let model_materials = if model.materials.is_empty() { &defaults[..] } else { &model.materials[..] };
+            for material in model_materials {
+                materials.extend(material_words(model, material));
+            }
+        }
         let mut corners: Vec<[Vec3; 3]> = Vec::new();
         let mut attributes: Vec<([Vec3; 3], u32)> = Vec::new();
-        for object in &scene.objects {
-            if !models.iter().any(|(file, _, _)| *file == object.file) {
-                let model = gltf::load(&object.file)?;
-                let first = (materials.len() / 2) as u32;
-                let defaults = [Material::default()];
-                let model_materials = if model.materials.is_empty() { &defaults[..] } else { &model.materials[..] };
-                for material in model_materials {
-                    materials.extend(material_words(&model, material));
-                }
-                models.push((object.file.clone(), model, first));
-            }
-            let (_, model, first_material) = models.iter().find(|(file, _, _)| *file == object.file).expect("loaded");
+        for (object, &index) in scene.objects.iter().zip(&model_of) {
+            let (model, first_material) = (&models[index], first_materials[index]);
             let placement =
                 place(scene, waves, object, waterplane(model.bounds, object.scale), eye_z, scene.render.time_s);
             let m = placement.relative_from_model;
@@ -105,10 +105,11 @@ impl TruthObjects {
 
 /// A material's two vec4: its base colour times its texture's mean linear colour, and its
 /// metallic and roughness factors.
-fn material_words(model: &Model, material: &Material) -> [[f32; 4]; 2] {
+fn material_words(model: &Model, material: &Material) -> [[u32; 4]; 2] {
     let mean = material.base_colour_texture.and_then(|t| model.textures.get(t)).map_or([1.0; 3], mean_linear);
     let c = material.base_colour;
-    [[c[0] * mean[0], c[1] * mean[1], c[2] * mean[2], c[3]], [material.metallic, material.roughness, 0.0, 0.0]]
+    let colour = [c[0] * mean[0], c[1] * mean[1], c[2] * mean[2], c[3]];
+    [colour.map(f32::to_bits), [material.metallic, material.roughness, 0.0, 0.0].map(f32::to_bits)]
 }
 
 /// The mean linear colour of an sRGB texture.

@@ -89,6 +89,26 @@ impl Model {
     }
 }
 
+/// Loads each distinct file of `objects` once: the models, and for each object the index of
+/// its model. Errors name the file.
+pub fn load_objects(objects: &[crate::model::scene::Object]) -> Result<(Vec<std::sync::Arc<Model>>, Vec<usize>)> {
+    let mut files: Vec<PathBuf> = Vec::new();
+    let mut models = Vec::new();
+    let mut model_of = Vec::new();
+    for object in objects {
+        let index = match files.iter().position(|f| *f == object.file) {
+            Some(i) => i,
+            None => {
+                models.push(std::sync::Arc::new(load(&object.file)?));
+                files.push(object.file.clone());
+                files.len() - 1
+            }
+        };
+        model_of.push(index);
+    }
+    Ok((models, model_of))
+}
+
 /// Loads `path` (.gltf with its buffers and images beside it, or .glb).
 pub fn load(path: &Path) -> Result<Model> {
     let bad = |message: String| Error::Io { path: path.to_owned(), message };

@@ -13,7 +13,7 @@ use crate::embed::Light;
 use crate::error::{Error, Result, VkContext};
 use crate::model::environment::{IRRADIANCE_COLUMNS, IRRADIANCE_ROWS};
 use crate::model::floating::Waterplane;
-use crate::model::gltf::{self, Model};
+use crate::model::gltf;
 use crate::model::placement::{place, waterplane};
 use crate::model::scene::{Object, Scene};
 use crate::model::sky::SUN_ANGULAR_RADIUS;
@@ -29,8 +29,6 @@ use ash::vk;
 use glam::{DMat3, DMat4, DVec3};
 use light::ObjectLight;
 use pipeline::ObjectPipelines;
-use std::path::PathBuf;
-use std::sync::Arc;
 use upload::{GpuModel, BASE_COLOUR_FORMAT, NORMAL_MAP_FORMAT};
 
 /// The pass's name in profiles and debug labels.
@@ -137,25 +135,6 @@ pub struct Objects<'g> {
     light: ObjectLight,
 }
 
-/// Loads each distinct file of `objects` once; errors name the file.
-pub fn load_models(objects: &[Object]) -> Result<(Vec<Arc<Model>>, Vec<usize>)> {
-    let mut files: Vec<PathBuf> = Vec::new();
-    let mut models = Vec::new();
-    let mut model_of = Vec::new();
-    for object in objects {
-        let index = match files.iter().position(|f| *f == object.file) {
-            Some(i) => i,
-            None => {
-                models.push(Arc::new(gltf::load(&object.file)?));
-                files.push(object.file.clone());
-                files.len() - 1
-            }
-        };
-        model_of.push(index);
-    }
-    Ok((models, model_of))
-}
-
 impl<'g> Objects<'g> {
     /// The pass for `objects` drawn into `colour` and `depth` attachments, `slots` frames in
     /// flight.
@@ -167,7 +146,7 @@ impl<'g> Objects<'g> {
         reversed_z: bool,
         slots: u32,
     ) -> Result<Self> {
-        let (models, model_of) = load_models(objects)?;
+        let (models, model_of) = gltf::load_objects(objects)?;
         let lit = 1f32.to_ne_bytes();
         let stand_ins = [
             ([255, 255, 255, 255], BASE_COLOUR_FORMAT),
