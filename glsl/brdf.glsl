@@ -146,6 +146,7 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
 // without GLINTS).
 #ifdef HAS_LOCAL_REFLECTIONS
 vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2);
+vec4 planar_reflection(vec3 point, vec3 r, vec2 sigma2, vec3 up);
 #endif
 
 vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint, vec3 point) {
@@ -193,15 +194,19 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
     vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean) : vec4(0.0);
-    // The host's objects the sky lookup's mirror direction meets (shade.glsl local_reflection)
-    // stand in front of the sky, over the share of the footprint they cover.
+    // The host's objects the sky lookup's mirror direction meets stand in front of the sky, over
+    // the share of the footprint they cover: traced in screen space (shade.glsl
+    // local_reflection), and where that meets none, read from their mirror images
+    // (planar_reflection).
     vec4 local = vec4(0.0);
 #ifdef HAS_LOCAL_REFLECTIONS
-    if (LOCAL_REFLECTIONS && TERM_SKY) {
+    if ((LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && TERM_SKY) {
         VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
         vec2 zeta = slopes.mean + lean;
         vec3 facet = normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n);
-        local = local_reflection(point, reflect(-v, facet), sigma2);
+        vec3 r = reflect(-v, facet);
+        local = local_reflection(point, r, sigma2);
+        if (local.a < 1.0) local += (1.0 - local.a) * planar_reflection(point, r, sigma2, up);
     }
 #endif
     if (TERM_SKY) color += fresnel * (light.sky_scale * sky.rgb * (1.0 - local.a) + local.rgb);

@@ -32,9 +32,11 @@ layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixe
 #include "train_blocks.glsl"
 #endif
 #include "sky.glsl"
-// The sea's reflections of the host's objects (constant 15; passes/reflections.rs builds what
-// local_reflection reads): left out where the host hands no depth, or asks for none.
+// The sea's reflections of the host's objects in screen space (constant 15; passes/reflections.rs
+// builds what local_reflection reads) and through their mirror images (constant 16;
+// passes/planar.rs, planar_reflection): left out where the host hands no depth, or asks for none.
 layout(constant_id = 15) const bool LOCAL_REFLECTIONS = false;
+layout(constant_id = 16) const bool PLANAR_REFLECTIONS = false;
 #define HAS_LOCAL_REFLECTIONS
 #include "brdf.glsl"
 layout(set = 0, binding = 5) uniform sampler2D aerial_inscatter;
@@ -63,6 +65,13 @@ layout(set = 0, binding = 15) uniform sampler2D reflection_depth;
 // The screen rectangle (level-0 pixels: min x, min y, max x, max y) holding every object, and
 // their nearest forward depth (glsl/reflection_bounds.comp).
 layout(set = 0, binding = 16, std430) readonly buffer ReflectionBounds { vec4 rect; float nearest; } reflection_bounds;
+
+// The host's objects mirrored about the sea (passes/planar.rs): their radiance (host unit)
+// premultiplied by coverage, and coverage over forward depth, both mipmapped by means; whether
+// the host drew them this frame.
+layout(set = 0, binding = 17) uniform sampler2D planar_colour;
+layout(set = 0, binding = 18) uniform sampler2D planar_inverse_depth;
+layout(push_constant) uniform ShadePush { uint planar_drawn; } shade_push;
 
 // Cells a reflected ray visits at most: skipping up the pyramid, a ray crosses a 1024-pixel
 // screen in about 2 log2(1024) of them; the rest go to refining near objects and to the pixels
@@ -204,6 +213,69 @@ vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2) {
     // Towards the screen's edges the footprint leaves what the screen holds: fade, no edge.
     float margin = min(min(at.x, size.x - at.x), min(at.y, size.y - at.y));
     return seen * smoothstep(0.0, 1.0, margin / max(radius_px, EDGE_FADE_PX));
+}
+
+// Mip levels searched, every other one, for mirrored objects near a point's own pixel: the
+// farthest, 2^8 pixels on, is as far as a 2-sigma slope of 0.4 turns a reflection on a 1024-pixel
+// view.
+const int PLANAR_SEARCH_LEVELS = 8;
+
+// The mirrored objects' coverage and harmonic mean forward depth over the footprint of `level`
+// at pixel s (0 coverage: none there).
+vec2 planar_depth(vec2 s, int level) {
+    // The level's size by arithmetic, as local_reflection's (textureSize at a level that differs
+    // between lanes is not to be trusted).
+    ivec2 cells = max(textureSize(planar_inverse_depth, 0) >> level, ivec2(1));
+    ivec2 cell = clamp(ivec2(floor(s / float(1 << level))), ivec2(0), cells - 1);
+    float coverage = texelFetch(planar_colour, cell, level).a;
+    float inverse = texelFetch(planar_inverse_depth, cell, level).r;
+    return inverse > 0.0 ? vec2(coverage, coverage / inverse) : vec2(0.0);
+}
+
+// The objects the sea point `point` (camera-relative) mirrors along unit `r`, read from their
+// mirror images (a planar reflection: the objects drawn mirrored about the sea's tangent plane,
+// normal `up`), the slopes' variance sigma2 widening the cone as local_reflection's does: rgb
+// premultiplied by a, the share of the footprint they cover. The mirrored ray m goes on into the
+// mirror's world; where it meets a mirrored object is found by fixed-point steps on its path t:
+// the image's depth at the screen position of point + t m, the first from the objects found
+// nearest the point's own pixel. A flat sea's ray is the view ray and needs none.
+vec4 planar_reflection(vec3 point, vec3 r, vec2 sigma2, vec3 up) {
+    if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return vec4(0.0);
+    vec2 size = vec2(textureSize(planar_colour, 0));
+    vec3 forward = frame.cam_forward.xyz;
+    vec3 m = r - 2.0 * dot(r, up) * up;
+    float z0 = dot(point, forward), mf = dot(m, forward);
+    // A mirrored ray that does not recede from the eye meets nothing the view holds beyond the
+    // point.
+    if (!(z0 > 0.0) || !(mf > 0.0)) return vec4(0.0);
+    vec2 s = clamp(reflection_screen(point, z0, size), vec2(0.0), size - 1e-3);
+    vec2 found = vec2(0.0);
+    int top = textureQueryLevels(planar_colour) - 1;
+    for (int level = 0; level <= PLANAR_SEARCH_LEVELS && found.x == 0.0; level += 2) {
+        found = planar_depth(s, min(level, top));
+    }
+    if (found.x == 0.0) return vec4(0.0);
+    float sigma = sqrt(max(sigma2.x, sigma2.y));
+    float spread = tan(min(2.0 * atan(2.0 * sigma), 1.4));
+    float path = 0.0, lod = 0.0;
+    for (int i = 0; i < 2; i++) {
+        // What stands nearer the eye than the point is not behind the mirror: no reflection of it.
+        path = (found.y - z0) / mf;
+        if (!(path > 0.0)) return vec4(0.0);
+        vec3 q = point + m * path;
+        float z = dot(q, forward);
+        s = reflection_screen(q, z, size);
+        float radius_px = path * spread / (z * 2.0 * length(frame.cam_down.xyz) / size.y);
+        lod = log2(max(2.0 * radius_px, 1.0));
+        vec2 next = planar_depth(s, min(int(lod), top));
+        if (next.x == 0.0) break;
+        found = next;
+    }
+    vec4 seen = textureLod(planar_colour, s / size, lod);
+    seen.rgb = clamp(seen.rgb / frame.host.x, vec3(0.0), vec3(HDR_MAX));
+    // Off the screen's edges the mirror holds nothing: fade, no edge.
+    float margin = min(min(s.x, size.x - s.x), min(s.y, size.y - s.y));
+    return seen * smoothstep(0.0, 1.0, margin / max(exp2(lod) * 0.5, EDGE_FADE_PX));
 }
 
 // The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and
@@ -401,7 +473,7 @@ void main() {
     // The point the pixel sees, for its local reflections: on the displaced surface where the
     // grid drew it (reversed Z: ray near / depth), else on the mean sea.
     vec3 point = sea_point(x);
-    if (LOCAL_REFLECTIONS && covered) {
+    if ((LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && covered) {
         float depth = texelFetch(scene_depth, p, 0).r;
         if (depth > 0.0) point = ray * (frame.shadow.x / depth);
     }

@@ -13,7 +13,7 @@ enum Term {
 }
 use ocean::app::window::view::PresentMode;
 use ocean::embed::Shading;
-use ocean::model::scene::Scene;
+use ocean::model::scene::{Reflections, Scene};
 use ocean::output::progress::Progress;
 use ocean::output::target::is_stdout;
 use std::path::{Path, PathBuf};
@@ -62,22 +62,19 @@ struct MethodArgs {
     #[arg(long, value_enum)]
     glints: Option<Switch>,
     /// How the sea reflects the scene's objects: `screen` traces each pixel's reflection in
-    /// screen space against the objects' depth (glsl/shade.glsl local_reflection), `none` leaves
-    /// them to the sky's reflection alone. Without objects there is nothing to reflect either way.
-    #[arg(long, value_enum, default_value_t = Reflections::Screen)]
-    reflections: Reflections,
-}
-
-/// The local reflections' methods (`--reflections`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum Reflections {
-    None,
-    Screen,
+    /// screen space against the objects' depth (glsl/shade.glsl local_reflection), `planar` reads
+    /// the objects drawn again mirrored about the sea (planar_reflection), `both` the screen's
+    /// where it meets an object and the mirror's elsewhere, `none` leaves them to the sky's
+    /// reflection alone. Default: the scene's `render.reflections`. Without objects there is
+    /// nothing to reflect either way.
+    #[arg(long, value_enum)]
+    reflections: Option<Reflections>,
 }
 
 impl MethodArgs {
-    /// The shader's method and glints; glints asked of a method without them is an error.
-    fn shader(&self) -> ocean::Result<ShaderConfig> {
+    /// The shader's method, glints and reflections for `scene`; glints asked of a method without
+    /// them is an error.
+    fn shader(&self, scene: &Scene) -> ocean::Result<ShaderConfig> {
         let glints = match self.glints {
             Some(Switch::On) if self.method != Method::Full => {
                 return Err(ocean::Error::Argument(format!(
@@ -89,7 +86,7 @@ impl MethodArgs {
             Some(Switch::Off) => false,
             None => self.method == Method::Full,
         };
-        let reflections = self.reflections == Reflections::Screen;
+        let reflections = self.reflections.unwrap_or(scene.render.reflections);
         Ok(ShaderConfig { method: self.method, glints, reflections, ..ShaderConfig::default() })
     }
 }
@@ -482,7 +479,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 sky: terms.contains(&Term::Sky),
                 sea: terms.contains(&Term::Sea),
             };
-            let base = method.shader()?;
+            let base = method.shader(&scene)?;
             let shader = if terms == Terms::ALL {
                 base
             } else {
@@ -609,7 +606,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             ocean::app::animate::frame_count(seconds, fps)?; // bad arguments before the GPU starts
             let (scene, _) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(validation, device.as_deref())?;
-            let shading = Shading { shader: method.shader()?, ..Shading::default() };
+            let shading = Shading { shader: method.shader(&scene)?, ..Shading::default() };
             let request = ocean::app::animate::AnimateRequest {
                 scene,
                 seconds,
@@ -654,6 +651,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             trace,
         } => {
             let (loaded, _) = load_scene(scene.clone())?;
+            let shader = method.shader(&loaded)?;
             let options = ocean::app::window::view::ViewOptions {
                 scene_path: scene,
                 scene: loaded,
@@ -662,7 +660,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 present,
                 validation,
                 device,
-                shader: method.shader()?,
+                shader,
                 frames_in_flight,
                 time_scale,
                 frames,
@@ -841,7 +839,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 ("--png", png.as_deref(), true),
             ])?;
             let (scene, scene_name) = load_scene(scene)?;
-            let shader = ShaderConfig { train_reads, ..method.shader()? };
+            let shader = ShaderConfig { train_reads, ..method.shader(&scene)? };
             let request = ocean::app::profile::ProfileRequest {
                 scene,
                 scene_name,

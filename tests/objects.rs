@@ -99,7 +99,7 @@ fn calm_boat() -> Scene {
 /// Shading without the sea's reflections of the objects: what occlusion alone leaves.
 fn without_reflections() -> ocean::embed::Shading {
     ocean::embed::Shading {
-        shader: ocean::embed::ShaderConfig { reflections: false, ..Default::default() },
+        shader: ocean::embed::ShaderConfig { reflections: ocean::embed::Reflections::None, ..Default::default() },
         ..Default::default()
     }
 }
@@ -315,7 +315,7 @@ fn the_objects_shadow_the_sea() {
     let (w, h) = (480, 360);
     let sun_only = ocean::embed::Shading {
         shader: ocean::embed::ShaderConfig {
-            reflections: false,
+            reflections: ocean::embed::Reflections::None,
             terms: ocean::embed::Terms { sun: true, sky: false, sea: false },
             ..Default::default()
         },

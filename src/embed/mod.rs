@@ -25,6 +25,7 @@ use ash::vk;
 use camera::HostView;
 use glam::{DMat4, DVec3};
 
+pub use crate::model::scene::Reflections;
 pub use crate::render::passes::composite::HostFormats;
 pub use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
 pub use crate::render::renderer::TrainCounts;
@@ -241,6 +242,9 @@ pub struct Ocean<'g> {
     /// The sun's view of the last update: camera-relative world to the shadow map's clip space,
     /// and a texel's larger side (m).
     sun_view: Option<(glam::Mat4, f64)>,
+    /// What the host's objects are mirrored with in the last update's frame
+    /// ([`Ocean::record_planar`]).
+    mirror: Option<MirrorView>,
 }
 
 /// The sun's shadow map, for a host's fragment shaders to shadow its objects by the waves and by
@@ -262,7 +266,9 @@ pub struct SunShadow {
     pub texel_m: f64,
 }
 
+pub use crate::render::passes::planar::{MirrorView, PLANAR_COLOUR_FORMAT};
 pub use crate::render::passes::shadow::{CasterView, DEPTH_BIAS as SHADOW_DEPTH_BIAS};
+pub use crate::render::resources::PLANAR_DEPTH_FORMAT;
 /// The sun's shadow map's format, for a host's caster pipeline.
 pub const SHADOW_FORMAT: vk::Format = crate::vk::device::DEPTH_FORMAT;
 
@@ -286,6 +292,7 @@ impl<'g> Ocean<'g> {
             broken: None,
             casters: None,
             sun_view: None,
+            mirror: None,
             desc,
         };
         ocean.build()?;
@@ -300,14 +307,18 @@ impl<'g> Ocean<'g> {
         let mut shader = desc.shading.shader;
         // Local reflections need the host's depth (its objects) and the sky term they replace.
         let mut omitted = Vec::new();
-        if shader.reflections && (desc.formats.depth.is_none() || !shader.terms.sky) {
-            shader.reflections = false;
+        if shader.reflections != Reflections::None && (desc.formats.depth.is_none() || !shader.terms.sky) {
+            let what = match shader.reflections {
+                Reflections::Screen => "local reflections (their sources pass and depth pyramid)",
+                Reflections::Planar => "planar reflections (the mirror pass and its mipmaps)",
+                _ => "local and planar reflections (the sources pass, depth pyramid, mirror pass)",
+            };
+            shader.reflections = Reflections::None;
             let why = if desc.formats.depth.is_none() {
                 "the host hands no depth: no objects to reflect"
             } else {
                 "the sky term is off: the objects' reflections stand in for part of it"
             };
-            let what = "local reflections (their sources pass and depth pyramid)";
             omitted.push(Omission { what: what.into(), why: why.into() });
         }
         // The loop the device runs, so that `shader()` names it.
@@ -458,6 +469,11 @@ impl<'g> Ocean<'g> {
         let casters = self.casters.map(|(min, max)| CasterBox { min: min - view.eye, max: max - view.eye });
         let prepared = renderer.prepare_host(slot, &scene, host, casters)?;
         self.sun_view = prepared.data().sun_view.map(|v| (v.view_proj.as_mat4(), v.texel_m[0].max(v.texel_m[1])));
+        self.mirror = Some(MirrorView {
+            clip_from_relative: view.clip_from_relative.as_mat4(),
+            eye_height_m: view.eye.z,
+            planet_radius_m: scene.planet.radius_m,
+        });
         let u = &prepared.data().uniforms;
         let unit = |v: [f32; 4]| [v[0], v[1], v[2]].map(|x| x * self.desc.radiance_scale);
         self.light = Some(Light {
@@ -630,6 +646,38 @@ impl<'g> Ocean<'g> {
             .as_ref()
             .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
         renderer.record_host_shadows(cmd, slot, prepared, casters)
+    }
+
+    /// What the host draws its objects mirrored about the sea with in the last update's frame,
+    /// where the ocean reads planar reflections (`Shading`'s reflections planar or both, with
+    /// depth and the sky term): for the host to test which objects' mirror images are in view
+    /// before [`Ocean::record_planar`].
+    pub fn mirror_view(&self) -> Option<MirrorView> {
+        self.renderer.as_ref()?.has_planar().then_some(self.mirror?)
+    }
+
+    /// Records the mirror pass of frame `slot` (updated, not yet recorded) into the host's
+    /// command buffer `cmd` (recording, outside a rendering scope), before [`Ocean::record`]:
+    /// `draw` records the host's objects mirrored about the sea as [`MirrorView`] says, inside
+    /// the pass's rendering scope ([`PLANAR_COLOUR_FORMAT`] written with alpha 1,
+    /// [`PLANAR_DEPTH_FORMAT`] in the host's own depth convention). The frame's shading then reads
+    /// them along each sea pixel's reflected ray. A frame the host records none for (none of its
+    /// objects' mirror images in view) reads none, and costs nothing. Ok(false) where the ocean
+    /// reads no planar reflections ([`Ocean::mirror_view`] None).
+    pub fn record_planar(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        draw: &mut dyn FnMut(vk::CommandBuffer, &MirrorView),
+    ) -> Result<bool> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        self.check_built()?;
+        let Some(renderer) = self.renderer.as_mut() else { return Ok(false) };
+        let prepared = self.prepared[slot]
+            .as_ref()
+            .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
+        let Some(view) = self.mirror else { return Ok(false) };
+        renderer.record_host_planar(cmd, slot, prepared, &view, draw)
     }
 
     /// The sun's shadow map of the last update, where the ocean has one; its contents are the

@@ -63,6 +63,14 @@ pub fn place(scene: &Scene, waves: &WaveSet, object: &Object, plane: Waterplane,
     Placement { relative_from_model, origin, up }
 }
 
+/// The mean sea's tangent plane below point `p` (relative to an eye `eye_z` above the sea, on a
+/// sphere of radius `radius`): its unit normal n and offset w, dot(n, x) = w on the plane.
+pub fn sea_plane_below(p: DVec3, eye_z: f64, radius: f64) -> (DVec3, f64) {
+    let centre = DVec3::new(0.0, 0.0, -radius - eye_z);
+    let n = (p - centre).try_normalize().unwrap_or(DVec3::Z);
+    (n, n.dot(centre) + radius)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -151,6 +151,47 @@ pub struct Render {
     pub shadow_map: ShadowMapMode,
     /// The shadow map's texels per side.
     pub shadow_map_size: u32,
+    /// How the sea reflects the scene's objects (`--reflections` overrides it): the object
+    /// presets name the method `bench error-vs-time` found best for them.
+    pub reflections: Reflections,
+}
+
+/// How the sea reflects a host's objects (`render.reflections`, `--reflections`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Reflections {
+    /// The sky's reflection alone.
+    None,
+    /// Each pixel's reflected ray traced in screen space against the objects' depth
+    /// (glsl/shade.glsl local_reflection): only what the screen holds.
+    Screen,
+    /// The objects drawn again, mirrored about the sea (embed::Ocean::record_planar), read along
+    /// each pixel's reflected ray (glsl/shade.glsl planar_reflection): what the screen does not
+    /// hold too, with the mirror's error where the sea is far from flat.
+    Planar,
+    /// The screen's where its ray meets an object, the mirror's for the rest.
+    Both,
+}
+
+impl Reflections {
+    /// Whether the screen-space trace runs.
+    pub fn screen(self) -> bool {
+        matches!(self, Reflections::Screen | Reflections::Both)
+    }
+
+    /// Whether the mirror pass runs.
+    pub fn planar(self) -> bool {
+        matches!(self, Reflections::Planar | Reflections::Both)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Reflections::None => "none",
+            Reflections::Screen => "screen",
+            Reflections::Planar => "planar",
+            Reflections::Both => "both",
+        }
+    }
 }
 
 /// Whether the sun's shadow map is drawn (`render.shadow_map`).
@@ -304,6 +345,7 @@ impl Default for Render {
             sky_anisotropy: 1.0,
             shadow_map: ShadowMapMode::Off,
             shadow_map_size: 1024,
+            reflections: Reflections::Screen,
         }
     }
 }

@@ -73,8 +73,20 @@ pub struct FrameSlot<'g> {
     pub grid: GridIndices<'g>,
     /// Whether a frame was recorded into a host's command buffer since the slot was last taken.
     pub host_recorded: bool,
-    /// Whether a host recorded the slot's shadow map ahead of its frame (and began its profile).
-    pub shadows_recorded: bool,
+    /// What a host recorded of the slot's frame ahead of it.
+    pub ahead: RecordedAhead,
+}
+
+/// The passes a host records ahead of its frame, into its own command buffer, for its draws to
+/// use (embed::Ocean::record_shadows, record_planar).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RecordedAhead {
+    /// The slot's profile was reset and its first scopes written.
+    pub profile_begun: bool,
+    /// The sun's shadow map, with the host's casters.
+    pub shadows: bool,
+    /// The mirror pass, with the host's mirrored objects.
+    pub planar: bool,
 }
 
 impl<'g> FrameSlot<'g> {
@@ -88,7 +100,7 @@ impl<'g> FrameSlot<'g> {
             submission: None,
             grid: GridIndices::new(gpu),
             host_recorded: false,
-            shadows_recorded: false,
+            ahead: RecordedAhead::default(),
         })
     }
 }

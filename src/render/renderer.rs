@@ -6,10 +6,10 @@
 
 use crate::error::{Error, Result};
 use crate::model::masking::{GlintMaskingTable, VisibleFacetTable};
-use crate::model::scene::{Planet, Scene, ShadowMapMode, Sky, SkyKind, Sun};
+use crate::model::scene::{Planet, Reflections, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
-use crate::render::in_flight::FrameSlot;
+use crate::render::in_flight::{FrameSlot, RecordedAhead};
 use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::composite::{CompositePass, HostFormats};
@@ -19,6 +19,7 @@ use crate::render::passes::host_copy::HostCopyPass;
 use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::placeholders::PlaceholdersPass;
+use crate::render::passes::planar::{MirrorView, PlanarPass};
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::reflections::ReflectionsPass;
 use crate::render::passes::resolve::ResolvePass;
@@ -174,6 +175,8 @@ pub struct Renderer<'g> {
     clock: DeviceClock,
     /// The sun's shadow map pass, outside `passes`: a host may record it ahead of the frame.
     shadow: Option<ShadowPass<'g>>,
+    /// The mirror pass, which only a host records, ahead of its frame.
+    planar: Option<PlanarPass<'g>>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
@@ -273,7 +276,9 @@ impl<'g> Renderer<'g> {
             options.shader.shadow_map_unneeded(scene.render.shadow_map, options.casts_shadows()).is_none();
         // The sea reflects a host's objects: in its frame with depth, through the sky term.
         let host_depth = matches!(options.output, Output::Host(h) if h.formats.depth.is_some());
-        options.shader.reflections &= host_depth && options.shader.terms.sky && !options.shader.draws_nothing();
+        if !(host_depth && options.shader.terms.sky && !options.shader.draws_nothing()) {
+            options.shader.reflections = Reflections::None;
+        }
         let frames_in_flight = options.frames_in_flight.max(1);
         let spec = ResourceSpec {
             width,
@@ -292,7 +297,8 @@ impl<'g> Renderer<'g> {
                 Output::Host(host) => host.in_place,
                 Output::Readback => None,
             },
-            reflections: options.shader.reflections,
+            reflections: options.shader.reflections.screen(),
+            planar: options.shader.reflections.planar(),
         };
         let resources = Resources::new(gpu, &spec)?;
         // First in every frame, or recorded ahead of it by a host that draws casters into it.
@@ -366,7 +372,8 @@ impl<'g> Renderer<'g> {
                 passes.push(Box::new(ReadbackPass));
             }
         }
-        let scopes = (passes.len() + usize::from(shadow.is_some())) as u32;
+        let planar = resources.planar.as_ref().map(|images| PlanarPass::new(device, &resources, images)).transpose()?;
+        let scopes = (passes.len() + usize::from(shadow.is_some()) + usize::from(planar.is_some())) as u32;
         let slots = (0..frames_in_flight as usize)
             .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics))
             .collect::<Result<Vec<_>>>()?;
@@ -384,6 +391,7 @@ impl<'g> Renderer<'g> {
             cpu_spans: CpuSpans::default(),
             clock: DeviceClock::new(device),
             shadow,
+            planar,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -433,7 +441,8 @@ impl<'g> Renderer<'g> {
 
     /// The names of the passes, in execution order.
     pub fn pass_names(&self) -> Vec<&'static str> {
-        self.shadow.iter().map(|p| p.name()).chain(self.passes.iter().map(|p| p.name())).collect()
+        let planar = self.planar.as_ref().map(|_| PlanarPass::NAME);
+        self.shadow.iter().map(|p| p.name()).chain(planar).chain(self.passes.iter().map(|p| p.name())).collect()
     }
 
     /// GPU time per pass (ms) of the most recent frame known to be finished.
@@ -517,8 +526,8 @@ impl<'g> Renderer<'g> {
     /// `slot` is in range (embed::Ocean checks it).
     pub fn begin_host_frame(&mut self, slot: usize) -> Result<()> {
         let s = &mut self.slots[slot];
-        // A map recorded ahead of a frame that was never recorded is not this frame's.
-        s.shadows_recorded = false;
+        // What was recorded ahead of a frame that was never recorded is not this frame's.
+        s.ahead = RecordedAhead::default();
         if !std::mem::take(&mut s.host_recorded) {
             return Ok(());
         }
@@ -719,12 +728,15 @@ impl<'g> Renderer<'g> {
         let eye_current = sky_current && self.eye_built.as_ref() == Some(&eye);
         self.eye_built = Some(eye);
         self.sky_in_map = Some(sky);
-        let frame = self.frame(slot, &data, host);
+        let ahead = std::mem::take(&mut self.slots[slot].ahead);
+        let frame = Frame { planar_drawn: ahead.planar, ..self.frame(slot, &data, host) };
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        // A host that recorded the shadow map ahead began the slot's profile with it.
-        if !std::mem::take(&mut s.shadows_recorded) {
+        // A host that recorded a pass ahead began the slot's profile with it.
+        if !ahead.profile_begun {
             s.profiler.reset(&device.raw, cmd);
+        }
+        if !ahead.shadows {
             if let Some(pass) = &self.shadow {
                 s.profiler.begin(device, cmd, pass.name());
                 pass.declare(&self.resources, &frame, &mut self.tracker);
@@ -761,6 +773,7 @@ impl<'g> Renderer<'g> {
             sea_rows: data.sea_rows,
             sun_view: data.sun_view.is_some(),
             host,
+            planar_drawn: false,
         }
     }
 
@@ -779,7 +792,9 @@ impl<'g> Renderer<'g> {
         let frame = self.frame(slot, &prepared.data, None);
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        s.profiler.reset(&device.raw, cmd);
+        if !std::mem::replace(&mut s.ahead.profile_begun, true) {
+            s.profiler.reset(&device.raw, cmd);
+        }
         s.profiler.begin(device, cmd, pass.name());
         pass.declare(&self.resources, &frame, &mut self.tracker);
         self.tracker.flush(&device.raw, cmd);
@@ -789,8 +804,42 @@ impl<'g> Renderer<'g> {
         s.profiler.end(device, cmd);
         self.tracker.image(&self.resources.shadow_map, 0, 1, Access::FragmentSampled, false);
         self.tracker.flush(&device.raw, cmd);
-        s.shadows_recorded = true;
+        s.ahead.shadows = true;
         Ok(true)
+    }
+
+    /// Records the mirror pass of frame `prepared` in `slot` into a host's command buffer `cmd`
+    /// ahead of the frame (embed::Ocean::record_planar): `draw` records the host's objects
+    /// mirrored about the sea with `view`, into images the frame's shading then reads. Does
+    /// nothing where the renderer has no mirror pass (Ok(false)); a frame the host records none
+    /// for reads none.
+    pub fn record_host_planar(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        prepared: &Prepared,
+        view: &MirrorView,
+        draw: &mut dyn FnMut(vk::CommandBuffer, &MirrorView),
+    ) -> Result<bool> {
+        let Some(pass) = &self.planar else { return Ok(false) };
+        let far = prepared.data.uniforms.host[2];
+        let frame = self.frame(slot, &prepared.data, None);
+        let device = &self.gpu.device;
+        let s = &mut self.slots[slot];
+        if !std::mem::replace(&mut s.ahead.profile_begun, true) {
+            s.profiler.reset(&device.raw, cmd);
+        }
+        s.profiler.begin(device, cmd, PlanarPass::NAME);
+        let mut rec = Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame };
+        pass.record_mirrored(&mut rec, &self.resources, view, far, draw);
+        s.profiler.end(device, cmd);
+        s.ahead.planar = true;
+        Ok(true)
+    }
+
+    /// Whether the renderer has the mirror pass (a host's planar reflections).
+    pub fn has_planar(&self) -> bool {
+        self.planar.is_some()
     }
 
     /// The sun's shadow map (SHADER_READ_ONLY_OPTIMAL after `record_host_shadows`) and its

@@ -61,6 +61,8 @@ pub struct ResourceSpec {
     pub in_place: Option<HostImage>,
     /// Whether the sea reflects the host's objects (passes/reflections.rs).
     pub reflections: bool,
+    /// Whether the sea reflects the host's objects drawn mirrored (passes/planar.rs).
+    pub planar: bool,
 }
 
 /// What the sea's local reflections read (passes/reflections.rs), at the host's size, every
@@ -77,6 +79,24 @@ pub struct ReflectionImages<'g> {
     /// (glsl/reflection_bounds.comp).
     pub bounds: Buffer<'g>,
 }
+
+/// What the sea's planar reflections read (passes/planar.rs), at the host's size: the host's
+/// objects drawn mirrored about the sea into `colour`'s level 0 and `depth`, then `colour`'s
+/// mipmap and `inverse_depth`'s.
+pub struct PlanarImages<'g> {
+    /// The mirrored objects' radiance (host unit) premultiplied by their coverage: drawn with
+    /// alpha 1 on a cleared (0) image; each level the mean of the one above.
+    pub colour: Image<'g>,
+    /// The host's depth attachment (PLANAR_DEPTH_FORMAT, the host's depth convention).
+    pub depth: Image<'g>,
+    /// Coverage over forward depth (1/m; 0 where no object), each level the mean of the one
+    /// above (R32F): a footprint's harmonic mean depth is its coverage over this.
+    pub inverse_depth: Image<'g>,
+    pub inverse_depth_levels: Vec<Owned<'g, vk::ImageView>>,
+}
+
+/// The mirror pass's depth (every device supports it as a depth attachment, and sampled).
+pub const PLANAR_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The depth pyramid's format: forward depths in metres, to 100 km and beyond in full precision.
 pub const REFLECTION_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
@@ -173,6 +193,8 @@ pub struct Resources<'g> {
     pub exposure: Buffer<'g>,
     /// The local reflections' sources, in a host's frame that reflects its objects.
     pub reflections: Option<ReflectionImages<'g>>,
+    /// The planar reflections' mirror images, in a host's frame that reflects its objects so.
+    pub planar: Option<PlanarImages<'g>>,
 }
 
 /// Rays per side of the aerial perspective's camera volume, and slices along each.
@@ -204,6 +226,7 @@ impl<'g> Resources<'g> {
             aerial,
             in_place,
             reflections,
+            planar,
         } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
@@ -328,6 +351,22 @@ impl<'g> Resources<'g> {
         } else {
             None
         };
+        let planar = if planar {
+            let extent = vk::Extent2D { width, height };
+            let levels = 32 - width.max(height).leading_zeros();
+            let usage = I::COLOR_ATTACHMENT | I::SAMPLED | I::TRANSFER_SRC | I::TRANSFER_DST;
+            let colour = Image::new(gpu, "planar colour", HDR_FORMAT, extent, levels, usage)?;
+            let usage = I::DEPTH_STENCIL_ATTACHMENT | I::SAMPLED;
+            let depth = Image::new(gpu, "planar depth", PLANAR_DEPTH_FORMAT, extent, 1, usage)?;
+            let usage = I::STORAGE | I::SAMPLED;
+            let inverse_depth =
+                Image::new(gpu, "planar inverse depth", REFLECTION_DEPTH_FORMAT, extent, levels, usage)?;
+            let inverse_depth_levels =
+                (0..levels).map(|level| inverse_depth.level_view(level)).collect::<Result<Vec<_>>>()?;
+            Some(PlanarImages { colour, depth, inverse_depth, inverse_depth_levels })
+        } else {
+            None
+        };
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
@@ -338,7 +377,7 @@ impl<'g> Resources<'g> {
             depth,
             shadow_map: shadow_map_image,
             shadows: shadow_map.is_some(),
-            depth_read: shadow_map.is_some() || composite || reflections.is_some(),
+            depth_read: shadow_map.is_some() || composite || reflections.is_some() || planar.is_some(),
             shadow_sampler,
             depth_sampler,
             resolved,
@@ -351,6 +390,7 @@ impl<'g> Resources<'g> {
             mean_fresnel,
             exposure,
             reflections,
+            planar,
         })
     }
 

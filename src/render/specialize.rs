@@ -228,7 +228,7 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     if options.shader.shadow && !options.shader.draws_nothing() {
         names.push("sun shadow".to_owned());
     }
-    if options.shader.reflections && !options.shader.draws_nothing() {
+    if options.shader.reflections.screen() && !options.shader.draws_nothing() {
         names.push("reflection sources".to_owned());
     }
     if options.ssaa > 1 {

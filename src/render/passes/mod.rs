@@ -11,6 +11,7 @@ pub mod host_copy;
 pub mod host_tonemap;
 pub mod ocean;
 pub mod placeholders;
+pub mod planar;
 pub mod readback;
 pub mod reflections;
 pub mod resolve;
@@ -43,6 +44,9 @@ pub struct Frame {
     pub sun_view: bool,
     /// A host's attachments, when the frame is recorded into a host's frame (embed::Ocean).
     pub host: Option<HostTargets>,
+    /// Whether the host drew its objects mirrored into the planar images this frame
+    /// (passes/planar.rs), which the shading pass then reads.
+    pub planar_drawn: bool,
 }
 
 /// The host's attachments a frame draws into (passes/composite.rs).

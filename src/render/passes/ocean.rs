@@ -6,7 +6,7 @@
 use super::shade::SHADE_GROUP;
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::model::scene::ShadowMapMode;
+use crate::model::scene::{Reflections, ShadowMapMode};
 use crate::render::resources::{Resources, EYE_SKY_BINDING, FRAME_BINDING, WAVES_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
@@ -105,10 +105,11 @@ pub struct ShaderConfig {
     /// (constant 14, glsl/shade.glsl ray_hit_strength): its gate and its loop. Left out where no
     /// pixel in view can resolve enough of the slopes for the step to be taken.
     pub ray_hit: bool,
-    /// Whether the sea reflects the host's objects (constant 15, glsl/shade.glsl
-    /// local_reflection; passes/reflections.rs builds what it reads). The renderer keeps it only
-    /// in a host's frame with depth (objects to reflect) and with the sky term.
-    pub reflections: bool,
+    /// How the sea reflects the host's objects: in screen space (constant 15, glsl/shade.glsl
+    /// local_reflection; passes/reflections.rs builds what it reads), through the host's mirror
+    /// pass (constant 16, planar_reflection; passes/planar.rs), or both. The renderer keeps them
+    /// only in a host's frame with depth (objects to reflect) and with the sky term.
+    pub reflections: Reflections,
 }
 
 impl Default for ShaderConfig {
@@ -126,7 +127,7 @@ impl Default for ShaderConfig {
             aerial: true,
             glints: true,
             ray_hit: true,
-            reflections: true,
+            reflections: Reflections::Screen,
         }
     }
 }
@@ -199,7 +200,8 @@ impl ShaderConfig {
             self.aerial as u32,
             self.draws_glints() as u32,
             self.steps_to_ray_hit() as u32,
-            self.reflections as u32,
+            self.reflections.screen() as u32,
+            self.reflections.planar() as u32,
         ])
     }
 

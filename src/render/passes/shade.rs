@@ -28,6 +28,11 @@ const SCENE_DEPTH_BINDING: u32 = 9;
 const REFLECTION_COLOUR_BINDING: u32 = 14;
 const REFLECTION_DEPTH_BINDING: u32 = 15;
 const REFLECTION_BOUNDS_BINDING: u32 = 16;
+/// The planar reflections' mirror images (glsl/shade.glsl planar_reflection; the eye's sky table
+/// stands in without them), and a push constant saying whether the host drew them this frame.
+const PLANAR_COLOUR_BINDING: u32 = 17;
+const PLANAR_INVERSE_DEPTH_BINDING: u32 = 18;
+const PUSH_BYTES: u32 = 4;
 
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
@@ -66,7 +71,7 @@ impl<'g> ShadePass<'g> {
     pub fn new(device: &'g Device, r: &Resources, config: ShaderConfig) -> Result<Self> {
         use vk::DescriptorType as D;
         let compute = vk::ShaderStageFlags::COMPUTE;
-        let bindings = Bindings::new(
+        let bindings = Bindings::with_push_constants(
             device,
             "shade",
             &[
@@ -85,7 +90,10 @@ impl<'g> ShadePass<'g> {
                 (REFLECTION_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (REFLECTION_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (REFLECTION_BOUNDS_BINDING, D::STORAGE_BUFFER, compute),
+                (PLANAR_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (PLANAR_INVERSE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
             ],
+            PUSH_BYTES,
         )?;
         bindings.write_buffer(MEAN_FRESNEL_BINDING, D::STORAGE_BUFFER, r.mean_fresnel.raw);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
@@ -127,7 +135,15 @@ impl<'g> ShadePass<'g> {
         // Without reflections any storage buffer stands in (never read).
         let bounds = r.reflections.as_ref().map_or(r.mean_fresnel.raw, |images| images.bounds.raw);
         bindings.write_buffer(REFLECTION_BOUNDS_BINDING, D::STORAGE_BUFFER, bounds);
-        let depth = if r.shadows || r.reflections.is_some() { &r.depth } else { &r.shadow_map };
+        // Trilinear over the mirrored objects' radiance; texelFetch in their inverse depth.
+        let (colour, inverse_depth) = match &r.planar {
+            Some(images) => (images.colour.view, images.inverse_depth.view),
+            None => (r.eye_sky.view, r.eye_sky.view),
+        };
+        bindings.write_image(PLANAR_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, colour, read, r.sky_sampler.raw);
+        let sampler = r.depth_sampler.raw;
+        bindings.write_image(PLANAR_INVERSE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, inverse_depth, read, sampler);
+        let depth = if r.depth_read { &r.depth } else { &r.shadow_map };
         bindings.write_image(SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, depth.view, read, r.depth_sampler.raw);
         bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
         write_frame_uniforms(&bindings, r, true);
@@ -163,7 +179,7 @@ impl Pass for ShadePass<'_> {
         "shade"
     }
 
-    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, f: &Frame, t: &mut Tracker) {
         t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::ComputeSampled, false);
         t.image(&r.hdr, 0, 1, Access::ComputeStorageReadWrite, false);
         t.image(&r.aerial_inscatter, 0, 1, Access::ComputeSampled, false);
@@ -173,8 +189,12 @@ impl Pass for ShadePass<'_> {
             t.image(&tables.sea_irradiance, 0, 1, Access::ComputeSampled, false);
         }
         t.image(&r.shadow_map, 0, 1, Access::ComputeSampled, false);
-        if r.shadows || r.reflections.is_some() {
+        if r.depth_read {
             t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
+        }
+        if let (Some(images), true) = (&r.planar, f.planar_drawn) {
+            t.image(&images.colour, 0, images.colour.mip_levels, Access::ComputeSampled, false);
+            t.image(&images.inverse_depth, 0, images.inverse_depth.mip_levels, Access::ComputeSampled, false);
         }
         if let Some(images) = &r.reflections {
             t.image(&images.colour, 0, images.colour.mip_levels, Access::ComputeSampled, false);
@@ -213,6 +233,11 @@ impl ShadePass<'_> {
         // frame::sea_only_rows down) get the shader without the sky's code.
         let sea_first = rec.frame.sea_rows.div_ceil(SHADE_GROUP).clamp(first, groups.1);
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
+        let planar_drawn = u32::from(rec.frame.planar_drawn).to_ne_bytes();
+        // SAFETY: the layout's push range is PUSH_BYTES for the compute stage.
+        unsafe {
+            device.cmd_push_constants(cmd, self.bindings.layout(), vk::ShaderStageFlags::COMPUTE, 0, &planar_drawn)
+        };
         for (pipeline, rows) in [(&self.pipeline, first..sea_first), (&self.sea_pipeline, sea_first..groups.1)] {
             if rows.is_empty() {
                 continue;

@@ -1,0 +1,20 @@
+#version 450
+// One level of the mirrored objects' inverse depth (src/render/passes/planar.rs): each texel the
+// mean of the texels below it, over the same footprint as a linear blit of the colour's level
+// (an odd level's trailing row and column folded into its last texel).
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 0, r32f) uniform readonly image2D finer;
+layout(set = 0, binding = 1, r32f) uniform writeonly image2D coarser;
+
+void main() {
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(coarser), below = imageSize(finer);
+    if (any(greaterThanEqual(q, size))) return;
+    ivec2 first = 2 * q;
+    ivec2 last = min(first + 1 + ivec2(equal(q, size - 1)) * (below & 1), below - 1);
+    float sum = 0.0;
+    for (int y = first.y; y <= last.y; y++)
+        for (int x = first.x; x <= last.x; x++)
+            sum += imageLoad(finer, ivec2(x, y)).r;
+    imageStore(coarser, q, vec4(sum / float((last.x - first.x + 1) * (last.y - first.y + 1))));
+}
