@@ -86,7 +86,14 @@ vec3 mapped_normal(vec3 n, vec3 p) {
 void main() {
     Instance o = instances[in_instance];
     vec3 p = in_relative;
-    vec3 v = unit_or(-p, vec3(0.0, 0.0, 1.0));
+    // Mirrored, the object is seen from the eye's mirror image (2 w n), and only what stands
+    // above the sea is reflected by it.
+    vec3 eye = vec3(0.0);
+    if (MIRROR) {
+        if (dot(o.mirror_plane.xyz, p) < o.mirror_plane.w) discard;
+        eye = 2.0 * o.mirror_plane.w * o.mirror_plane.xyz;
+    }
+    vec3 v = unit_or(eye - p, vec3(0.0, 0.0, 1.0));
     // The triangle's own normal turned towards the eye (screen derivatives fix its sign by the
     // screen's handedness, not by the winding).
     vec3 face = unit_or(cross(dFdx(p), dFdy(p)), v);

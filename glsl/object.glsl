@@ -30,6 +30,9 @@ struct Instance {
     vec4 inscatter;
     // rgb: the air's transmittance over that path.
     vec4 transmittance;
+    // The mean sea's tangent plane below the object, which it is mirrored about for the sea's
+    // planar reflections: xyz its unit normal n, w its offset (n . x = w on it).
+    vec4 mirror_plane;
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { Instance instances[]; };
 // The sun's shadow map: the waves and every object, seen from the sun (depth 0 nearest it).
@@ -44,6 +47,10 @@ struct Vertex {
 layout(std430, set = 1, binding = 0) readonly buffer Vertices { Vertex vertices[]; };
 layout(set = 1, binding = 1) uniform sampler2D base_colour_texture;
 layout(set = 1, binding = 2) uniform sampler2D normal_texture;
+
+// The objects drawn mirrored about the sea (embed::Ocean::record_planar): placed at their mirror
+// images, lit where they stand, seen from the mirrored eye, and only above the sea.
+layout(constant_id = 1) const bool MIRROR = false;
 
 layout(push_constant) uniform Material {
     vec4 base_colour;

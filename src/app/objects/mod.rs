@@ -10,11 +10,12 @@ mod pipeline;
 mod upload;
 
 use crate::embed::Light;
+use crate::embed::MirrorView;
 use crate::error::{Error, Result, VkContext};
 use crate::model::environment::{IRRADIANCE_COLUMNS, IRRADIANCE_ROWS};
 use crate::model::floating::Waterplane;
 use crate::model::gltf;
-use crate::model::placement::{place, waterplane};
+use crate::model::placement::{place, sea_plane_below, waterplane};
 use crate::model::scene::{Object, Scene};
 use crate::model::sky::SUN_ANGULAR_RADIUS;
 use crate::model::waves::WaveSet;
@@ -30,6 +31,18 @@ use glam::{DMat3, DMat4, DVec3};
 use light::ObjectLight;
 use pipeline::ObjectPipelines;
 use upload::{GpuModel, BASE_COLOUR_FORMAT, NORMAL_MAP_FORMAT};
+
+/// The planes bounding the view of `clip` (camera-relative world to clip space): its four sides,
+/// and in front of the eye (clip w > 0); inside where a . x + w > 0.
+fn view_planes(clip: DMat4) -> [glam::DVec4; 5] {
+    let rows = [0, 1, 2, 3].map(|i| clip.row(i));
+    [rows[3] + rows[0], rows[3] - rows[0], rows[3] + rows[1], rows[3] - rows[1], rows[3]]
+}
+
+/// Whether the box of `corners` may be in view of `planes` (no plane has them all outside).
+fn in_view(planes: &[glam::DVec4; 5], corners: &[DVec3]) -> bool {
+    planes.iter().all(|plane| corners.iter().any(|c| plane.truncate().dot(*c) + plane.w > 0.0))
+}
 
 /// The pass's name in profiles and debug labels.
 pub const NAME: &str = "objects";
@@ -58,6 +71,7 @@ struct Instance {
     normal_from_model: [[f32; 4]; 3],
     inscatter: [f32; 4],
     transmittance: [f32; 4],
+    mirror_plane: [f32; 4],
 }
 
 /// The camera and light of one frame, as the host handed them to the ocean.
@@ -76,6 +90,9 @@ pub struct ObjectFrame<'a> {
     pub colour_max: f32,
     /// The ocean's sun shadow map (embed::Ocean::sun_shadow), where it has one (None from `new`).
     pub sun_shadow: Option<crate::embed::SunShadow>,
+    /// What the objects are mirrored with for the sea's planar reflections
+    /// (embed::Ocean::mirror_view), where it reads them (None from `new`).
+    pub mirror: Option<MirrorView>,
 }
 
 impl<'a> ObjectFrame<'a> {
@@ -100,6 +117,7 @@ impl<'a> ObjectFrame<'a> {
             radiance_scale,
             colour_max,
             sun_shadow: None,
+            mirror: None,
         }
     }
 }
@@ -133,6 +151,8 @@ pub struct Objects<'g> {
     order: Vec<usize>,
     batches: Vec<(usize, std::ops::Range<u32>)>,
     light: ObjectLight,
+    /// Per frame slot: whether any object's mirror image is in view (the mirror pass is drawn).
+    mirrored_in_view: Vec<bool>,
 }
 
 impl<'g> Objects<'g> {
@@ -265,6 +285,7 @@ impl<'g> Objects<'g> {
             order,
             batches,
             light: ObjectLight::default(),
+            mirrored_in_view: vec![false; slots as usize],
         })
     }
 
@@ -289,6 +310,7 @@ impl<'g> Objects<'g> {
         let max = hdr_format_max(desc.formats.colour).unwrap_or(f32::MAX);
         let frame = ObjectFrame {
             sun_shadow: ocean.sun_shadow(),
+            mirror: ocean.mirror_view(),
             ..ObjectFrame::new(scene, &waves, view, projection, &light, desc.radiance_scale as f64, max)
         };
         self.update(slot, &frame)
@@ -301,18 +323,14 @@ impl<'g> Objects<'g> {
     pub fn shadow_casters(&self, scene: &Scene, view: DMat4, projection: DMat4) -> Option<(DVec3, DVec3)> {
         let waves = crate::model::waves::generate(scene);
         let eye = view.inverse().w_axis.truncate();
-        let clip = projection * view * DMat4::from_translation(eye);
-        // The side planes of the view, and in front of the eye (clip w > 0).
-        let rows = [0, 1, 2, 3].map(|i| clip.row(i));
-        let planes = [rows[3] + rows[0], rows[3] - rows[0], rows[3] + rows[1], rows[3] - rows[1], rows[3]];
+        let planes = view_planes(projection * view * DMat4::from_translation(eye));
         let mut bounds: Option<(DVec3, DVec3)> = None;
         for (i, (object, model)) in self.objects.iter().enumerate() {
             let p = place(scene, &waves, object, self.waterplanes[i], eye.z, scene.render.time_s);
             let (lo, hi) = self.model_bounds[*model];
             let model_box = CasterBox { min: lo.as_dvec3(), max: hi.as_dvec3() };
             let corners: Vec<DVec3> = model_box.corners().map(|c| p.relative_from_model.transform_point3(c)).collect();
-            let seen = planes.iter().all(|plane| corners.iter().any(|c| plane.truncate().dot(*c) + plane.w > 0.0));
-            if !seen {
+            if !in_view(&planes, &corners) {
                 continue;
             }
             for c in corners {
@@ -332,6 +350,43 @@ impl<'g> Objects<'g> {
         // format and no colour attachment.
         unsafe { raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipelines.caster.raw) };
         self.draw_all(cmd, |_| {});
+    }
+
+    /// Whether frame `slot` has any object's mirror image in view (as of its `update`): the host
+    /// records the ocean's mirror pass (embed::Ocean::record_planar) only then.
+    pub fn mirrored_in_view(&self, slot: usize) -> bool {
+        self.mirrored_in_view[slot]
+    }
+
+    /// Draws the objects of frame `slot` mirrored about the sea, inside the ocean's mirror pass
+    /// (embed::Ocean::record_planar's callback).
+    pub fn record_mirrored(&self, cmd: vk::CommandBuffer, slot: usize) {
+        self.bind_frame(cmd, slot);
+        let p = &self.pipelines;
+        self.draw_shaded(cmd, &p.mirrored_single_sided, &p.mirrored_double_sided);
+    }
+
+    /// Every object's meshes with their materials, through `single_sided` or `double_sided`.
+    fn draw_shaded(
+        &self,
+        cmd: vk::CommandBuffer,
+        single_sided: &Owned<vk::Pipeline>,
+        double_sided: &Owned<vk::Pipeline>,
+    ) {
+        let raw = &self.gpu.device.raw;
+        let layout = self.pipelines.layout.raw;
+        self.draw_all(cmd, |material| {
+            let pipeline = if material.double_sided { double_sided } else { single_sided };
+            let normal_scale = material.normal_texture.map_or(0.0, |(_, s)| s);
+            let push = [material.base_colour, [material.metallic, material.roughness, normal_scale, 0.0]];
+            let bytes: Vec<u8> = push.iter().flatten().flat_map(|f| f.to_ne_bytes()).collect();
+            // SAFETY: inside a rendering scope; the pipelines were made for its targets' formats
+            // and this layout, whose push range holds the material's 32 bytes.
+            unsafe {
+                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, &bytes);
+            }
+        });
     }
 
     /// Draws every object's meshes, instanced per model: binds each model's indices and each
@@ -418,12 +473,22 @@ impl<'g> Objects<'g> {
             irradiance: table.try_into().expect("the table's size"),
         };
         self.uniforms.write_at(slot as u64 * self.uniform_stride, &[uniforms])?;
+        let planes = view_planes(frame.clip_from_relative);
+        let mut mirrored_in_view = false;
         let instances: Vec<Instance> = self
             .order
             .iter()
             .map(|&i| {
-                let (object, _) = &self.objects[i];
+                let (object, model) = &self.objects[i];
                 let p = place(frame.scene, frame.waves, object, self.waterplanes[i], frame.eye.z, frame.time_s);
+                let (n, w) = sea_plane_below(p.origin, frame.eye.z, frame.scene.planet.radius_m);
+                if frame.mirror.is_some() && !mirrored_in_view {
+                    let (lo, hi) = self.model_bounds[*model];
+                    let model_box = CasterBox { min: lo.as_dvec3(), max: hi.as_dvec3() };
+                    let mirror = MirrorView::mirror((n, w)) * p.relative_from_model;
+                    let corners: Vec<DVec3> = model_box.corners().map(|c| mirror.transform_point3(c)).collect();
+                    mirrored_in_view = in_view(&planes, &corners);
+                }
                 // Normals: the inverse transpose of the linear part, scaled to keep unit normals
                 // unit (the scale is uniform).
                 let linear = DMat3::from_mat4(p.relative_from_model);
@@ -438,12 +503,14 @@ impl<'g> Objects<'g> {
                     normal_from_model: rows,
                     inscatter: v4(inscatter),
                     transmittance: v4(transmittance),
+                    mirror_plane: [n.x as f32, n.y as f32, n.z as f32, w as f32],
                 }
             })
             .collect();
         if !instances.iter().all(|i| i.relative_from_model.iter().flatten().all(|v| v.is_finite())) {
             return Err(Error::Argument("an object's placement is not finite".into()));
         }
+        self.mirrored_in_view[slot] = mirrored_in_view;
         self.instances.write_at(slot as u64 * self.instance_stride, &instances)
     }
 
@@ -453,20 +520,7 @@ impl<'g> Objects<'g> {
         let raw = &self.gpu.device.raw;
         begin_cleared_rendering(raw, cmd, colour, depth, far);
         self.bind_frame(cmd, slot);
-        let layout = self.pipelines.layout.raw;
-        self.draw_all(cmd, |material| {
-            let pipeline =
-                if material.double_sided { &self.pipelines.double_sided } else { &self.pipelines.single_sided };
-            let normal_scale = material.normal_texture.map_or(0.0, |(_, s)| s);
-            let push = [material.base_colour, [material.metallic, material.roughness, normal_scale, 0.0]];
-            let bytes: Vec<u8> = push.iter().flatten().flat_map(|f| f.to_ne_bytes()).collect();
-            // SAFETY: inside the rendering scope; the pipelines were made for the targets' formats
-            // and this layout, whose push range holds the material's 32 bytes.
-            unsafe {
-                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-                raw.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, &bytes);
-            }
-        });
+        self.draw_shaded(cmd, &self.pipelines.single_sided, &self.pipelines.double_sided);
         // SAFETY: the scope begun above.
         unsafe {
             raw.cmd_end_rendering(cmd);

@@ -3,7 +3,7 @@
 //! camera and sun shadow map, the objects' placements; dynamic offsets select the frame slot), set 1 one per material of each model (the model's vertices and the
 //! material's textures), the material's factors in push constants.
 
-use crate::embed::{SHADOW_DEPTH_BIAS, SHADOW_FORMAT};
+use crate::embed::{PLANAR_COLOUR_FORMAT, PLANAR_DEPTH_FORMAT, SHADOW_DEPTH_BIAS, SHADOW_FORMAT};
 use crate::error::{Result, VkContext};
 use crate::shaders;
 use crate::vk::device::Device;
@@ -29,6 +29,10 @@ pub struct ObjectPipelines<'g> {
     /// Depth only, from the sun, into the ocean's shadow map (embed::Ocean::record_shadows):
     /// no face culled, so that open and single-sided surfaces cast too.
     pub caster: Owned<'g, vk::Pipeline>,
+    /// Mirrored about the sea into the ocean's planar images (embed::Ocean::record_planar): the
+    /// mirror turns the winding, so the single-sided one culls the other way.
+    pub mirrored_single_sided: Owned<'g, vk::Pipeline>,
+    pub mirrored_double_sided: Owned<'g, vk::Pipeline>,
     pub layout: Owned<'g, vk::PipelineLayout>,
     pool: Owned<'g, vk::DescriptorPool>,
     _frame_layout: Owned<'g, vk::DescriptorSetLayout>,
@@ -125,11 +129,24 @@ impl<'g> ObjectPipelines<'g> {
             ..desc("object shadow casters", None)
         };
         let caster = graphics_pipeline(device, layout.raw, &caster)?;
+        let mirror = Specialization::words(&[0, 1]);
+        let mirrored = |name, cull| GraphicsDesc {
+            specialization: Some(&mirror),
+            color_format: Some(PLANAR_COLOUR_FORMAT),
+            depth_format: PLANAR_DEPTH_FORMAT,
+            ..desc(name, cull)
+        };
+        let mirrored_single_sided =
+            graphics_pipeline(device, layout.raw, &mirrored("objects mirrored", Some(vk::FrontFace::CLOCKWISE)))?;
+        let mirrored_double_sided =
+            graphics_pipeline(device, layout.raw, &mirrored("objects mirrored double-sided", None))?;
         Ok(ObjectPipelines {
             device,
             single_sided,
             double_sided,
             caster,
+            mirrored_single_sided,
+            mirrored_double_sided,
             layout,
             pool,
             _frame_layout: frame_layout,

@@ -350,6 +350,10 @@ impl<'g> Presenter<'g> {
         if let Some((objects, depth_image)) = &drawing.objects {
             // The sun's map first (the waves and the objects), which the objects then sample.
             drawing.ocean.record_shadows(cmd, slot, &mut |cmd, _| objects.record_casters(cmd, slot))?;
+            // Their mirror images, for the sea's planar reflections, where any is in view.
+            if objects.mirrored_in_view(slot) {
+                drawing.ocean.record_planar(cmd, slot, &mut |cmd, _| objects.record_mirrored(cmd, slot))?;
+            }
             // The objects come next: their writes wait for the frame before's reads of the
             // colour, and of the depth for its tests (the frames in flight share both).
             let depth_target = HostImage::from(depth_image);
