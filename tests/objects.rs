@@ -9,7 +9,7 @@ use glam::DVec3;
 use ocean::app::{render_on, RenderRequest};
 use ocean::embed::camera::scene_view;
 use ocean::model::placement::{place, waterplane};
-use ocean::model::scene::Scene;
+use ocean::model::scene::{Reflections, Scene};
 use ocean::render::renderer::{Options, RenderedFrame, Renderer};
 use std::path::{Path, PathBuf};
 
@@ -99,7 +99,7 @@ fn calm_boat() -> Scene {
 /// Shading without the sea's reflections of the objects: what occlusion alone leaves.
 fn without_reflections() -> ocean::embed::Shading {
     ocean::embed::Shading {
-        shader: ocean::embed::ShaderConfig { reflections: ocean::embed::Reflections::None, ..Default::default() },
+        shader: ocean::embed::ShaderConfig { reflections: Reflections::None, ..Default::default() },
         ..Default::default()
     }
 }
@@ -118,6 +118,10 @@ fn objects_occlude_the_sea_and_the_sea_hides_their_keels() {
     let omitted = bare_report.omitted.iter().find(|o| o.what.starts_with("local reflections"));
     assert!(omitted.is_some_and(|o| o.why.contains("no objects")), "{:?}", bare_report.omitted);
     assert!(!bare_report.pipelines.iter().any(|p| p == "reflection sources"), "{:?}", bare_report.pipelines);
+    let (both, _) = common::render_with(&gpu, &bare, w, h, reflecting(Reflections::Both));
+    let omitted = both.omitted.iter().find(|o| o.what.contains("planar reflections"));
+    assert!(omitted.is_some_and(|o| o.why.contains("no objects")), "{:?}", both.omitted);
+    assert!(!both.pipelines.iter().any(|p| p == "planar reflection"), "{:?}", both.pipelines);
 
     let world = first_object_in_world(&scene, w, h);
     let at = |frame: &RenderedFrame, (x, y): (usize, usize)| frame.hdr[y * w as usize + x];
@@ -256,17 +260,24 @@ fn from_inside_a_hull_the_eye_sees_the_sea_through_its_walls() {
     assert!(top > w as usize / 2, "{top} of the top row's pixels show the ship");
 }
 
-/// On a mirror-calm sea the objects' reflections stand where a plane mirror puts them: the
-/// cabin's side reflected at the pixel its image below the waterline projects to (within a
-/// pixel), its paint's hue in place of the sky's, and nothing there without reflections.
+/// Shading with the sea's reflections of the objects by `reflections`.
+fn reflecting(reflections: Reflections) -> ocean::embed::Shading {
+    ocean::embed::Shading {
+        shader: ocean::embed::ShaderConfig { reflections, ..Default::default() },
+        ..Default::default()
+    }
+}
+
+/// On a mirror-calm sea the objects' reflections stand where a plane mirror puts them, traced in
+/// screen space or read from the mirror pass, or both: the cabin's side reflected at the pixel
+/// its image below the waterline projects to (within a pixel), its paint's hue in place of the
+/// sky's, and nothing there without reflections.
 #[test]
 fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
     let gpu = gpu();
     let mut scene = calm_boat();
     scene.wind.speed_mps = 0.0;
     let (w, h) = (320, 240);
-    let (report, mirrored) = render(&gpu, &scene, w, h);
-    assert_clean(&report, "mirror-calm boat");
     let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
     // The cabin's side facing the eye, and its image in the mean sea (z = 0 in the world).
     let side = first_object_in_world(&scene, w, h)([-0.3, 1.0, -0.6]);
@@ -275,13 +286,58 @@ fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
     let at = |frame: &RenderedFrame, (x, y): (usize, usize)| frame.hdr[y * w as usize + x];
     // The teak's red over blue, against the sea's, within a pixel of the image.
     let warmth = |p: [f32; 4]| p[0] / p[2].max(1e-6);
-    let best = (-1i64..=1)
-        .flat_map(|dy| (-1i64..=1).map(move |dx| (dx, dy)))
-        .map(|(dx, dy)| ((pixel.0 as i64 + dx) as usize, (pixel.1 as i64 + dy) as usize))
-        .map(|p| warmth(at(&mirrored, p)))
-        .fold(0.0, f32::max);
     let sea = warmth(at(&plain, pixel));
-    assert!(best > 1.5 * sea && best > 0.5, "the cabin's image at {pixel:?}: warmth {best} against the sea's {sea}");
+    for method in [Reflections::Screen, Reflections::Planar, Reflections::Both] {
+        let (report, mirrored) = common::render_with(&gpu, &scene, w, h, reflecting(method));
+        assert_clean(&report, &format!("mirror-calm boat, {} reflections", method.name()));
+        let best = (-1i64..=1)
+            .flat_map(|dy| (-1i64..=1).map(move |dx| (dx, dy)))
+            .map(|(dx, dy)| ((pixel.0 as i64 + dx) as usize, (pixel.1 as i64 + dy) as usize))
+            .map(|p| warmth(at(&mirrored, p)))
+            .fold(0.0, f32::max);
+        assert!(
+            best > 1.5 * sea && best > 0.5,
+            "{} reflections: the cabin's image at {pixel:?}: warmth {best} against the sea's {sea}",
+            method.name()
+        );
+    }
+}
+
+/// The mirror pass reflects what the screen does not hold: with the eye looking down, the mast's
+/// upper part is above the picture's top edge, and its image in a mirror-calm sea below the
+/// boat is in the picture. The planar reflection draws it there; the screen-space trace, whose
+/// ray leaves the screen, cannot, and leaves the sky's reflection.
+#[test]
+fn planar_reflections_hold_what_the_screen_does_not() {
+    let gpu = gpu();
+    let mut scene = calm_boat();
+    scene.wind.speed_mps = 0.0;
+    scene.camera.pitch_deg = -14.0;
+    let (w, h) = (320, 240);
+    let mast = first_object_in_world(&scene, w, h)([0.4, 7.5, 0.0]);
+    assert!(project(&scene, w, h, mast).is_none(), "the mast's top is in the picture");
+    let pixel = project(&scene, w, h, DVec3::new(mast.x, mast.y, -mast.z)).expect("its image is in the picture");
+    let luminance_at = |frame: &RenderedFrame| {
+        // The brightest within a pixel of the image, against the plain sea's.
+        (-1i64..=1)
+            .map(|dx| frame.hdr[pixel.1 * w as usize + (pixel.0 as i64 + dx) as usize])
+            .map(common::luminance)
+            .fold(0.0, f64::max)
+    };
+    let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    let sea = luminance_at(&plain);
+    let mut seen = Vec::new();
+    for method in [Reflections::Screen, Reflections::Planar, Reflections::Both] {
+        let (report, frame) = common::render_with(&gpu, &scene, w, h, reflecting(method));
+        assert_clean(&report, &format!("boat seen from above, {} reflections", method.name()));
+        seen.push((method, luminance_at(&frame) / sea));
+    }
+    let ratio = |m: Reflections| seen.iter().find(|(k, _)| *k == m).map(|(_, r)| *r).unwrap();
+    assert!((ratio(Reflections::Screen) - 1.0).abs() < 0.02, "{seen:?}");
+    // The grey mast in place of the darker sky the calm sea mirrors there (about 1.25 times the
+    // plain sea's radiance); the screen's trace leaves the plain sea to within rounding.
+    assert!(ratio(Reflections::Planar) > 1.15, "{seen:?}");
+    assert!(ratio(Reflections::Both) > 1.15, "{seen:?}");
 }
 
 /// The boat 52 m ahead with the sun low behind it, seen from 25 m up: its hull's shadow falls
@@ -315,7 +371,7 @@ fn the_objects_shadow_the_sea() {
     let (w, h) = (480, 360);
     let sun_only = ocean::embed::Shading {
         shader: ocean::embed::ShaderConfig {
-            reflections: ocean::embed::Reflections::None,
+            reflections: Reflections::None,
             terms: ocean::embed::Terms { sun: true, sky: false, sea: false },
             ..Default::default()
         },
