@@ -231,6 +231,9 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     if options.shader.reflections.screen() && !options.shader.draws_nothing() {
         names.push("reflection sources".to_owned());
     }
+    if options.shader.reflections.planar() && !options.shader.draws_nothing() {
+        names.push("planar reflection".to_owned());
+    }
     if options.ssaa > 1 {
         names.push("resolve".to_owned());
     }
