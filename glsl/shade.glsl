@@ -251,6 +251,8 @@ vec4 planar_reflection(vec3 point, vec3 r, vec2 sigma2, vec3 up) {
     vec2 s = clamp(reflection_screen(point, z0, size), vec2(0.0), size - 1e-3);
     vec2 found = vec2(0.0);
     int top = textureQueryLevels(planar_colour) - 1;
+    // No mirrored object within the widest search: most of the sea, at one read.
+    if (planar_depth(s, min(PLANAR_SEARCH_LEVELS, top)).x == 0.0) return vec4(0.0);
     for (int level = 0; level <= PLANAR_SEARCH_LEVELS && found.x == 0.0; level += 2) {
         found = planar_depth(s, min(level, top));
     }
