@@ -1,14 +1,15 @@
 #version 450
-// Level 0 of the mirrored objects' inverse depth (src/render/passes/planar.rs): where the host
-// drew a mirrored object, 1 / its forward depth along the pixel's ray (1/m), else 0, so that the
-// mean of a footprint (planar_mip.comp's levels) over its coverage (the colour's alpha there) is
-// the footprint's harmonic mean depth.
+// Level 0 of the mirrored objects' coverage and inverse depth (src/render/passes/planar.rs): x 1
+// where the host drew a mirrored object, y 1 / its forward depth along the pixel's ray (1/m),
+// both 0 elsewhere, so that over any footprint of planar_mip.comp's levels x is the share the
+// objects cover and x / y their harmonic mean depth. (The colour's alpha, mipmapped by blits,
+// drops an odd level's trailing texels and with them a small object's coverage.)
 #include "frame.glsl"
 #include "common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 1) uniform sampler2D mirror_depth;
-layout(set = 0, binding = 2, r32f) uniform writeonly image2D inverse_depth;
+layout(set = 0, binding = 2, rgba16f) uniform writeonly image2D inverse_depth;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -23,5 +24,5 @@ void main() {
     float denominator = depth * along.w - along.z;
     float t = denominator != 0.0 ? (at_eye.z - depth * at_eye.w) / denominator : 0.0;
     bool object = depth != frame.host.z && t > 0.0;
-    imageStore(inverse_depth, p, vec4(object ? 1.0 / t : 0.0));
+    imageStore(inverse_depth, p, object ? vec4(1.0, 1.0 / t, 0.0, 0.0) : vec4(0.0));
 }

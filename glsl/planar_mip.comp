@@ -1,10 +1,10 @@
 #version 450
-// One level of the mirrored objects' inverse depth (src/render/passes/planar.rs): each texel the
-// mean of the texels below it, over the same footprint as a linear blit of the colour's level
-// (an odd level's trailing row and column folded into its last texel).
+// One level of the mirrored objects' coverage and inverse depth (src/render/passes/planar.rs):
+// each texel the mean of every texel below it (an odd level's trailing row and column folded
+// into its last texel), so that no object is lost however small.
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(set = 0, binding = 0, r32f) uniform readonly image2D finer;
-layout(set = 0, binding = 1, r32f) uniform writeonly image2D coarser;
+layout(set = 0, binding = 0, rgba16f) uniform readonly image2D finer;
+layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D coarser;
 
 void main() {
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
@@ -12,9 +12,9 @@ void main() {
     if (any(greaterThanEqual(q, size))) return;
     ivec2 first = 2 * q;
     ivec2 last = min(first + 1 + ivec2(equal(q, size - 1)) * (below & 1), below - 1);
-    float sum = 0.0;
+    vec4 sum = vec4(0.0);
     for (int y = first.y; y <= last.y; y++)
         for (int x = first.x; x <= last.x; x++)
-            sum += imageLoad(finer, ivec2(x, y)).r;
-    imageStore(coarser, q, vec4(sum / float((last.x - first.x + 1) * (last.y - first.y + 1))));
+            sum += imageLoad(finer, ivec2(x, y));
+    imageStore(coarser, q, sum / float((last.x - first.x + 1) * (last.y - first.y + 1)));
 }

@@ -67,8 +67,8 @@ layout(set = 0, binding = 15) uniform sampler2D reflection_depth;
 layout(set = 0, binding = 16, std430) readonly buffer ReflectionBounds { vec4 rect; float nearest; } reflection_bounds;
 
 // The host's objects mirrored about the sea (passes/planar.rs): their radiance (host unit)
-// premultiplied by coverage, and coverage over forward depth, both mipmapped by means; whether
-// the host drew them this frame.
+// premultiplied by coverage, and their coverage and coverage over forward depth, both mipmapped
+// by means; whether the host drew them this frame.
 layout(set = 0, binding = 17) uniform sampler2D planar_colour;
 layout(set = 0, binding = 18) uniform sampler2D planar_inverse_depth;
 layout(push_constant) uniform ShadePush { uint planar_drawn; } shade_push;
@@ -227,9 +227,8 @@ vec2 planar_depth(vec2 s, int level) {
     // between lanes is not to be trusted).
     ivec2 cells = max(textureSize(planar_inverse_depth, 0) >> level, ivec2(1));
     ivec2 cell = clamp(ivec2(floor(s / float(1 << level))), ivec2(0), cells - 1);
-    float coverage = texelFetch(planar_colour, cell, level).a;
-    float inverse = texelFetch(planar_inverse_depth, cell, level).r;
-    return inverse > 0.0 ? vec2(coverage, coverage / inverse) : vec2(0.0);
+    vec2 texel = texelFetch(planar_inverse_depth, cell, level).xy;
+    return texel.y > 0.0 ? vec2(texel.x, texel.x / texel.y) : vec2(0.0);
 }
 
 // The objects the sea point `point` (camera-relative) mirrors along unit `r`, read from their

@@ -89,8 +89,9 @@ pub struct PlanarImages<'g> {
     pub colour: Image<'g>,
     /// The host's depth attachment (PLANAR_DEPTH_FORMAT, the host's depth convention).
     pub depth: Image<'g>,
-    /// Coverage over forward depth (1/m; 0 where no object), each level the mean of the one
-    /// above (R32F): a footprint's harmonic mean depth is its coverage over this.
+    /// The objects' coverage (x) and coverage over forward depth (y, 1/m), each level the mean
+    /// of every texel above it (RGBA16F, a storage format every device has): a footprint's
+    /// harmonic mean depth is x / y.
     pub inverse_depth: Image<'g>,
     pub inverse_depth_levels: Vec<Owned<'g, vk::ImageView>>,
 }
@@ -359,8 +360,7 @@ impl<'g> Resources<'g> {
             let usage = I::DEPTH_STENCIL_ATTACHMENT | I::SAMPLED;
             let depth = Image::new(gpu, "planar depth", PLANAR_DEPTH_FORMAT, extent, 1, usage)?;
             let usage = I::STORAGE | I::SAMPLED;
-            let inverse_depth =
-                Image::new(gpu, "planar inverse depth", REFLECTION_DEPTH_FORMAT, extent, levels, usage)?;
+            let inverse_depth = Image::new(gpu, "planar inverse depth", HDR_FORMAT, extent, levels, usage)?;
             let inverse_depth_levels =
                 (0..levels).map(|level| inverse_depth.level_view(level)).collect::<Result<Vec<_>>>()?;
             Some(PlanarImages { colour, depth, inverse_depth, inverse_depth_levels })
