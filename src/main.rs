@@ -289,6 +289,20 @@ enum Bench {
         #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
     },
+    /// The sea's reflections of the scene's objects, method by method (none, screen, planar,
+    /// both): GPU time, error over the sea, and the reflected objects' energy and local contrast,
+    /// against a ground truth of the scene and one of the same scene without its objects.
+    Reflections {
+        #[command(flatten)]
+        against: AgainstTruth,
+        /// Ground truth made by `ocean reference` of a copy of the scene without its `[[object]]`s,
+        /// at the same size (and region) as --reference.
+        #[arg(long)]
+        bare_reference: PathBuf,
+        /// Timed frames per method, after one warm-up frame.
+        #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+    },
     /// Where the reflected sky's error comes from, per distance band: the ground truth against
     /// the f64 quadrature of each method's model and against its GPU lookup; and the sea's own
     /// masking at grazing view against the model's.
@@ -695,6 +709,24 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg",
                 out.display()
             );
+            Ok(())
+        }
+        Command::Bench {
+            bench:
+                Bench::Reflections { against: AgainstTruth { scene, reference, out, device }, bare_reference, frames },
+        } => {
+            let (scene, name) = load_scene(scene)?;
+            let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
+            let request = ocean::measure::bench::reflections::Request {
+                scene: &scene,
+                scene_name: &name,
+                reference: &reference,
+                bare_reference: &bare_reference,
+                frames,
+                out_dir: &out,
+            };
+            ocean::measure::bench::reflections::run(&gpu, &request)?;
+            ocean::say!("wrote {}/reflections.csv and reflections.md", out.display());
             Ok(())
         }
         Command::Bench { bench: Bench::SkyModel { against: AgainstTruth { scene, reference, out, device } } } => {

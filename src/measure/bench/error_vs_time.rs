@@ -166,7 +166,7 @@ pub fn settings(scene: &Scene) -> Vec<Setting> {
 
 /// Errors of `images` (total, sun, sky, sea) against the ground truth over the pixels `select`ed.
 /// `variance`: the ground truth's variance of each pixel's mean luminance, per term.
-fn errors(
+pub fn errors(
     images: &[Vec<[f32; 4]>; 4],
     truth: &[&[[f32; 4]]; 4],
     variance: &[[f32; 4]],

@@ -1,6 +1,7 @@
 //! Benchmarks that print numbers and write them to files: GPU time per pass over the preset
 //! scenes and device memory at 1920x1080 (`speed`), the comparison of two such runs
-//! (`compare`), error against time, where the sky's error comes from (`sky_model`), temporal
+//! (`compare`), error against time, the sea's reflections of a scene's objects method by method
+//! (`reflections`), where the sky's error comes from (`sky_model`), temporal
 //! flicker, start-up, the window, and what
 //! specialization saves (here).
 //! Timings come from timestamp queries of frames after a warm-up frame; what is compared is
@@ -11,6 +12,7 @@ pub mod embed;
 pub mod error_detail;
 pub mod error_vs_time;
 pub mod flicker;
+pub mod reflections;
 pub mod sky;
 pub mod sky_model;
 pub mod speed;
