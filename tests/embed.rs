@@ -407,6 +407,14 @@ fn misuse_gets_an_error_not_a_crash() {
     ocean.update(0, &input).unwrap();
     let drawn = ocean.record_shadows(vk::CommandBuffer::null(), 0, &mut |_, _| {});
     assert!(drawn.unwrap_err().to_string().contains("made without shadow_casters"));
+    // A mirror pass asked of an ocean that reads no planar reflections: none drawn, no error; a
+    // slot out of range: an error.
+    assert!(ocean.mirror_view().is_none());
+    let mut called = false;
+    assert_eq!(ocean.record_planar(vk::CommandBuffer::null(), 0, &mut |_, _| called = true).ok(), Some(false));
+    assert!(!called);
+    let out_of_range = ocean.record_planar(vk::CommandBuffer::null(), 2, &mut |_, _| {}).map(|_| ());
+    assert!(message(out_of_range).contains("frame slot 2 is out of range"));
     let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
     let depth = host.image(
         DEPTH_FORMAT,

@@ -109,6 +109,23 @@ mod tests {
     }
 
     #[test]
+    fn an_object_is_mirrored_about_the_sea_below_it() {
+        // 100 km off on the sphere: the tangent plane there is the sphere's, not the eye's.
+        let mut scene = Scene::default();
+        scene.planet.radius_m = 6.36e6;
+        let waves = crate::model::waves::generate(&scene);
+        let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
+        let buoy = object([1.0e5, 0.0, 2.0]);
+        let p = place(&scene, &waves, &buoy, plane, 6.0, 0.0);
+        let (n, w) = sea_plane_below(p.origin, 6.0, scene.planet.radius_m);
+        assert!((n - p.up).length() < 1e-12, "{n} against {}", p.up);
+        // The object stands 2 m above that plane, and the sea's surface below it is on it.
+        assert!((n.dot(p.origin) - w - 2.0).abs() < 1e-6, "{}", n.dot(p.origin) - w);
+        let sea = DVec3::new(0.0, 0.0, -scene.planet.radius_m - 6.0) + p.up * scene.planet.radius_m;
+        assert!((n.dot(sea) - w).abs() < 1e-6);
+    }
+
+    #[test]
     fn attitude_raises_the_bow_and_the_port_side() {
         let scene = Scene::default();
         let waves = crate::model::waves::generate(&scene);
