@@ -27,7 +27,8 @@ pub const PLANAR_COLOUR_FORMAT: vk::Format = HDR_FORMAT;
 /// inside the pass's rendering scope (viewport and scissor its frame's): colour
 /// PLANAR_COLOUR_FORMAT, depth PLANAR_DEPTH_FORMAT in the host's own depth convention (cleared to its
 /// far plane), the host's projection. Each object is mirrored about the sea's tangent plane
-/// below it (`plane_below`, `mirror`), faces wound the other way, lit where it stands (the
+/// below it (`plane_below`, `mirror`; a face seen from its outside keeps its winding, so it is
+/// culled as in the host's own pass), lit where it stands (the
 /// light's view from the mirrored eye), and drawn only above that plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MirrorView {
