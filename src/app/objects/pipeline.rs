@@ -138,8 +138,11 @@ impl<'g> ObjectPipelines<'g> {
             depth_format: PLANAR_DEPTH_FORMAT,
             ..desc(name, cull)
         };
-        let mirrored_single_sided =
-            graphics_pipeline(device, layout.raw, &mirrored("objects mirrored", Some(vk::FrontFace::COUNTER_CLOCKWISE)))?;
+        let mirrored_single_sided = graphics_pipeline(
+            device,
+            layout.raw,
+            &mirrored("objects mirrored", Some(vk::FrontFace::COUNTER_CLOCKWISE)),
+        )?;
         let mirrored_double_sided =
             graphics_pipeline(device, layout.raw, &mirrored("objects mirrored double-sided", None))?;
         Ok(ObjectPipelines {
