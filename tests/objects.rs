@@ -41,7 +41,9 @@ fn every_object_scene_renders_clean() {
     for path in &paths {
         let scene = Scene::load(path).unwrap_or_else(|e| panic!("{e}"));
         assert!(!scene.objects.is_empty(), "{}: places no object", path.display());
-        let (report, frame) = render(&gpu, &scene, 256, 192);
+        // Both reflection methods: the screen's trace, and the mirror pass, drawn or (no mirror
+        // image in view) not.
+        let (report, frame) = common::render_with(&gpu, &scene, 256, 192, reflecting(Reflections::Both));
         assert_clean(&report, &path.display().to_string());
         assert!(frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite() && *c >= 0.0)), "{}", path.display());
         assert!(frame.pass_ms.is_empty() || frame.pass_ms.iter().any(|(n, _)| n == "objects"), "{:?}", frame.pass_ms);

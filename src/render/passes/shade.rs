@@ -179,7 +179,7 @@ impl Pass for ShadePass<'_> {
         "shade"
     }
 
-    fn declare(&self, r: &Resources, f: &Frame, t: &mut Tracker) {
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.sky_map, 0, r.sky_map.mip_levels, Access::ComputeSampled, false);
         t.image(&r.hdr, 0, 1, Access::ComputeStorageReadWrite, false);
         t.image(&r.aerial_inscatter, 0, 1, Access::ComputeSampled, false);
@@ -192,7 +192,9 @@ impl Pass for ShadePass<'_> {
         if r.depth_read {
             t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
         }
-        if let (Some(images), true) = (&r.planar, f.planar_drawn) {
+        // Read only in a frame the host drew them in, but bound in every one: a frame without
+        // them still holds them in the layout the set names.
+        if let Some(images) = &r.planar {
             t.image(&images.colour, 0, images.colour.mip_levels, Access::ComputeSampled, false);
             t.image(&images.inverse_depth, 0, images.inverse_depth.mip_levels, Access::ComputeSampled, false);
         }
