@@ -98,6 +98,13 @@ fn calm_boat() -> Scene {
     boat_scene(settings, 20.0, "calm_boat.toml")
 }
 
+/// The calm boat on a sea without wind: a mirror.
+fn mirror_calm_boat() -> Scene {
+    let mut scene = calm_boat();
+    scene.wind.speed_mps = 0.0;
+    scene
+}
+
 /// Shading without the sea's reflections of the objects: what occlusion alone leaves.
 fn without_reflections() -> ocean::embed::Shading {
     ocean::embed::Shading {
@@ -203,8 +210,7 @@ fn bad_objects_get_one_line_naming_the_file_and_the_key() {
 fn the_ground_truth_traces_the_objects() {
     use ocean::measure::groundtruth::{self, Sampling};
     let gpu = gpu();
-    let mut scene = calm_boat();
-    scene.wind.speed_mps = 0.0;
+    let scene = mirror_calm_boat();
     let (w, h) = (160, 120);
     let truth = groundtruth::render(&gpu, &scene, w, h, &Sampling::new(4), |_, _| {}).unwrap();
     assert_eq!(truth.report.validation_errors, 0);
@@ -277,8 +283,7 @@ fn reflecting(reflections: Reflections) -> ocean::embed::Shading {
 #[test]
 fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
     let gpu = gpu();
-    let mut scene = calm_boat();
-    scene.wind.speed_mps = 0.0;
+    let scene = mirror_calm_boat();
     let (w, h) = (320, 240);
     let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
     // The cabin's side facing the eye, and its image in the mean sea (z = 0 in the world).
@@ -312,8 +317,7 @@ fn a_calm_sea_mirrors_the_boat_at_the_mirror_image() {
 #[test]
 fn planar_reflections_hold_what_the_screen_does_not() {
     let gpu = gpu();
-    let mut scene = calm_boat();
-    scene.wind.speed_mps = 0.0;
+    let mut scene = mirror_calm_boat();
     scene.camera.pitch_deg = -14.0;
     let (w, h) = (320, 240);
     let mast = first_object_in_world(&scene, w, h)([0.4, 7.5, 0.0]);

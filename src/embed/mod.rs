@@ -364,6 +364,16 @@ impl<'g> Ocean<'g> {
         }
     }
 
+    /// The renderer and frame `slot`'s update, for a pass a host records ahead of the frame
+    /// (None while paused); Err where the slot was not updated since its last record.
+    fn updated(&mut self, slot: usize) -> Result<Option<(&mut Renderer<'g>, &Prepared)>> {
+        let Some(renderer) = self.renderer.as_mut() else { return Ok(None) };
+        let prepared = self.prepared[slot]
+            .as_ref()
+            .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
+        Ok(Some((renderer, prepared)))
+    }
+
     /// Err while the last rebuild failed.
     fn check_built(&self) -> Result<()> {
         match &self.broken {
@@ -641,10 +651,7 @@ impl<'g> Ocean<'g> {
         if !self.desc.shadow_casters {
             return Err(Error::Argument("record_shadows: the ocean was made without shadow_casters".into()));
         }
-        let Some(renderer) = self.renderer.as_mut() else { return Ok(false) };
-        let prepared = self.prepared[slot]
-            .as_ref()
-            .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
+        let Some((renderer, prepared)) = self.updated(slot)? else { return Ok(false) };
         renderer.record_host_shadows(cmd, slot, prepared, casters)
     }
 
@@ -672,11 +679,9 @@ impl<'g> Ocean<'g> {
     ) -> Result<bool> {
         check_slot(slot, self.desc.frames_in_flight)?;
         self.check_built()?;
-        let Some(renderer) = self.renderer.as_mut() else { return Ok(false) };
-        let prepared = self.prepared[slot]
-            .as_ref()
-            .ok_or_else(|| Error::Argument(format!("frame slot {slot} was not updated since its last record")))?;
-        let Some(view) = self.mirror else { return Ok(false) };
+        let mirror = self.mirror;
+        let Some((renderer, prepared)) = self.updated(slot)? else { return Ok(false) };
+        let Some(view) = mirror else { return Ok(false) };
         renderer.record_host_planar(cmd, slot, prepared, &view, draw)
     }
 

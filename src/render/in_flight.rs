@@ -90,6 +90,14 @@ pub struct RecordedAhead {
 }
 
 impl<'g> FrameSlot<'g> {
+    /// Before a pass a host records ahead of the slot's frame into `cmd`: the first one resets
+    /// the slot's profile.
+    pub fn begin_ahead(&mut self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        if !std::mem::replace(&mut self.ahead.profile_begun, true) {
+            self.profiler.reset(device, cmd);
+        }
+    }
+
     /// `statistics`: pipeline statistics per timestamp scope too, where the device has them.
     pub fn new(gpu: &'g Gpu, index: usize, timestamp_scopes: u32, statistics: bool) -> Result<Self> {
         let device = &gpu.device;

@@ -792,9 +792,7 @@ impl<'g> Renderer<'g> {
         let frame = self.frame(slot, &prepared.data, None);
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        if !std::mem::replace(&mut s.ahead.profile_begun, true) {
-            s.profiler.reset(&device.raw, cmd);
-        }
+        s.begin_ahead(&device.raw, cmd);
         s.profiler.begin(device, cmd, pass.name());
         pass.declare(&self.resources, &frame, &mut self.tracker);
         self.tracker.flush(&device.raw, cmd);
@@ -826,9 +824,7 @@ impl<'g> Renderer<'g> {
         let frame = self.frame(slot, &prepared.data, None);
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        if !std::mem::replace(&mut s.ahead.profile_begun, true) {
-            s.profiler.reset(&device.raw, cmd);
-        }
+        s.begin_ahead(&device.raw, cmd);
         s.profiler.begin(device, cmd, PlanarPass::NAME);
         let mut rec = Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame };
         pass.record_mirrored(&mut rec, &self.resources, view, far, draw);

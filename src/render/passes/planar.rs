@@ -7,9 +7,10 @@
 //! harmonic mean depth are one read each. A frame the host draws no mirror into (none of its
 //! objects' images is in view) skips it all: the shading pass is told by a push constant.
 
+use super::pyramid::LevelReduction;
 use super::{dispatch_over, write_frame_uniforms, Recorder};
 use crate::error::Result;
-use crate::render::resources::{PlanarImages, Resources, FRAME_BINDING, PLANAR_DEPTH_FORMAT};
+use crate::render::resources::{PlanarImages, Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::Access;
 use crate::vk::device::{Device, HDR_FORMAT};
@@ -61,9 +62,8 @@ const INVERSE_DEPTH_BINDING: u32 = 2;
 pub struct PlanarPass<'g> {
     inverse_depth: Bindings<'g>,
     inverse_depth_pipeline: Owned<'g, vk::Pipeline>,
-    /// Per level from 1: finer level in, coarser out.
-    mips: Vec<Bindings<'g>>,
-    mip_pipeline: Option<Owned<'g, vk::Pipeline>>,
+    /// The coverage and inverse depth's levels from 1, each the mean of the texels below it.
+    mips: LevelReduction<'g>,
 }
 
 impl PlanarPass<'_> {
@@ -101,24 +101,13 @@ impl<'g> PlanarPass<'g> {
             shaders::PLANAR_INVERSE_DEPTH_COMP,
             "planar inverse depth",
         )?;
-        let mips = (1..images.inverse_depth.mip_levels as usize)
-            .map(|level| {
-                let b = Bindings::new(
-                    device,
-                    "planar inverse depth mip",
-                    &[(0, D::STORAGE_IMAGE, compute), (1, D::STORAGE_IMAGE, compute)],
-                )?;
-                let views = &images.inverse_depth_levels;
-                b.write_image(0, D::STORAGE_IMAGE, views[level - 1].raw, general, vk::Sampler::null());
-                b.write_image(1, D::STORAGE_IMAGE, views[level].raw, general, vk::Sampler::null());
-                Ok(b)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let mip_pipeline = mips
-            .first()
-            .map(|b| compute_pipeline(device, b.layout(), shaders::PLANAR_MIP_COMP, "planar inverse depth mip"))
-            .transpose()?;
-        Ok(PlanarPass { inverse_depth, inverse_depth_pipeline, mips, mip_pipeline })
+        let mips = LevelReduction::new(
+            device,
+            &images.inverse_depth_levels,
+            shaders::PLANAR_MIP_COMP,
+            "planar inverse depth mip",
+        )?;
+        Ok(PlanarPass { inverse_depth, inverse_depth_pipeline, mips })
     }
 
     /// Clears the planar images, has `draw` record the host's mirrored objects into them with
@@ -132,7 +121,6 @@ impl<'g> PlanarPass<'g> {
         draw: &mut dyn FnMut(vk::CommandBuffer, &MirrorView),
     ) {
         let Some(images) = &r.planar else { return };
-        debug_assert_eq!(images.depth.format, PLANAR_DEPTH_FORMAT);
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         rec.tracker.image(&images.colour, 0, 1, Access::ColorAttachmentWrite, true);
         rec.tracker.image(&images.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
@@ -146,17 +134,8 @@ impl<'g> PlanarPass<'g> {
         rec.tracker.flush(device, cmd);
         dispatch_over(rec, self.inverse_depth_pipeline.raw, &self.inverse_depth, images.colour.extent);
         crate::vk::image::mipmap(device, cmd, rec.tracker, &images.colour);
-        for (i, (bindings, pipeline)) in self.mips.iter().zip(self.mip_pipeline.iter().cycle()).enumerate() {
-            let level = i as u32 + 1;
-            rec.tracker.image(&images.inverse_depth, level - 1, 1, Access::ComputeStorageRead, false);
-            rec.tracker.image(&images.inverse_depth, level, 1, Access::ComputeStorageWrite, true);
-            rec.tracker.flush(device, cmd);
-            let extent = vk::Extent2D {
-                width: (images.colour.extent.width >> level).max(1),
-                height: (images.colour.extent.height >> level).max(1),
-            };
-            dispatch_over(rec, pipeline.raw, bindings, extent);
-        }
+        self.mips.record(rec, &images.inverse_depth);
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
         rec.tracker.image(&images.colour, 0, images.colour.mip_levels, Access::ComputeSampled, false);
         rec.tracker.image(&images.inverse_depth, 0, images.inverse_depth.mip_levels, Access::ComputeSampled, false);
         rec.tracker.flush(device, cmd);

@@ -9,6 +9,7 @@
 //! each frame slot has its own set, rewritten as the frame is recorded (the slot's previous frame
 //! has finished: the host's precondition), with its own view of the host depth's depth aspect.
 
+use super::pyramid::LevelReduction;
 use super::{dispatch_over, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{ReflectionImages, Resources, FRAME_BINDING};
@@ -41,10 +42,8 @@ pub struct ReflectionsPass<'g> {
     /// One set per frame slot, identically laid out.
     sources: Vec<Bindings<'g>>,
     sources_pipeline: Owned<'g, vk::Pipeline>,
-    /// Per level from 1: finer level in, coarser out.
-    mips: Vec<Bindings<'g>>,
-    /// None for a 1 x 1 frame, which has no level to reduce (and no `mips`).
-    mip_pipeline: Option<Owned<'g, vk::Pipeline>>,
+    /// The depth's levels from 1, each the nearest of the texels below it.
+    mips: LevelReduction<'g>,
     /// The objects' screen rectangle from the pyramid's level `bounds_level`.
     bounds: Bindings<'g>,
     bounds_pipeline: Owned<'g, vk::Pipeline>,
@@ -89,23 +88,12 @@ impl<'g> ReflectionsPass<'g> {
             .collect::<Result<Vec<_>>>()?;
         let sources_pipeline =
             compute_pipeline(device, sources[0].layout(), shaders::REFLECTION_SOURCES_COMP, Self::NAME)?;
-        let mips = (1..images.depth.mip_levels as usize)
-            .map(|level| {
-                let b = Bindings::new(
-                    device,
-                    "reflection depth mip",
-                    &[(0, D::STORAGE_IMAGE, compute), (1, D::STORAGE_IMAGE, compute)],
-                )?;
-                let general = vk::ImageLayout::GENERAL;
-                b.write_image(0, D::STORAGE_IMAGE, images.depth_levels[level - 1].raw, general, vk::Sampler::null());
-                b.write_image(1, D::STORAGE_IMAGE, images.depth_levels[level].raw, general, vk::Sampler::null());
-                Ok(b)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let mip_pipeline = mips
-            .first()
-            .map(|b| compute_pipeline(device, b.layout(), shaders::REFLECTION_DEPTH_MIP_COMP, "reflection depth mip"))
-            .transpose()?;
+        let mips = LevelReduction::new(
+            device,
+            &images.depth_levels,
+            shaders::REFLECTION_DEPTH_MIP_COMP,
+            "reflection depth mip",
+        )?;
         // The finest level with at most BOUNDS_CELLS cells: a few reads per invocation of one
         // workgroup, cells of 16 pixels at 1024 x 768 and 32 at 1920 x 1080.
         let extent = images.depth.extent;
@@ -135,7 +123,6 @@ impl<'g> ReflectionsPass<'g> {
             sources,
             sources_pipeline,
             mips,
-            mip_pipeline,
             bounds,
             bounds_pipeline,
             bounds_level,
@@ -194,17 +181,8 @@ impl Pass for ReflectionsPass<'_> {
         crate::vk::image::mipmap(device, cmd, rec.tracker, colour);
         rec.tracker.image(colour, 0, colour.mip_levels, Access::ComputeSampled, false);
         // The depth's levels: each the nearest of the texels below it.
-        for (i, (bindings, pipeline)) in self.mips.iter().zip(self.mip_pipeline.iter().cycle()).enumerate() {
-            let level = i as u32 + 1;
-            rec.tracker.image(&images.depth, level - 1, 1, Access::ComputeStorageRead, false);
-            rec.tracker.image(&images.depth, level, 1, Access::ComputeStorageWrite, true);
-            rec.tracker.flush(device, cmd);
-            let extent = vk::Extent2D {
-                width: (images.depth.extent.width >> level).max(1),
-                height: (images.depth.extent.height >> level).max(1),
-            };
-            dispatch_over(rec, pipeline.raw, bindings, extent);
-        }
+        self.mips.record(rec, &images.depth);
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
         // The rectangle, from the level written last or before (level 0 is bound for its size).
         rec.tracker.image(&images.depth, 0, 1, Access::ComputeStorageRead, false);
         rec.tracker.image(&images.depth, self.bounds_level, 1, Access::ComputeStorageRead, false);
