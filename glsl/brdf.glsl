@@ -82,9 +82,13 @@ vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
 // Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
 // paper folds directions below the horizon onto their mirror image; METHOD_FULL keeps the whole
 // plane, where they lie beyond the unit circle and read the sea they meet (glsl/sky_map.glsl).
+// The mirror direction of the facet of slopes zeta (in the wind frame f).
+vec3 reflected_dir(Frame3 f, vec3 v, vec2 zeta) {
+    return reflect(-v, normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n));
+}
+
 vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
-    vec3 facet = normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n);
-    vec3 r = reflect(-v, facet);
+    vec3 r = reflected_dir(f, v, zeta);
     return METHOD == METHOD_FULL ? stereographic_plane(r) : stereographic(r);
 }
 
@@ -104,6 +108,12 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
 // each lookup's isotropic blur is at most twice the shorter axis. Towards a round footprint
 // s -> 1 and the pair meets at the centre: the one lookup, with no seam between the two.
 const float SKY_TAP_SHARE_MIN = 0.5;
+
+// The share of a footprint's longer image axis (len_major >= len_minor) that each of the pair's
+// lookups filters over; 1: one lookup at the centre.
+float footprint_tap_share(float len_major, float len_minor) {
+    return len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
+}
 
 vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
     float to_uv = 0.5 / frame.tone.y;
@@ -128,7 +138,7 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
     vec2 major = a_longer ? dx : dy, minor = a_longer ? dy : dx;
     float len_major = length(major), len_minor = length(minor);
     // len_minor <= len_major, so the share is in [1/2, 1]; a zero footprint (a glassy sea) is round.
-    float share = len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
+    float share = footprint_tap_share(len_major, len_minor);
     if (share >= 1.0) return sky_map_grad(u0, major, minor);
     vec2 step = axis * sqrt(1.0 - share * share);
     vec2 g_major = major * share;
@@ -145,8 +155,35 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
 // sea's normal. glint: where the reflected sun's glints are drawn from (glints.glsl; unused
 // without GLINTS).
 #ifdef HAS_LOCAL_REFLECTIONS
-vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2);
-vec4 planar_reflection(vec3 point, vec3 r, vec2 sigma2, vec3 up);
+// The reflected directions of a pixel's unresolved slopes, filtered as the sky lookup filters
+// them (mean_sky_radiance's footprint and pair of lookups, in directions instead of the sky map's
+// plane; the stereographic map is conformal, so the same axis is the longer in both): r the
+// mirror direction of the slopes' centre, which a ray traces; tap_a and tap_b the pair's
+// directions (both r for a round footprint), each read blurred isotropically over `blur`
+// radians, the footprint's 2-sigma image across as the sky's gradients are; `extent` the whole
+// footprint's along its longer axis, 2-sigma likewise.
+struct ReflectionCone { vec3 r; vec3 tap_a; vec3 tap_b; float blur; float extent; };
+
+ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
+    const float eps = 1e-3;
+    vec3 r = reflected_dir(f, v, slopes.mean);
+    float len_a = length(slopes.axis_along), len_b = length(slopes.axis_across);
+    vec2 dir_a = len_a > 0.0 ? slopes.axis_along / len_a : vec2(0.0);
+    vec2 dir_b = len_b > 0.0 ? slopes.axis_across / len_b : vec2(0.0);
+    // Each 1-sigma axis's image in radians (a chord eps long is its arc to 1e-7).
+    float angle_a = length(reflected_dir(f, v, slopes.mean + eps * dir_a) - r) * (len_a / eps);
+    float angle_b = length(reflected_dir(f, v, slopes.mean + eps * dir_b) - r) * (len_b / eps);
+    bool a_longer = angle_a >= angle_b;
+    float major = max(angle_a, angle_b), minor = min(angle_a, angle_b);
+    float share = footprint_tap_share(major, minor);
+    if (share >= 1.0) return ReflectionCone(r, r, r, 2.0 * major, 2.0 * major);
+    vec2 step = (a_longer ? slopes.axis_along : slopes.axis_across) * sqrt(1.0 - share * share);
+    return ReflectionCone(r, reflected_dir(f, v, slopes.mean + step), reflected_dir(f, v, slopes.mean - step),
+                          2.0 * share * major, 2.0 * major);
+}
+
+vec4 local_reflection(vec3 point, ReflectionCone cone);
+vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
 #endif
 
 vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint, vec3 point) {
@@ -202,11 +239,10 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
 #ifdef HAS_LOCAL_REFLECTIONS
     if ((LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && TERM_SKY) {
         VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
-        vec2 zeta = slopes.mean + lean;
-        vec3 facet = normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n);
-        vec3 r = reflect(-v, facet);
-        local = local_reflection(point, r, sigma2);
-        if (local.a < 1.0) local += (1.0 - local.a) * planar_reflection(point, r, sigma2, up);
+        slopes.mean += lean;
+        ReflectionCone cone = reflection_cone(f, v, slopes);
+        local = local_reflection(point, cone);
+        if (local.a < 1.0) local += (1.0 - local.a) * planar_reflection(point, cone, up);
     }
 #endif
     if (TERM_SKY) color += fresnel * (light.sky_scale * sky.rgb * (1.0 - local.a) + local.rgb);

@@ -111,8 +111,33 @@ vec2 reflection_screen(vec3 q, float z, vec2 size) {
     return (ndc * 0.5 + 0.5) * size;
 }
 
-// The objects the sea point `point` (camera-relative) mirrors along unit `r`, its slopes'
-// variance sigma2 widening the reflection's cone: rgb the objects' mean radiance over the cone's
+// The pixel size in metres at forward depth z > 0, in images of the view's size.
+float pixel_m_at(float z, vec2 size) {
+    return z * 2.0 * length(frame.cam_down.xyz) / size.y;
+}
+
+// One lookup of a reflection cone (brdf.glsl ReflectionCone) in `image`, an image of the view's
+// size: at the screen position of camera-relative q, filtered over blur_m metres there, and
+// faded out towards the image's edges, beyond which it holds nothing.
+vec4 cone_tap(sampler2D image, vec3 q, float blur_m, vec2 size) {
+    float z = dot(q, frame.cam_forward.xyz);
+    if (!(z > 0.0)) return vec4(0.0);   // turned back past the eye's plane: not in the image
+    vec2 at = reflection_screen(q, z, size);
+    float texel_px = blur_m / pixel_m_at(z, size);
+    vec4 seen = textureLod(image, at / size, log2(max(texel_px, 1.0)));
+    float margin = min(min(at.x, size.x - at.x), min(at.y, size.y - at.y));
+    return seen * smoothstep(0.0, 1.0, margin / max(0.5 * texel_px, EDGE_FADE_PX));
+}
+
+// A cone's pair of lookups `path` metres along its tap directions a and b from `point`.
+vec4 cone_read(sampler2D image, vec3 point, vec3 a, vec3 b, float path, float blur, vec2 size) {
+    vec4 seen = cone_tap(image, point + a * path, path * blur, size);
+    if (a == b) return seen;
+    return 0.5 * (seen + cone_tap(image, point + b * path, path * blur, size));
+}
+
+// The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved slopes
+// (brdf.glsl ReflectionCone), which widens the reflection as it widens the sky's: rgb the objects' mean radiance over the cone's
 // footprint where the ray meets them, premultiplied by a, the share of the footprint they cover
 // (0 where the ray meets nothing on screen). The ray is marched in screen space, where 1 / depth
 // is linear, through the depth pyramid: a cell whose nearest object lies beyond the ray's
@@ -120,7 +145,8 @@ vec2 reflection_screen(vec3 q, float z, vec2 size) {
 // down one, and on level 0 the ray meets the object if it is no farther behind it than the
 // object's assumed depth (McGuire & Mara 2014's screen-space march; the hierarchy is Uludag's,
 // GPU Pro 5, 2014).
-vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2) {
+vec4 local_reflection(vec3 point, ReflectionCone cone) {
+    vec3 r = cone.r;
     if (!LOCAL_REFLECTIONS) return vec4(0.0);
     vec2 size = vec2(textureSize(reflection_depth, 0));
     vec3 forward = frame.cam_forward.xyz;
@@ -202,17 +228,9 @@ vec4 local_reflection(vec3 point, vec3 r, vec2 sigma2) {
     if (hit < 0.0) return vec4(0.0);
     vec2 at = s0 + ds * hit;
     float z = 1.0 / (k0 + hit * (k1 - k0));
-    // The path from the sea to the object, and the cone of the slopes' 2-sigma reflections: a
-    // facet tilted by atan(2 sigma) turns the reflection by twice that.
+    // The path from the sea to the object, along which the cone's lookups meet its depth.
     float path = abs(rf) > 1e-3 ? (z - z0) / rf : hit * reach;
-    float sigma = sqrt(max(sigma2.x, sigma2.y));
-    float radius_m = path * tan(min(2.0 * atan(2.0 * sigma), 1.4));
-    float pixel_m = z * 2.0 * length(frame.cam_down.xyz) / size.y;
-    float radius_px = radius_m / pixel_m;
-    vec4 seen = textureLod(reflection_colour, at / size, log2(max(2.0 * radius_px, 1.0)));
-    // Towards the screen's edges the footprint leaves what the screen holds: fade, no edge.
-    float margin = min(min(at.x, size.x - at.x), min(at.y, size.y - at.y));
-    return seen * smoothstep(0.0, 1.0, margin / max(radius_px, EDGE_FADE_PX));
+    return cone_read(reflection_colour, point, cone.tap_a, cone.tap_b, path, cone.blur, size);
 }
 
 // Mip levels searched, every other one, for mirrored objects near a point's own pixel: the
@@ -231,18 +249,20 @@ vec2 planar_depth(vec2 s, int level) {
     return texel.y > 0.0 ? vec2(texel.x, texel.x / texel.y) : vec2(0.0);
 }
 
-// The objects the sea point `point` (camera-relative) mirrors along unit `r`, read from their
-// mirror images (a planar reflection: the objects drawn mirrored about the sea's tangent plane,
-// normal `up`), the slopes' variance sigma2 widening the cone as local_reflection's does: rgb
-// premultiplied by a, the share of the footprint they cover. The mirrored ray m goes on into the
-// mirror's world; where it meets a mirrored object is found by fixed-point steps on its path t:
-// the image's depth at the screen position of point + t m, the first from the objects found
-// nearest the point's own pixel. A flat sea's ray is the view ray and needs none.
-vec4 planar_reflection(vec3 point, vec3 r, vec2 sigma2, vec3 up) {
+// The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
+// slopes (brdf.glsl ReflectionCone), read from their mirror images (a planar reflection: the
+// objects drawn mirrored about the sea's tangent plane, normal `up`): rgb premultiplied by a, the
+// share of the cone's footprint they cover. The mirrored centre ray m goes on into the mirror's
+// world; where it meets a mirrored object is found by fixed-point steps on its path t: the
+// image's depth over the whole footprint at the screen position of point + t m, the first from
+// the objects found nearest the point's own pixel. The cone's pair of lookups is read at that
+// path, so a footprint whose centre passes beside an object still takes its share of it. A flat
+// sea's ray is the view ray and needs none.
+vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
     if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return vec4(0.0);
     vec2 size = vec2(textureSize(planar_colour, 0));
     vec3 forward = frame.cam_forward.xyz;
-    vec3 m = r - 2.0 * dot(r, up) * up;
+    vec3 m = reflect(cone.r, up);
     float z0 = dot(point, forward), mf = dot(m, forward);
     // A mirrored ray that does not recede from the eye meets nothing the view holds beyond the
     // point.
@@ -256,27 +276,22 @@ vec4 planar_reflection(vec3 point, vec3 r, vec2 sigma2, vec3 up) {
         found = planar_depth(s, min(level, top));
     }
     if (found.x == 0.0) return vec4(0.0);
-    float sigma = sqrt(max(sigma2.x, sigma2.y));
-    float spread = tan(min(2.0 * atan(2.0 * sigma), 1.4));
-    float path = 0.0, lod = 0.0;
+    float path = 0.0;
     for (int i = 0; i < 2; i++) {
         // What stands nearer the eye than the point is not behind the mirror: no reflection of it.
         path = (found.y - z0) / mf;
         if (!(path > 0.0)) return vec4(0.0);
         vec3 q = point + m * path;
         float z = dot(q, forward);
-        s = reflection_screen(q, z, size);
-        float radius_px = path * spread / (z * 2.0 * length(frame.cam_down.xyz) / size.y);
-        lod = log2(max(2.0 * radius_px, 1.0));
-        vec2 next = planar_depth(s, min(int(lod), top));
+        vec2 at = clamp(reflection_screen(q, z, size), vec2(0.0), size - 1e-3);
+        float lod = log2(max(path * cone.extent / pixel_m_at(z, size), 1.0));
+        vec2 next = planar_depth(at, min(int(lod), top));
         if (next.x == 0.0) break;
         found = next;
     }
-    vec4 seen = textureLod(planar_colour, s / size, lod);
+    vec4 seen = cone_read(planar_colour, point, reflect(cone.tap_a, up), reflect(cone.tap_b, up), path, cone.blur, size);
     seen.rgb = clamp(seen.rgb / frame.host.x, vec3(0.0), vec3(HDR_MAX));
-    // Off the screen's edges the mirror holds nothing: fade, no edge.
-    float margin = min(min(s.x, size.x - s.x), min(s.y, size.y - s.y));
-    return seen * smoothstep(0.0, 1.0, margin / max(exp2(lod) * 0.5, EDGE_FADE_PX));
+    return seen;
 }
 
 // The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and

@@ -497,7 +497,8 @@ fn run(cli: Cli) -> ocean::Result<()> {
             let shader = if terms == Terms::ALL {
                 base
             } else {
-                ShaderConfig { glints: base.glints, ..ShaderConfig::terms_only(terms, base.method) }
+                // The terms alone on black, by the same method, glints and reflections.
+                ShaderConfig { terms, background: false, ..base }
             };
             let shader = ShaderConfig { train_reads, ..shader };
             let shading = Shading { shader, ssaa, statistics: stats, ..Shading::default() };
