@@ -87,10 +87,10 @@ void main() {
     Instance o = instances[in_instance];
     vec3 p = in_relative;
     // Mirrored, the object is seen from the eye's mirror image (2 w n), and only what stands
-    // above the sea is reflected by it.
+    // above the water at it is reflected.
     vec3 eye = vec3(0.0);
     if (MIRROR) {
-        if (dot(o.mirror_plane.xyz, p) < o.mirror_plane.w) discard;
+        if (dot(o.water_plane.xyz, p) < o.water_plane.w) discard;
         eye = 2.0 * o.mirror_plane.w * o.mirror_plane.xyz;
     }
     vec3 v = unit_or(eye - p, vec3(0.0, 0.0, 1.0));

@@ -33,6 +33,9 @@ struct Instance {
     // The mean sea's tangent plane below the object, which it is mirrored about for the sea's
     // planar reflections: xyz its unit normal n, w its offset (n . x = w on it).
     vec4 mirror_plane;
+    // The water's plane at the object, the same way: what lies below it is under water, and not
+    // mirrored (a floating hull's waterline, which rides above or below the mean sea).
+    vec4 water_plane;
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { Instance instances[]; };
 // The sun's shadow map: the waves and every object, seen from the sun (depth 0 nearest it).

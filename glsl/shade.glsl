@@ -252,7 +252,8 @@ vec2 planar_depth(vec2 s, int level) {
 // The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
 // slopes (brdf.glsl ReflectionCone), read from their mirror images (a planar reflection: the
 // objects drawn mirrored about the sea's tangent plane, normal `up`): rgb premultiplied by a, the
-// share of the cone's footprint they cover. The mirrored centre ray m goes on into the mirror's
+// share of the cone's footprint they cover. The mirrored centre ray m, from the point mirrored
+// about the mean sea, goes on into the mirror's
 // world; where it meets a mirrored object is found by fixed-point steps on its path t: the
 // image's depth over the whole footprint at the screen position of point + t m, the first from
 // the objects found nearest the point's own pixel. The cone's pair of lookups is read at that
@@ -262,6 +263,9 @@ vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
     if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return vec4(0.0);
     vec2 size = vec2(textureSize(planar_colour, 0));
     vec3 forward = frame.cam_forward.xyz;
+    // The mirror world is the mean sea's: the point, on a wave, mirrors to as far below it (an
+    // object is cut at the water it stands in, its floating hull's waterline above or below).
+    point -= 2.0 * dot(point - sea_point(point.xy), up) * up;
     vec3 m = reflect(cone.r, up);
     float z0 = dot(point, forward), mf = dot(m, forward);
     // A mirrored ray that does not recede from the eye meets nothing the view holds beyond the

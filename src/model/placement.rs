@@ -31,6 +31,9 @@ pub struct Placement {
     pub origin: DVec3,
     /// The sphere's normal at the object (the world's +z on a flat sea).
     pub up: DVec3,
+    /// The water's plane at the object, (unit normal n, offset w) with n . x = w on it: for a
+    /// floating object the plane it rides (heave, pitch and roll), for a fixed one the mean sea's.
+    pub water_plane: (DVec3, f64),
 }
 
 /// The waterplane of a model whose bounds (model space, glTF axes) are `bounds`, at `scale`.
@@ -45,22 +48,28 @@ pub fn place(scene: &Scene, waves: &WaveSet, object: &Object, plane: Waterplane,
     let [x, y, z] = object.position_at(t);
     let offset = [x - scene.camera.x_m, y - scene.camera.y_m];
     let heading = object.heading_deg.to_radians();
-    let (mut pitch, mut roll, mut heave) = (object.pitch_deg.to_radians(), object.roll_deg.to_radians(), 0.0);
-    if object.motion == Motion::Floating {
-        let pose = floating::ride(waves, t, offset, heading, plane);
-        (pitch, roll, heave) = (pitch + pose.pitch_rad, roll + pose.roll_rad, pose.heave_m);
-    }
+    let pose = match object.motion {
+        Motion::Floating => floating::ride(waves, t, offset, heading, plane),
+        Motion::Fixed => floating::Pose { heave_m: 0.0, pitch_rad: 0.0, roll_rad: 0.0 },
+    };
+    let (pitch, roll) = (object.pitch_deg.to_radians() + pose.pitch_rad, object.roll_deg.to_radians() + pose.roll_rad);
     let r = scene.planet.radius_m;
     // The sphere's normal below the tangent point (offset, 0), the centre R below the eye's sea level.
     let up = DVec3::new(offset[0], offset[1], r).normalize();
-    let origin = DVec3::new(0.0, 0.0, -r - eye_z) + up * (r + z + heave);
+    let centre = DVec3::new(0.0, 0.0, -r - eye_z);
+    let origin = centre + up * (r + z + pose.heave_m);
     let tilt = DQuat::from_rotation_arc(DVec3::Z, up);
     // Pitch raises the bow (+x): a turn about -y.
-    let attitude = DQuat::from_rotation_z(heading) * DQuat::from_rotation_y(-pitch) * DQuat::from_rotation_x(roll);
+    let attitude = |pitch: f64, roll: f64| {
+        DQuat::from_rotation_z(heading) * DQuat::from_rotation_y(-pitch) * DQuat::from_rotation_x(roll)
+    };
     let relative_from_model =
-        DMat4::from_scale_rotation_translation(DVec3::splat(object.scale), tilt * attitude, origin)
+        DMat4::from_scale_rotation_translation(DVec3::splat(object.scale), tilt * attitude(pitch, roll), origin)
             * world_axes_from_gltf();
-    Placement { relative_from_model, origin, up }
+    // The water turns with the waves' share of the attitude only, through the waterline's centre.
+    let water_normal = tilt * attitude(pose.pitch_rad, pose.roll_rad) * DVec3::Z;
+    let water_plane = (water_normal, water_normal.dot(centre + up * (r + pose.heave_m)));
+    Placement { relative_from_model, origin, up, water_plane }
 }
 
 /// The mean sea's tangent plane below point `p` (relative to an eye `eye_z` above the sea, on a
@@ -123,6 +132,31 @@ mod tests {
         assert!((n.dot(p.origin) - w - 2.0).abs() < 1e-6, "{}", n.dot(p.origin) - w);
         let sea = DVec3::new(0.0, 0.0, -scene.planet.radius_m - 6.0) + p.up * scene.planet.radius_m;
         assert!((n.dot(sea) - w).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_water_plane_is_the_one_a_floating_object_rides() {
+        let mut scene = Scene::default();
+        scene.wind.speed_mps = 20.0;
+        let waves = crate::model::waves::generate(&scene);
+        let plane = Waterplane { length_m: 8.0, beam_m: 3.0 };
+        // Fixed, 2 m up: the mean sea's plane below it.
+        let post = object([40.0, 5.0, 2.0]);
+        let p = place(&scene, &waves, &post, plane, 6.0, 3.0);
+        let (n, w) = sea_plane_below(p.origin, 6.0, scene.planet.radius_m);
+        assert!((p.water_plane.0 - n).length() < 1e-12 && (p.water_plane.1 - w).abs() < 1e-6, "{:?}", p.water_plane);
+        // Floating (pitched by hand too): through its origin, turned by the waves alone.
+        let mut boat = object([40.0, 5.0, 0.0]);
+        (boat.motion, boat.heading_deg, boat.pitch_deg) = (Motion::Floating, 30.0, 15.0);
+        let p = place(&scene, &waves, &boat, plane, 6.0, 3.0);
+        let (n, w) = p.water_plane;
+        assert!((n.length() - 1.0).abs() < 1e-12 && (n.dot(p.origin) - w).abs() < 1e-6);
+        let pose = floating::ride(&waves, 3.0, [40.0, 5.0], 30f64.to_radians(), plane);
+        assert!(pose.heave_m.abs() > 0.05 && pose.pitch_rad.abs() > 1e-3, "a storm moves it: {pose:?}");
+        assert!((n.dot(p.up).acos() - pose.pitch_rad.hypot(pose.roll_rad)).abs() < 1e-3, "{n} {pose:?}");
+        // Its heave above the mean sea's plane.
+        let (mean_n, mean_w) = sea_plane_below(p.origin, 6.0, scene.planet.radius_m);
+        assert!((mean_n.dot(p.origin) - mean_w - pose.heave_m).abs() < 1e-6);
     }
 
     #[test]

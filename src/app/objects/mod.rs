@@ -63,6 +63,11 @@ struct FrameUniforms {
     irradiance: [[f32; 4]; IRRADIANCE_ROWS * IRRADIANCE_COLUMNS],
 }
 
+/// A plane (unit normal n, offset w: n . x = w on it) as glsl/object.glsl's vec4.
+fn plane4((n, w): (DVec3, f64)) -> [f32; 4] {
+    [n.x as f32, n.y as f32, n.z as f32, w as f32]
+}
+
 /// glsl/object.glsl's `Instance` (std430).
 #[repr(C)]
 #[derive(Clone, Copy, Default)]
@@ -72,6 +77,7 @@ struct Instance {
     inscatter: [f32; 4],
     transmittance: [f32; 4],
     mirror_plane: [f32; 4],
+    water_plane: [f32; 4],
 }
 
 /// The camera and light of one frame, as the host handed them to the ocean.
@@ -503,7 +509,8 @@ impl<'g> Objects<'g> {
                     normal_from_model: rows,
                     inscatter: v4(inscatter),
                     transmittance: v4(transmittance),
-                    mirror_plane: [n.x as f32, n.y as f32, n.z as f32, w as f32],
+                    mirror_plane: plane4((n, w)),
+                    water_plane: plane4(p.water_plane),
                 }
             })
             .collect();
