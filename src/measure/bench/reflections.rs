@@ -6,8 +6,9 @@
 //! measures (RMSE and energy per term and distance band), and on the objects' reflection alone:
 //! the truth's is its sky term less the bare truth's (the tracer puts an object met by a reflected
 //! ray in the sky term's place), a method's its sky term less the bare scene's. Over the pixels
-//! where the truth's reflection of the objects stands well above its sampling noise: the
-//! reflection's energy error and its local contrast (within 8x8 blocks) against the truth's.
+//! where the truth's reflection of the objects stands well above its sampling noise (by blocks of
+//! 4x4): the reflection's energy error and its local contrast (within 8x8 blocks) against the
+//! truth's.
 
 use crate::app::host::OffscreenHost;
 use crate::app::median;
@@ -34,12 +35,17 @@ pub const METHODS: [Reflections; 4] = [Reflections::None, Reflections::Screen, R
 /// 10% of the truth's, its local contrast within 20%.
 pub const ENERGY_TARGET: f64 = 0.10;
 pub const CONTRAST_TARGET: f64 = 0.20;
-/// A pixel's reflection of the objects is resolved in the truth where it stands this many standard
-/// deviations of the truth's sampling noise (of both truths' sky terms) above zero...
+/// The truth's reflection of the objects is resolved over a block of RESOLVED_BLOCK_PX x
+/// RESOLVED_BLOCK_PX pixels where its sum there stands this many standard deviations of the
+/// truth's sampling noise above zero...
 pub const RESOLVED_SIGMAS: f64 = 4.0;
 /// ...and above this fraction of the bare truth's sky there (what a difference of two traces of
 /// the same sky, sampled alike, may still show).
 pub const RESOLVED_FRACTION: f64 = 0.01;
+/// Side of the blocks the truth's reflection is resolved in (pixels): a faint reflection spread
+/// over many pixels (a pier's underside through a rough sea) stands above the noise of a block's
+/// sum where few single pixels do.
+pub const RESOLVED_BLOCK_PX: usize = 4;
 /// Side of the blocks the local contrast is measured in (pixels).
 pub const CONTRAST_BLOCK_PX: usize = 8;
 /// A raster pixel is an object's where the scene's sea term differs from the bare scene's by more
@@ -51,37 +57,83 @@ pub struct TruthReflection {
     pub width: usize,
     /// Luminance of the objects' reflection alone: sky(truth) - sky(bare truth).
     pub reflection: Vec<f64>,
-    /// A bound on its sampling variance: the sum of both truths' variances of their sky terms'
-    /// means (the two are traced with the same samples, and agree wherever no object is met, so
-    /// their difference is less noisy than that), which decides where it is resolved.
-    pub variance: Vec<f64>,
-    /// An estimate of its sampling variance, which the energy's uncertainty and the contrast's
-    /// noise take: from both truths' half-estimates where they have them (half_difference_noise),
-    /// else the bound.
+    /// An estimate of its sampling variance, which the contrast's noise is taken from: from the
+    /// truths' halves (`with_halves`), else the bound (the sum of both truths' variances of their
+    /// sky terms' means; the two are traced with the same samples, and agree wherever no object
+    /// is met, so their difference is less noisy than that).
     pub noise: Vec<f64>,
-    /// Where it is resolved (RESOLVED_SIGMAS, RESOLVED_FRACTION).
+    /// Whether each pixel is in a block where it is resolved (RESOLVED_SIGMAS, RESOLVED_FRACTION,
+    /// RESOLVED_BLOCK_PX).
     pub resolved: Vec<bool>,
+    /// The reflection its energy is measured on, and that one's sampling variance: with halves,
+    /// the samples' half that did not decide where it is resolved (a selection by the same noisy
+    /// values it then sums would keep the noise that lifted them over the bar, and inflate the
+    /// truth's sum); without, the whole.
+    pub measured: Vec<f64>,
+    pub measured_noise: Vec<f64>,
 }
 
 impl TruthReflection {
     /// From the luminances of the two truths' sky terms and the bound on their difference's
-    /// variance; its noise estimate is the bound until `with_noise`.
-    pub fn new(width: usize, with_objects: &[f64], bare: &[f64], variance: &[f64]) -> TruthReflection {
+    /// variance, resolved over the `counted` pixels (the sea no object covers).
+    pub fn new(
+        width: usize,
+        with_objects: &[f64],
+        bare: &[f64],
+        variance: &[f64],
+        counted: &[bool],
+    ) -> TruthReflection {
         let reflection: Vec<f64> = with_objects.iter().zip(bare).map(|(a, b)| a - b).collect();
-        let resolved = reflection
-            .iter()
-            .zip(variance)
-            .zip(bare)
-            .map(|((&r, &v), &b)| {
-                r.abs() > RESOLVED_SIGMAS * v.max(0.0).sqrt() && r.abs() > RESOLVED_FRACTION * b.abs()
-            })
-            .collect();
-        TruthReflection { width, reflection, variance: variance.to_vec(), noise: variance.to_vec(), resolved }
+        let resolved = resolve_blocks(width, &reflection, variance, bare, counted);
+        TruthReflection {
+            width,
+            measured: reflection.clone(),
+            measured_noise: variance.to_vec(),
+            reflection,
+            noise: variance.to_vec(),
+            resolved,
+        }
     }
 
-    pub fn with_noise(self, noise: Vec<f64>) -> TruthReflection {
-        TruthReflection { noise, ..self }
+    /// With both truths' half-estimates of their sky terms (the strata with i + j even of
+    /// `samples_per_axis`^2, groundtruth.rs): the noise estimated from them, the blocks resolved
+    /// by the half against the bound, the energy measured on the other half
+    /// ((N^2 F - n_a A) / n_b). Call once, on a truth from `new`.
+    pub fn with_halves(self, half: [&[f64]; 2], bare: &[f64], samples_per_axis: u32, counted: &[bool]) -> Self {
+        let all = (samples_per_axis * samples_per_axis) as f64;
+        let n_a = (samples_per_axis * samples_per_axis).div_ceil(2) as f64;
+        let n_b = all - n_a;
+        let with_objects: Vec<f64> = self.reflection.iter().zip(bare).map(|(r, b)| r + b).collect();
+        let noise = half_difference_noise([&with_objects, bare], half, samples_per_axis);
+        let deciding: Vec<f64> = half[0].iter().zip(half[1]).map(|(a, b)| a - b).collect();
+        // The bar by the bound, scaled to the half: the estimate from the halves holds the other
+        // half's values, and would let them choose the blocks too.
+        let deciding_noise: Vec<f64> = self.noise.iter().map(|v| v * all / n_a).collect();
+        let resolved = resolve_blocks(self.width, &deciding, &deciding_noise, bare, counted);
+        let measured = self.reflection.iter().zip(&deciding).map(|(f, a)| (all * f - n_a * a) / n_b).collect();
+        let measured_noise = noise.iter().map(|v| v * all / n_b).collect();
+        TruthReflection { noise, resolved, measured, measured_noise, ..self }
     }
+}
+
+/// Each pixel: whether its block's sum of `reflection` over the `counted` pixels stands
+/// RESOLVED_SIGMAS standard deviations (of the sum of `variance`) and RESOLVED_FRACTION of the
+/// `bare` sky's sum above zero.
+fn resolve_blocks(width: usize, reflection: &[f64], variance: &[f64], bare: &[f64], counted: &[bool]) -> Vec<bool> {
+    let blocks_wide = width.div_ceil(RESOLVED_BLOCK_PX);
+    let block_of = |i: usize| (i / width / RESOLVED_BLOCK_PX) * blocks_wide + (i % width) / RESOLVED_BLOCK_PX;
+    let blocks = block_of(reflection.len().saturating_sub(1)) + 1;
+    let (mut sum, mut var, mut sky) = (vec![0.0; blocks], vec![0.0; blocks], vec![0.0; blocks]);
+    for i in (0..reflection.len()).filter(|&i| counted[i]) {
+        let b = block_of(i);
+        sum[b] += reflection[i];
+        var[b] += variance[i].max(0.0);
+        sky[b] += bare[i].abs();
+    }
+    let block_resolved: Vec<bool> = (0..blocks)
+        .map(|b| sum[b].abs() > RESOLVED_SIGMAS * var[b].sqrt() && sum[b].abs() > RESOLVED_FRACTION * sky[b])
+        .collect();
+    (0..reflection.len()).map(|i| counted[i] && block_resolved[block_of(i)]).collect()
 }
 
 /// Each pixel's estimate of the variance of the difference of two truths' means traced with the
@@ -126,9 +178,9 @@ pub struct ObjectReflection {
 /// pixels `select`ed (the sea no object covers: the whole of it or a band).
 pub fn object_reflection(method: &[f64], truth: &TruthReflection, select: &[usize]) -> ObjectReflection {
     let resolved: Vec<usize> = select.iter().copied().filter(|&i| truth.resolved[i]).collect();
-    let truth_sum: f64 = resolved.iter().map(|&i| truth.reflection[i]).sum();
+    let truth_sum: f64 = resolved.iter().map(|&i| truth.measured[i]).sum();
     let method_sum: f64 = resolved.iter().map(|&i| method[i]).sum();
-    let variance: f64 = resolved.iter().map(|&i| truth.noise[i]).sum();
+    let variance: f64 = resolved.iter().map(|&i| truth.measured_noise[i]).sum();
     let (energy_error, energy_uncertainty) = if resolved.is_empty() || truth_sum == 0.0 {
         (f64::NAN, f64::NAN)
     } else {
@@ -348,13 +400,14 @@ pub fn run(gpu: &Gpu, request: &Request) -> Result<Vec<Row>> {
     let sky_bare: Vec<f64> = bare_truth.sky.iter().map(|&p| luminance(p)).collect();
     let bound: Vec<f64> =
         truth.variance.iter().zip(&bare_truth.variance).map(|(a, b)| (a[SKY] + b[SKY]) as f64).collect();
-    let mut truth_reflection = TruthReflection::new(w, &sky_with, &sky_bare, &bound);
+    let mut counted = vec![false; w * h];
+    sea.iter().for_each(|&i| counted[i] = true);
+    let mut truth_reflection = TruthReflection::new(w, &sky_with, &sky_bare, &bound, &counted);
     let samples = truth.meta.samples_per_axis;
     let halves = match (&truth.half, &bare_truth.half) {
         (Some(a), Some(b)) if samples == bare_truth.meta.samples_per_axis && a.len() == w * h && b.len() == w * h => {
             let half = |image: &[[f32; 4]]| image.iter().map(|p| p[SKY] as f64).collect::<Vec<f64>>();
-            let noise = half_difference_noise([&sky_with, &sky_bare], [&half(a), &half(b)], samples);
-            truth_reflection = truth_reflection.with_noise(noise);
+            truth_reflection = truth_reflection.with_halves([&half(a), &half(b)], &sky_bare, samples, &counted);
             true
         }
         _ => false,
@@ -535,9 +588,9 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
          energy error = (sum - truth's sum) / truth's sum ± its standard error from the truth's sampling noise.\n\n\
          The reflected objects: the truth's reflection of them is its sky term less the bare truth's (an object \
          met by a reflected ray takes the sky's place), a method's its sky term less the bare scene's. Over the \
-         pixels where the truth's is resolved (above {RESOLVED_SIGMAS} standard deviations of the sum of both truths' \
-         noise, a bound: they are traced with the same samples, and agree wherever no object is met; and above \
-         {:.0}% of the bare sky): energy = sum of the method's / sum of the truth's - 1 (target within {:.0}%); \
+         {RESOLVED_BLOCK_PX}x{RESOLVED_BLOCK_PX} blocks of pixels where the truth's is resolved (its sum there above \
+         {RESOLVED_SIGMAS} standard deviations of the truths' noise in their difference, and above {:.0}% of the \
+         bare sky's; {}): energy = sum of the method's / sum of the truth's - 1 (target within {:.0}%); \
          contrast = the standard deviation of the reflection alone within the {CONTRAST_BLOCK_PX}x{CONTRAST_BLOCK_PX} \
          blocks holding a resolved pixel, the method's over the truth's with its noise removed (target within \
          {:.0}% of 1). The truths' noise in their difference, for the energy's ± and the contrast: {}.\n\n\
@@ -549,6 +602,12 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
         info.sea_pixels,
         info.object_pixels,
         100.0 * RESOLVED_FRACTION,
+        if info.halves {
+            "decided by one half of each truth's samples, the truth's energy summed over the other half, so that \
+             the noise which lifts a block over the bar does not count in its sum"
+        } else {
+            "decided and summed by the same samples, which inflates the truth's sum where the reflection is faint"
+        },
         100.0 * ENERGY_TARGET,
         100.0 * CONTRAST_TARGET,
         if info.halves {
@@ -654,24 +713,28 @@ mod tests {
             .collect();
         let with: Vec<f64> = signal.iter().zip(&bare).map(|(s, b)| s + b).collect();
         let variance = vec![noise_variance; W * H];
-        (signal, TruthReflection::new(W, &with, &bare, &variance))
+        (signal, TruthReflection::new(W, &with, &bare, &variance, &[true; W * H]))
     }
 
     #[test]
-    fn the_objects_energy_counts_the_resolved_pixels_alone() {
+    fn the_objects_energy_counts_the_resolved_blocks_alone() {
         let (signal, truth) = synthetic_truth(0.04);
-        let bar = 8 * 6;
-        assert_eq!(truth.resolved.iter().filter(|&&r| r).count(), bar, "the bar, not the specks");
+        // The bar (rows 4..12, columns 2..8) lies in the 2 x 2 blocks of rows 4..12, columns 0..8.
+        let blocks = 8 * 8;
+        assert_eq!(truth.resolved.iter().filter(|&&r| r).count(), blocks, "the bar's blocks, not the specks'");
+        assert!((0..W * H).all(|i| !truth.resolved[i] || ((4..12).contains(&(i / W)) && i % W < 8)));
         let all: Vec<usize> = (0..W * H).collect();
-        // 10% too bright on the bar, and anything at all off it.
+        // 10% too bright on the bar's blocks, and anything at all off them.
         let method: Vec<f64> =
             signal.iter().enumerate().map(|(i, s)| if truth.resolved[i] { 1.1 * s } else { 7.0 }).collect();
         let r = object_reflection(&method, &truth, &all);
-        assert_eq!(r.resolved_pixels, bar);
-        assert!((r.truth_sum - bar as f64 * 2.0).abs() < 1e-9, "{}", r.truth_sum);
+        assert_eq!(r.resolved_pixels, blocks);
+        let truth_sum: f64 = (0..W * H).filter(|&i| truth.resolved[i]).map(|i| signal[i]).sum();
+        assert!(truth_sum > 48.0 * 2.0, "the bar and the specks beside it in its blocks");
+        assert!((r.truth_sum - truth_sum).abs() < 1e-9, "{}", r.truth_sum);
         assert!((r.energy_error - 0.1).abs() < 1e-9, "{}", r.energy_error);
         // Its standard error: sqrt(sum var) * method_sum / truth_sum^2.
-        let expected = (bar as f64 * 0.04).sqrt() * 1.1 / (bar as f64 * 2.0);
+        let expected = (blocks as f64 * 0.04).sqrt() * 1.1 / truth_sum;
         assert!((r.energy_uncertainty - expected).abs() < 1e-12, "{}", r.energy_uncertainty);
         assert_eq!(meets(r.energy_error, ENERGY_TARGET), Some(true), "10% is within the target");
         // No reflection at all: -1, and a selection without the bar has nothing to measure.
@@ -685,7 +748,7 @@ mod tests {
             let neg: Vec<f64> = s.iter().map(|v| -v).collect();
             let bare = vec![10.0; W * H];
             let with: Vec<f64> = neg.iter().zip(&bare).map(|(a, b)| a + b).collect();
-            (neg, TruthReflection::new(W, &with, &bare, &vec![0.04; W * H]))
+            (neg, TruthReflection::new(W, &with, &bare, &vec![0.04; W * H], &[true; W * H]))
         };
         let half: Vec<f64> = dark.iter().map(|v| 0.5 * v).collect();
         assert!((object_reflection(&half, &dark_truth, &all).energy_error + 0.5).abs() < 1e-9);
@@ -726,7 +789,7 @@ mod tests {
             .collect();
         let bare = vec![10.0; W * H];
         let with: Vec<f64> = noisy.iter().zip(&bare).map(|(a, b)| a + b).collect();
-        let noisy_truth = TruthReflection::new(W, &with, &bare, &vec![v; W * H]);
+        let noisy_truth = TruthReflection::new(W, &with, &bare, &vec![v; W * H], &[true; W * H]);
         let c = object_reflection(&signal, &noisy_truth, &all).contrast;
         assert!(c.truth > r.contrast.truth, "the noise adds to the truth's spread");
         // Per block: squares 84 + 64 v about the mean over 63 degrees of freedom, less the noise's
@@ -738,18 +801,56 @@ mod tests {
         assert_eq!(meets(halved_ratio - 1.0, CONTRAST_TARGET), Some(false));
     }
 
+    /// Uniform numbers in [0, 1), reproducibly (xorshift64).
+    fn uniform_numbers() -> impl FnMut() -> f64 {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn a_faint_reflection_is_measured_by_the_half_that_did_not_select_it() {
+        // A faint darkening, -0.2 over every pixel, under noise of 0.9 a sample at 3x3 samples:
+        // one block in a few rises over the bar. Selected by the values it sums, the truth's sum
+        // keeps the noise that lifted those blocks, and a method exactly right reads low; selected
+        // by one half and summed over the other, it reads right within its error.
+        let (w, h, n, sigma) = (256usize, 128usize, 3u32, 0.9);
+        let (n_a, n_b) = (5usize, 4usize);
+        let mut uniform = uniform_numbers();
+        // A sample's noise: uniform with the standard deviation sigma.
+        let mut noise = move || (uniform() - 0.5) * sigma * 12f64.sqrt();
+        let signal = vec![-0.2; w * h];
+        let bare = vec![1.0; w * h];
+        let (mut full, mut half) = (vec![], vec![]);
+        for s in &signal {
+            let a = (0..n_a).map(|_| s + noise()).sum::<f64>();
+            let b = (0..n_b).map(|_| s + noise()).sum::<f64>();
+            full.push(1.0 + (a + b) / (n * n) as f64);
+            half.push(1.0 + a / n_a as f64);
+        }
+        let variance = vec![sigma * sigma / (n * n) as f64; w * h];
+        let counted = vec![true; w * h];
+        let by_itself = TruthReflection::new(w, &full, &bare, &variance, &counted);
+        let by_halves =
+            TruthReflection::new(w, &full, &bare, &variance, &counted).with_halves([&half, &bare], &bare, n, &counted);
+        let all: Vec<usize> = (0..w * h).collect();
+        let selected = object_reflection(&signal, &by_itself, &all);
+        let split = object_reflection(&signal, &by_halves, &all);
+        assert!(split.resolved_pixels > 40 * 16 && selected.resolved_pixels > 40 * 16, "{split:?} {selected:?}");
+        assert!(selected.energy_error < -0.25, "the selection's noise inflates the truth: {selected:?}");
+        assert!(split.energy_error.abs() < 3.0 * split.energy_uncertainty.max(0.02), "{split:?}");
+    }
+
     #[test]
     fn the_halves_estimate_the_noise_of_the_truths_difference() {
         // Two truths of the same samples: the bare one sees x, the other x + o where o, the
         // object's part, is 1 in a random share of the samples. The difference's noise is o's
         // alone, var(o) / N^2, whatever x's; with N = 3 the halves are 5 and 4 samples.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = uniform_numbers();
         let (n, pixels, share) = (3u32, 20000, 0.3);
         let (mut full, mut half) = ([vec![], vec![]], [vec![], vec![]]);
         for _ in 0..pixels {
