@@ -136,18 +136,18 @@ vec4 cone_read(sampler2D image, vec3 point, vec3 a, vec3 b, float path, float bl
     return 0.5 * (seen + cone_tap(image, point + b * path, path * blur, size));
 }
 
-// The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved slopes
-// (brdf.glsl ReflectionCone), which widens the reflection as it widens the sky's: rgb the objects' mean radiance over the cone's
-// footprint where the ray meets them, premultiplied by a, the share of the footprint they cover
-// (0 where the ray meets nothing on screen). The ray is marched in screen space, where 1 / depth
-// is linear, through the depth pyramid: a cell whose nearest object lies beyond the ray's
-// farthest point there is stepped over whole, and the walk climbs a level; otherwise it goes
-// down one, and on level 0 the ray meets the object if it is no farther behind it than the
-// object's assumed depth (McGuire & Mara 2014's screen-space march; the hierarchy is Uludag's,
-// GPU Pro 5, 2014).
+// The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
+// slopes (brdf.glsl ReflectionCone), which widens the reflection as it widens the sky's: rgb the
+// objects' mean radiance over the cone's footprint where its centre ray meets them, premultiplied
+// by a, the share of the footprint they cover (0 where the ray meets nothing on screen). The ray
+// is marched in screen space, where 1 / depth is linear, through the depth pyramid: a cell whose
+// nearest object lies beyond the ray's farthest point there is stepped over whole, and the walk
+// climbs a level; otherwise it goes down one, and on level 0 the ray meets the object if it is no
+// farther behind it than the object's assumed depth (McGuire & Mara 2014's screen-space march;
+// the hierarchy is Uludag's, GPU Pro 5, 2014).
 vec4 local_reflection(vec3 point, ReflectionCone cone) {
-    vec3 r = cone.r;
     if (!LOCAL_REFLECTIONS) return vec4(0.0);
+    vec3 r = cone.r;
     vec2 size = vec2(textureSize(reflection_depth, 0));
     vec3 forward = frame.cam_forward.xyz;
     float z0 = dot(point, forward), rf = dot(r, forward);
