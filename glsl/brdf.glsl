@@ -155,31 +155,53 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
 // sea's normal. glint: where the reflected sun's glints are drawn from (glints.glsl; unused
 // without GLINTS).
 #ifdef HAS_LOCAL_REFLECTIONS
-// The reflected directions of a pixel's unresolved slopes, filtered as the sky lookup filters
-// them (mean_sky_radiance's footprint and pair of lookups, in directions instead of the sky map's
-// plane; the stereographic map is conformal, so the same axis is the longer in both): r the
-// mirror direction of the slopes' centre, which a ray traces; tap_a and tap_b the pair's
-// directions (both r for a round footprint), each read blurred isotropically over `blur`
-// radians, the footprint's 2-sigma image across as the sky's gradients are; `extent` the whole
-// footprint's along its longer axis, 2-sigma likewise.
-struct ReflectionCone { vec3 r; vec3 tap_a; vec3 tap_b; float blur; float extent; };
+// Lookups at most along a reflection cone's longer axis (ReflectionCone).
+const int CONE_TAPS_MAX = 4;
+
+// The reflected directions of a pixel's unresolved slopes, over the footprint the sky lookup
+// filters (mean_sky_radiance's: the same mean, axes and variance; the stereographic map is
+// conformal, so the same axis is the longer in directions and in the map): r the mirror
+// direction of the slopes' centre, which a ray traces; `count` lookups along the longer axis,
+// taps[0 .. count), each read blurred isotropically over `blur` radians; `extent` the whole
+// footprint's 2-sigma image along its longer axis, as the sky's gradients are.
+//
+// The sky's pair of lookups suits a sky that varies smoothly; an object's edge does not: a pier
+// whose image lies between the pair's taps would be missed, though a tenth of the slopes see it.
+// So n taps, spaced d apart at (i - (n - 1) / 2) d, each blurred over a texel of 2 s of the
+// longer axis's sigma (a lookup's variance is the sky's (t / 2)^2 for a texel t): together the
+// footprint's variance, d^2 (n^2 - 1) / 12 + s^2 = 1, and tiled without gaps where d = 2 s,
+// s^2 = 3 / (n^2 + 2). The fewest taps whose s reaches down to the shorter axis (s >= minor /
+// major, the blur covering the footprint across): one for a round footprint, two (the sky's
+// pair) down to 0.71, three to 0.52, four below (there s = 0.41 blurs wider than the shorter
+// axis, as the sky's pair does below 1/2).
+struct ReflectionCone { vec3 r; vec3 taps[CONE_TAPS_MAX]; int count; float blur; float extent; };
 
 ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     const float eps = 1e-3;
-    vec3 r = reflected_dir(f, v, slopes.mean);
+    ReflectionCone cone;
+    cone.r = reflected_dir(f, v, slopes.mean);
     float len_a = length(slopes.axis_along), len_b = length(slopes.axis_across);
     vec2 dir_a = len_a > 0.0 ? slopes.axis_along / len_a : vec2(0.0);
     vec2 dir_b = len_b > 0.0 ? slopes.axis_across / len_b : vec2(0.0);
     // Each 1-sigma axis's image in radians (a chord eps long is its arc to 1e-7).
-    float angle_a = length(reflected_dir(f, v, slopes.mean + eps * dir_a) - r) * (len_a / eps);
-    float angle_b = length(reflected_dir(f, v, slopes.mean + eps * dir_b) - r) * (len_b / eps);
-    bool a_longer = angle_a >= angle_b;
+    float angle_a = length(reflected_dir(f, v, slopes.mean + eps * dir_a) - cone.r) * (len_a / eps);
+    float angle_b = length(reflected_dir(f, v, slopes.mean + eps * dir_b) - cone.r) * (len_b / eps);
     float major = max(angle_a, angle_b), minor = min(angle_a, angle_b);
-    float share = footprint_tap_share(major, minor);
-    if (share >= 1.0) return ReflectionCone(r, r, r, 2.0 * major, 2.0 * major);
-    vec2 step = (a_longer ? slopes.axis_along : slopes.axis_across) * sqrt(1.0 - share * share);
-    return ReflectionCone(r, reflected_dir(f, v, slopes.mean + step), reflected_dir(f, v, slopes.mean - step),
-                          2.0 * share * major, 2.0 * major);
+    // minor <= major: the ratio is in [0, 1], 1 for a glassy sea's zero footprint.
+    float ratio = major > 0.0 ? minor / major : 1.0;
+    int count = clamp(int(ceil(sqrt(max(3.0 / max(ratio * ratio, 1e-6) - 2.0, 1.0)) - 1e-4)), 1, CONE_TAPS_MAX);
+    float share = max(ratio, sqrt(3.0 / float(count * count + 2)));
+    // n = 1: s = 1, the one lookup carries the whole variance.
+    float spacing = count > 1 ? sqrt(12.0 * max(1.0 - share * share, 0.0) / float(count * count - 1)) : 0.0;
+    vec2 axis = angle_a >= angle_b ? slopes.axis_along : slopes.axis_across;
+    for (int i = 0; i < CONE_TAPS_MAX; i++) {
+        float at = (float(i) - 0.5 * float(count - 1)) * spacing;
+        cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + at * axis) : cone.r;
+    }
+    cone.count = count;
+    cone.blur = 2.0 * share * major;
+    cone.extent = 2.0 * major;
+    return cone;
 }
 
 vec4 local_reflection(vec3 point, ReflectionCone cone);

@@ -129,11 +129,15 @@ vec4 cone_tap(sampler2D image, vec3 q, float blur_m, vec2 size) {
     return seen * smoothstep(0.0, 1.0, margin / max(0.5 * texel_px, EDGE_FADE_PX));
 }
 
-// A cone's pair of lookups `path` metres along its tap directions a and b from `point`.
-vec4 cone_read(sampler2D image, vec3 point, vec3 a, vec3 b, float path, float blur, vec2 size) {
-    vec4 seen = cone_tap(image, point + a * path, path * blur, size);
-    if (a == b) return seen;
-    return 0.5 * (seen + cone_tap(image, point + b * path, path * blur, size));
+// A cone's lookups in `image` `path` metres along its taps from `point`, mirrored about the
+// plane of unit normal `mirror` where that is not 0.
+vec4 cone_read(sampler2D image, vec3 point, ReflectionCone cone, vec3 mirror, float path, vec2 size) {
+    vec4 sum = vec4(0.0);
+    for (int i = 0; i < cone.count; i++) {
+        vec3 tap = dot(mirror, mirror) > 0.0 ? reflect(cone.taps[i], mirror) : cone.taps[i];
+        sum += cone_tap(image, point + tap * path, path * cone.blur, size);
+    }
+    return sum / float(cone.count);
 }
 
 // The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
@@ -230,7 +234,7 @@ vec4 local_reflection(vec3 point, ReflectionCone cone) {
     float z = 1.0 / (k0 + hit * (k1 - k0));
     // The path from the sea to the object, along which the cone's lookups meet its depth.
     float path = abs(rf) > 1e-3 ? (z - z0) / rf : hit * reach;
-    return cone_read(reflection_colour, point, cone.tap_a, cone.tap_b, path, cone.blur, size);
+    return cone_read(reflection_colour, point, cone, vec3(0.0), path, size);
 }
 
 // Mip levels searched, every other one, for mirrored objects near a point's own pixel: the
@@ -256,7 +260,7 @@ vec2 planar_depth(vec2 s, int level) {
 // about the mean sea, goes on into the mirror's
 // world; where it meets a mirrored object is found by fixed-point steps on its path t: the
 // image's depth over the whole footprint at the screen position of point + t m, the first from
-// the objects found nearest the point's own pixel. The cone's pair of lookups is read at that
+// the objects found nearest the point's own pixel. The cone's lookups are read at that
 // path, so a footprint whose centre passes beside an object still takes its share of it. A flat
 // sea's ray is the view ray and needs none.
 vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
@@ -293,7 +297,7 @@ vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
         if (next.x == 0.0) break;
         found = next;
     }
-    vec4 seen = cone_read(planar_colour, point, reflect(cone.tap_a, up), reflect(cone.tap_b, up), path, cone.blur, size);
+    vec4 seen = cone_read(planar_colour, point, cone, up, path, size);
     seen.rgb = clamp(seen.rgb / frame.host.x, vec3(0.0), vec3(HDR_MAX));
     return seen;
 }
