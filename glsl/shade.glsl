@@ -129,9 +129,18 @@ vec4 cone_tap(sampler2D image, vec3 q, float blur_m, vec2 size) {
     return seen * smoothstep(0.0, 1.0, margin / max(0.5 * texel_px, EDGE_FADE_PX));
 }
 
+// A footprint no longer than this (pixels, its 2-sigma extent along the longer axis) is read by
+// one lookup over all of it: its taps would lie within a texel or two of each other.
+const float CONE_ONE_TAP_PX = 4.0;
+
 // A cone's lookups in `image` `path` metres along its taps from `point`, mirrored about the
 // plane of unit normal `mirror` where that is not 0.
 vec4 cone_read(sampler2D image, vec3 point, ReflectionCone cone, vec3 mirror, float path, vec2 size) {
+    vec3 centre = point + (dot(mirror, mirror) > 0.0 ? reflect(cone.r, mirror) : cone.r) * path;
+    float z = dot(centre, frame.cam_forward.xyz);
+    if (z > 0.0 && path * cone.extent < CONE_ONE_TAP_PX * pixel_m_at(z, size)) {
+        return cone_tap(image, centre, path * cone.extent, size);
+    }
     vec4 sum = vec4(0.0);
     for (int i = 0; i < cone.count; i++) {
         vec3 tap = dot(mirror, mirror) > 0.0 ? reflect(cone.taps[i], mirror) : cone.taps[i];

@@ -86,6 +86,9 @@ struct Readback {
 
 /// Draws the occluders (cleared rectangles at their depths), then the ocean (tone-mapping into an
 /// LDR target where the ocean was made with its format), and reads back what it drew.
+/// The name the test host's own pass is timed under in the ocean's profile.
+const HOST_PASS: &str = "host occluders";
+
 fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occluders: &[Occluder]) -> Readback {
     use vk::{AccessFlags2 as A, ImageLayout as L, ImageUsageFlags as U, PipelineStageFlags2 as S};
     let ldr_format = ocean.desc().formats.ldr;
@@ -130,9 +133,10 @@ fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occl
         .layer_count(1)
         .color_attachments(&colour_attachment)
         .depth_attachment(&depth_attachment);
-    // SAFETY (test host): the attachments are in the layouts the barriers above moved them to.
-    unsafe {
-        host.device.cmd_begin_rendering(host.cmd, &info);
+    // The host's draws, timed in the ocean's profile (embed::Ocean::record_host_pass).
+    let mut draw = |cmd: vk::CommandBuffer| unsafe {
+        // SAFETY (test host): the attachments are in the layouts the barriers above moved them to.
+        host.device.cmd_begin_rendering(cmd, &info);
         for o in occluders {
             let clears = [
                 vk::ClearAttachment {
@@ -160,10 +164,11 @@ fn frame(host: &Host, ocean: &mut Ocean, projection: DMat4, reversed: bool, occl
                 base_array_layer: 0,
                 layer_count: 1,
             };
-            host.device.cmd_clear_attachments(host.cmd, &clears, &[rect]);
+            host.device.cmd_clear_attachments(cmd, &clears, &[rect]);
         }
-        host.device.cmd_end_rendering(host.cmd);
-    }
+        host.device.cmd_end_rendering(cmd);
+    };
+    ocean.record_host_pass(host.cmd, 0, HOST_PASS, &mut draw).unwrap();
     let targets = Targets {
         colour: c,
         colour_entry: ImageState::COLOR_ATTACHMENT,
@@ -355,6 +360,36 @@ fn a_wavy_sea_in_a_host_frame_stays_within_its_crests_and_validation_clean() {
     }
     assert!(checked > 5000, "{checked} sea pixels checked");
     host.assert_clean("the host's frames");
+}
+
+/// A host's pass is timed with the ocean's, under its own name, and a frame holds a stated
+/// number of them: the next is refused by name, not a panic.
+#[test]
+fn host_passes_are_timed_in_the_ocean_s_frame() {
+    let host = Host::new();
+    let gpu = Gpu::from_host(&host.borrowed(), None).unwrap();
+    let scene = Scene::load(std::path::Path::new("scenes/extreme/wind_0.toml")).unwrap();
+    let p = projection(true, true);
+    let mut ocean = Ocean::new(&gpu, desc(scene, true)).unwrap();
+    let occluder = Occluder { rect: (10, 95, 40, 20), depth_m: 3.0, colour: [0.0, 3.0, 0.0, 1.0] };
+    frame(&host, &mut ocean, p, true, &[occluder]);
+    ocean.finished(0).unwrap();
+    let names: Vec<&str> = ocean.pass_ms().iter().map(|(n, _)| *n).collect();
+    if !names.is_empty() {
+        // Timed ahead of the ocean's own passes, as recorded.
+        assert_eq!(names.iter().position(|&n| n == HOST_PASS), Some(0), "{names:?}");
+        assert!(names.len() > 1, "{names:?}");
+    }
+    ocean.update(0, &FrameInput { time_s: 0.0, view: view(), projection: p }).unwrap();
+    host.begin();
+    for _ in 0..4 {
+        ocean.record_host_pass(host.cmd, 0, "a host pass", &mut |_| {}).unwrap();
+    }
+    let e = ocean.record_host_pass(host.cmd, 0, "one too many", &mut |_| {}).unwrap_err().to_string();
+    assert!(e.contains("one too many") && e.contains("at most 4"), "{e}");
+    let out_of_range = ocean.record_host_pass(host.cmd, 2, "a host pass", &mut |_| {}).unwrap_err().to_string();
+    assert!(out_of_range.contains('2'), "{out_of_range}");
+    host.submit_and_wait();
 }
 
 #[test]

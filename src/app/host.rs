@@ -108,8 +108,9 @@ impl<'g> OffscreenHost<'g> {
             gpu,
             ocean,
             commands: Commands::new(&gpu.device, "host frame")?,
-            // Its own scopes: the objects (where drawn) and the readback.
-            profiler: Profiler::new(&gpu.device, 2, false)?,
+            // Its own scope: the readback (the objects are timed in the ocean's frame, as a host
+            // pass: embed::Ocean::record_host_pass).
+            profiler: Profiler::new(&gpu.device, 1, false)?,
             clock: DeviceClock::new(&gpu.device),
             tracker: Tracker::default(),
             colour,
@@ -209,13 +210,12 @@ impl<'g> OffscreenHost<'g> {
                 self.ocean.record_planar(cmd, 0, &mut |cmd, _| objects.record_mirrored(cmd, 0))?;
             }
             let depth = HostImage::from(depth_image);
-            self.profiler.begin(device, cmd, crate::app::objects::NAME);
             self.tracker.image(&colour, 0, 1, Access::ColorAttachmentWrite, true);
             self.tracker.image(&depth, 0, 1, Access::DepthAttachmentReadWrite, true);
             self.tracker.flush(&device.raw, cmd);
-            // Reversed Z: the far plane is 0.
-            objects.record(cmd, 0, &colour, &depth, 0.0);
-            self.profiler.end(device, cmd);
+            // Reversed Z: the far plane is 0. Timed in the ocean's profile, as a host's pass.
+            let name = crate::app::objects::NAME;
+            self.ocean.record_host_pass(cmd, 0, name, &mut |cmd| objects.record(cmd, 0, &colour, &depth, 0.0))?;
             targets.colour_entry = ImageState::COLOR_ATTACHMENT;
             targets.depth = Some((depth, ImageState::DEPTH_ATTACHMENT));
             self.tracker.forget(depth.raw);

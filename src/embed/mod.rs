@@ -685,6 +685,30 @@ impl<'g> Ocean<'g> {
         renderer.record_host_planar(cmd, slot, prepared, &view, draw)
     }
 
+    /// Records a pass of the host's own (`record`, into its command buffer `cmd`) ahead of
+    /// frame `slot`'s [`Ocean::record`], inside the frame's profile: wrapped in a debug label and
+    /// a timestamp scope `name`, it is timed with the ocean's passes ([`Ocean::pass_ms`]), and
+    /// RenderDoc, Nsight and the ocean's traces show it under that name. The slot is updated and
+    /// not yet recorded; at most four such passes a frame. While the ocean is paused (a zero
+    /// size) `record` runs untimed.
+    pub fn record_host_pass(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        name: &'static str,
+        record: &mut dyn FnMut(vk::CommandBuffer),
+    ) -> Result<()> {
+        check_slot(slot, self.desc.frames_in_flight)?;
+        self.check_built()?;
+        match self.updated(slot)? {
+            Some((renderer, _)) => renderer.record_host_pass(cmd, slot, name, record),
+            None => {
+                record(cmd);
+                Ok(())
+            }
+        }
+    }
+
     /// The sun's shadow map of the last update, where the ocean has one; its contents are the
     /// frame's after [`Ocean::record_shadows`].
     pub fn sun_shadow(&self) -> Option<SunShadow> {

@@ -78,7 +78,8 @@ pub struct FrameSlot<'g> {
 }
 
 /// The passes a host records ahead of its frame, into its own command buffer, for its draws to
-/// use (embed::Ocean::record_shadows, record_planar).
+/// use (embed::Ocean::record_shadows, record_planar), and the host's own passes timed in its
+/// profile (record_host_pass).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RecordedAhead {
     /// The slot's profile was reset and its first scopes written.
@@ -87,6 +88,8 @@ pub struct RecordedAhead {
     pub shadows: bool,
     /// The mirror pass, with the host's mirrored objects.
     pub planar: bool,
+    /// The host's own passes.
+    pub host_passes: usize,
 }
 
 impl<'g> FrameSlot<'g> {

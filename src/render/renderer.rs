@@ -40,6 +40,9 @@ use crate::vk::gpu::Gpu;
 use crate::vk::memory::MemoryReport;
 use ash::vk;
 
+/// Passes of a host's own a frame's profile has room for (embed::Ocean::record_host_pass).
+pub const HOST_PASSES: usize = 4;
+
 /// A rendered frame, read back to the CPU.
 pub struct RenderedFrame {
     pub width: u32,
@@ -373,7 +376,8 @@ impl<'g> Renderer<'g> {
             }
         }
         let planar = resources.planar.as_ref().map(|images| PlanarPass::new(device, &resources, images)).transpose()?;
-        let scopes = (passes.len() + usize::from(shadow.is_some()) + usize::from(planar.is_some())) as u32;
+        let scopes =
+            (passes.len() + usize::from(shadow.is_some()) + usize::from(planar.is_some()) + HOST_PASSES) as u32;
         let slots = (0..frames_in_flight as usize)
             .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics))
             .collect::<Result<Vec<_>>>()?;
@@ -831,6 +835,31 @@ impl<'g> Renderer<'g> {
         s.profiler.end(device, cmd);
         s.ahead.planar = true;
         Ok(true)
+    }
+
+    /// A pass of the host's own, `record`ed into its command buffer `cmd` ahead of frame
+    /// `slot`'s passes, inside the frame's profile: a debug label and a timestamp scope `name`,
+    /// timed with the ocean's own. At most HOST_PASSES a frame.
+    pub fn record_host_pass(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        name: &'static str,
+        record: &mut dyn FnMut(vk::CommandBuffer),
+    ) -> Result<()> {
+        let device = &self.gpu.device;
+        let s = &mut self.slots[slot];
+        if s.ahead.host_passes >= HOST_PASSES {
+            return Err(Error::Argument(format!(
+                "record_host_pass \"{name}\": at most {HOST_PASSES} host passes a frame"
+            )));
+        }
+        s.begin_ahead(&device.raw, cmd);
+        s.ahead.host_passes += 1;
+        s.profiler.begin(device, cmd, name);
+        record(cmd);
+        s.profiler.end(device, cmd);
+        Ok(())
     }
 
     /// Whether the renderer has the mirror pass (a host's planar reflections).

@@ -364,7 +364,10 @@ impl<'g> Presenter<'g> {
             t.external(&depth_target, vk::ImageLayout::UNDEFINED, tests.stage, tests.access);
             t.image(&depth_target, 0, 1, Access::DepthAttachmentReadWrite, true);
             t.flush(device, cmd);
-            objects.record(cmd, slot, &colour, &depth_target, 0.0);
+            let name = crate::app::objects::NAME;
+            drawing
+                .ocean
+                .record_host_pass(cmd, slot, name, &mut |cmd| objects.record(cmd, slot, &colour, &depth_target, 0.0))?;
             t.forget(depth_target.raw);
             colour_entry = ImageState::COLOR_ATTACHMENT;
             depth = Some((depth_target, tests));
