@@ -515,3 +515,77 @@ fn the_objects_shadow_each_other() {
     }
     assert!(seen >= 4, "{seen} pairs of piles on the picture");
 }
+
+/// The scene at `path` (from the repository's root) on a sea without wind, without the sun's
+/// shadows: its objects' images in a mirror.
+fn mirror_calm(path: &str) -> Scene {
+    let mut scene = Scene::load(&root().join(path)).unwrap();
+    scene.wind.speed_mps = 0.0;
+    scene.waves.lambda_max_m = ocean::model::scene::LongestWave::Metres(30.0);
+    scene.render.shadow_map = ocean::model::scene::ShadowMapMode::Off;
+    scene
+}
+
+/// The classic screen-space error: the sea seen under a pier's deck lies behind the pier, and its
+/// reflected rays, going on away from the eye, never meet the deck, though on screen they run up
+/// across the deck's image (nearer the eye by 70 m). The trace must leave that sea its sky's
+/// reflection, while the calm sea before the pier, in the same frame, shows the deck's image.
+#[test]
+fn the_sea_behind_an_object_does_not_reflect_it() {
+    let gpu = gpu();
+    let scene = mirror_calm("scenes/objects/pier_noon.toml");
+    let (w, h) = (320, 240);
+    let world = first_object_in_world(&scene, w, h);
+    let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    let (report, traced) = common::render_with(&gpu, &scene, w, h, reflecting(Reflections::Screen));
+    assert_clean(&report, "pier on a calm sea, screen reflections");
+    let luminance = |frame: &RenderedFrame, (x, y): (usize, usize)| common::luminance(frame.hdr[y * w as usize + x]);
+    // Between two piles, two pixels under the deck's near edge: the sea 100 m off, behind the
+    // pier (the eye 2.5 m up sees past the deck's underside at 1.8 m, 30 m ahead).
+    let edge = project(&scene, w, h, world([13.0, 1.8, -1.5])).expect("the deck's edge is seen");
+    let mut checked = 0;
+    for dy in 2..=3 {
+        let p = (edge.0, edge.1 + dy);
+        let (before, after) = (luminance(&plain, p), luminance(&traced, p));
+        assert!((after / before - 1.0).abs() < 0.01, "the sea behind the pier at {p:?}: {after} against {before}");
+        checked += 1;
+    }
+    assert_eq!(checked, 2);
+    // The deck's image before the pier, from its top rail to its planking (the sky between),
+    // shows the screen's reflection: the deck's sunlit near side, 5% over the sky's there.
+    let image = |p: [f64; 3]| {
+        let q = world(p);
+        project(&scene, w, h, DVec3::new(q.x, q.y, -q.z)).expect("the deck's image is seen")
+    };
+    let (top, bottom) = (image([13.0, 2.9, -1.5]), image([13.0, 1.9, -1.5]));
+    let rows = top.1.min(bottom.1)..=top.1.max(bottom.1);
+    let sum = |frame: &RenderedFrame| rows.clone().map(|y| luminance(frame, (top.0, y))).sum::<f64>();
+    let change = sum(&traced) / sum(&plain);
+    assert!(change > 1.03, "the deck's image at {top:?} .. {bottom:?}: {change} of the sky's reflection");
+}
+
+/// At the screen's edge the screen's trace loses what lies beyond it: its reflection fades out
+/// over the last pixels instead of ending in a hard line where the picture ends. The pier runs out
+/// of the left of the picture, its image in the calm sea with it.
+#[test]
+fn reflections_fade_out_at_the_screen_s_edge() {
+    let gpu = gpu();
+    let scene = mirror_calm("scenes/extreme/objects/screen_edge.toml");
+    let (w, h) = (320, 240);
+    let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    let (report, traced) = common::render_with(&gpu, &scene, w, h, reflecting(Reflections::Screen));
+    assert_clean(&report, "pier at the screen's edge, screen reflections");
+    // The reflection alone, summed down each column over the rows below the horizon.
+    let column = |x: usize| -> f64 {
+        (h as usize / 2..h as usize)
+            .map(|y| {
+                let i = y * w as usize + x;
+                (common::luminance(traced.hdr[i]) - common::luminance(plain.hdr[i])).abs()
+            })
+            .sum()
+    };
+    let at_edge = (0..2).map(column).sum::<f64>() / 2.0;
+    let inside = (24..40).map(column).sum::<f64>() / 16.0;
+    assert!(inside > 0.0, "the pier's image is reflected inside the picture");
+    assert!(at_edge < 0.25 * inside, "at the edge {at_edge} against {inside} inside: a hard edge");
+}
