@@ -79,14 +79,14 @@ vec3 reflected_sun(Frame3 f, vec3 v, vec3 l, vec2 sigma2, vec3 sun) {
     return reflect_sun(f, v, l, sigma2, sun).radiance;
 }
 
-// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
-// paper folds directions below the horizon onto their mirror image; METHOD_FULL keeps the whole
-// plane, where they lie beyond the unit circle and read the sea they meet (glsl/sky_map.glsl).
-// The mirror direction of the facet of slopes zeta (in the wind frame f).
+// The mirror direction of v about the facet of slopes zeta (in the wind frame f).
 vec3 reflected_dir(Frame3 f, vec3 v, vec2 zeta) {
     return reflect(-v, normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n));
 }
 
+// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
+// paper folds directions below the horizon onto their mirror image; METHOD_FULL keeps the whole
+// plane, where they lie beyond the unit circle and read the sea they meet (glsl/sky_map.glsl).
 vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
     vec3 r = reflected_dir(f, v, zeta);
     return METHOD == METHOD_FULL ? stereographic_plane(r) : stereographic(r);

@@ -266,12 +266,11 @@ vec2 planar_depth(vec2 s, int level) {
 // slopes (brdf.glsl ReflectionCone), read from their mirror images (a planar reflection: the
 // objects drawn mirrored about the sea's tangent plane, normal `up`): rgb premultiplied by a, the
 // share of the cone's footprint they cover. The mirrored centre ray m, from the point mirrored
-// about the mean sea, goes on into the mirror's
-// world; where it meets a mirrored object is found by fixed-point steps on its path t: the
-// image's depth over the whole footprint at the screen position of point + t m, the first from
-// the objects found nearest the point's own pixel. The cone's lookups are read at that
-// path, so a footprint whose centre passes beside an object still takes its share of it. A flat
-// sea's ray is the view ray and needs none.
+// about the mean sea, goes on into the mirror's world; where it meets a mirrored object is found
+// by fixed-point steps on its path t: the image's depth over the whole footprint at the screen
+// position of point + t m, the first from the objects found nearest the point's own pixel. The
+// cone's lookups are read at that path, so a footprint whose centre passes beside an object still
+// takes its share of it. A flat sea's ray is the view ray and needs none.
 vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
     if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return vec4(0.0);
     vec2 size = vec2(textureSize(planar_colour, 0));

@@ -9,7 +9,7 @@ mod common;
 use ash::vk;
 use common::host::{Host, COLOUR_FORMAT, DEPTH_FORMAT};
 use glam::{DMat4, DVec3, DVec4};
-use ocean::embed::{FrameInput, Gpu, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Targets};
+use ocean::embed::{FrameInput, Gpu, HostFormats, HostImage, ImageState, Ocean, OceanDesc, Targets, HOST_PASSES};
 use ocean::model::scene::Scene;
 
 const W: u32 = 160;
@@ -382,11 +382,11 @@ fn host_passes_are_timed_in_the_ocean_s_frame() {
     }
     ocean.update(0, &FrameInput { time_s: 0.0, view: view(), projection: p }).unwrap();
     host.begin();
-    for _ in 0..4 {
+    for _ in 0..HOST_PASSES {
         ocean.record_host_pass(host.cmd, 0, "a host pass", &mut |_| {}).unwrap();
     }
     let e = ocean.record_host_pass(host.cmd, 0, "one too many", &mut |_| {}).unwrap_err().to_string();
-    assert!(e.contains("one too many") && e.contains("at most 4"), "{e}");
+    assert!(e.contains("one too many") && e.contains(&format!("at most {HOST_PASSES}")), "{e}");
     let out_of_range = ocean.record_host_pass(host.cmd, 2, "a host pass", &mut |_| {}).unwrap_err().to_string();
     assert!(out_of_range.contains('2'), "{out_of_range}");
     host.submit_and_wait();

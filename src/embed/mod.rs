@@ -28,7 +28,7 @@ use glam::{DMat4, DVec3};
 pub use crate::model::scene::Reflections;
 pub use crate::render::passes::composite::HostFormats;
 pub use crate::render::passes::ocean::{Method, ShaderConfig, Terms};
-pub use crate::render::renderer::TrainCounts;
+pub use crate::render::renderer::{TrainCounts, HOST_PASSES};
 pub use crate::render::timeline::{GpuFrame, GpuSpan};
 pub use crate::vk::device::HostEnabled;
 pub use crate::vk::external::{
@@ -689,8 +689,8 @@ impl<'g> Ocean<'g> {
     /// frame `slot`'s [`Ocean::record`], inside the frame's profile: wrapped in a debug label and
     /// a timestamp scope `name`, it is timed with the ocean's passes ([`Ocean::pass_ms`]), and
     /// RenderDoc, Nsight and the ocean's traces show it under that name. The slot is updated and
-    /// not yet recorded; at most four such passes a frame. While the ocean is paused (a zero
-    /// size) `record` runs untimed.
+    /// not yet recorded; at most [`HOST_PASSES`] such passes a frame. While the ocean is paused
+    /// (a zero size) `record` runs untimed.
     pub fn record_host_pass(
         &mut self,
         cmd: vk::CommandBuffer,
