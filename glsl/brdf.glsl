@@ -109,12 +109,6 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
 // s -> 1 and the pair meets at the centre: the one lookup, with no seam between the two.
 const float SKY_TAP_SHARE_MIN = 0.5;
 
-// The share of a footprint's longer image axis (len_major >= len_minor) that each of the pair's
-// lookups filters over; 1: one lookup at the centre.
-float footprint_tap_share(float len_major, float len_minor) {
-    return len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
-}
-
 vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
     float to_uv = 0.5 / frame.tone.y;
     return textureGrad(sky_map, sky_map_uv(u), du_x * to_uv, du_y * to_uv);
@@ -138,7 +132,7 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
     vec2 major = a_longer ? dx : dy, minor = a_longer ? dy : dx;
     float len_major = length(major), len_minor = length(minor);
     // len_minor <= len_major, so the share is in [1/2, 1]; a zero footprint (a glassy sea) is round.
-    float share = footprint_tap_share(len_major, len_minor);
+    float share = len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
     if (share >= 1.0) return sky_map_grad(u0, major, minor);
     vec2 step = axis * sqrt(1.0 - share * share);
     vec2 g_major = major * share;

@@ -100,9 +100,7 @@ impl TruthReflection {
     /// by the half against the bound, the energy measured on the other half
     /// ((N^2 F - n_a A) / n_b). Call once, on a truth from `new`.
     pub fn with_halves(self, half: [&[f64]; 2], bare: &[f64], samples_per_axis: u32, counted: &[bool]) -> Self {
-        let all = (samples_per_axis * samples_per_axis) as f64;
-        let n_a = (samples_per_axis * samples_per_axis).div_ceil(2) as f64;
-        let n_b = all - n_a;
+        let (all, n_a, n_b) = half_split(samples_per_axis);
         let with_objects: Vec<f64> = self.reflection.iter().zip(bare).map(|(r, b)| r + b).collect();
         let noise = half_difference_noise([&with_objects, bare], half, samples_per_axis);
         let deciding: Vec<f64> = half[0].iter().zip(half[1]).map(|(a, b)| a - b).collect();
@@ -136,6 +134,14 @@ fn resolve_blocks(width: usize, reflection: &[f64], variance: &[f64], bare: &[f6
     (0..reflection.len()).map(|i| counted[i] && block_resolved[block_of(i)]).collect()
 }
 
+/// A pixel's samples at `samples_per_axis`^2: all of them, its half-estimate's n_a (the strata
+/// with i + j even, groundtruth.rs) and the rest's n_b.
+fn half_split(samples_per_axis: u32) -> (f64, f64, f64) {
+    let all = samples_per_axis * samples_per_axis;
+    let n_a = all.div_ceil(2);
+    (all as f64, n_a as f64, (all - n_a) as f64)
+}
+
 /// Each pixel's estimate of the variance of the difference of two truths' means traced with the
 /// same `samples_per_axis`^2 samples, from their full (`full`) and half (`half`: the strata with
 /// i + j even, groundtruth.rs) estimates of one term: with A the half's mean over n_a samples and
@@ -143,9 +149,7 @@ fn resolve_blocks(width: usize, reflection: &[f64], variance: &[f64], bare: &[f6
 /// var(F) n_b / n_a; the difference of the two truths' F - A, the same of their difference (one
 /// degree of freedom a pixel: to be summed over many).
 pub fn half_difference_noise(full: [&[f64]; 2], half: [&[f64]; 2], samples_per_axis: u32) -> Vec<f64> {
-    let all = (samples_per_axis * samples_per_axis) as f64;
-    let n_a = (samples_per_axis * samples_per_axis).div_ceil(2) as f64;
-    let n_b = all - n_a;
+    let (_, n_a, n_b) = half_split(samples_per_axis);
     (0..full[0].len())
         .map(|i| {
             let d = (full[0][i] - half[0][i]) - (full[1][i] - half[1][i]);
