@@ -346,32 +346,54 @@ fn planar_reflections_hold_what_the_screen_does_not() {
     assert!(ratio(Reflections::Both) > 1.15, "{seen:?}");
 }
 
-/// The mirror image shows what a mirror below the objects sees: a pier deck's side facing the
-/// eye, in its own shade, darker than the sky it hides where the calm sea mirrors it (a mirror
-/// pass culling the other way showed the deck's far, sunlit faces there, brighter than the sky).
+/// The mirror image shows what a mirror below the objects sees, as the exact tracer sees it on a
+/// calm sea: a pier deck's side facing the eye sunlit (the sun is behind the eye), its underside
+/// in shade. The mirror reverses every face's winding on screen; culled as the eye's pass culls,
+/// the image showed each solid's far faces from inside, shaded, and the side's image came out
+/// dark where the truth's is bright.
 #[test]
 fn planar_reflections_show_the_near_faces() {
+    use ocean::measure::{
+        groundtruth::{self, Sampling},
+        region::Region,
+    };
     let gpu = gpu();
     let mut scene = Scene::load(&root().join("scenes/objects/pier_noon.toml")).unwrap();
     scene.wind.speed_mps = 0.0;
     scene.waves.lambda_max_m = ocean::model::scene::LongestWave::Metres(30.0);
-    let (w, h) = (320, 240);
-    // The deck's side facing the eye (model: x along the pier, y up, z across; -z faces the
-    // eye), between two piles, and its image in the mean sea.
+    let (w, h) = (640, 480);
+    // The deck's side facing the eye and its underside (model: x along the pier, y up, z across;
+    // -z faces the eye), between two piles, and their images in the mean sea.
     let world = first_object_in_world(&scene, w, h);
     let image = |p: [f64; 3]| {
         let q = world(p);
         project(&scene, w, h, DVec3::new(q.x, q.y, -q.z)).expect("the deck's image is seen")
     };
-    let (top, bottom) = (image([13.0, 2.9, -1.5]), image([13.0, 1.9, -1.5]));
-    let pixels: Vec<usize> = (top.1.min(bottom.1)..=top.1.max(bottom.1)).map(|y| y * w as usize + top.0).collect();
-    let sum = |frame: &RenderedFrame| pixels.iter().map(|&i| common::luminance(frame.hdr[i])).sum::<f64>();
-    let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    let (side_top, side_bottom, far_bottom) =
+        (image([13.0, 2.0, -1.5]), image([13.0, 1.8, -1.5]), image([13.0, 1.8, 1.5]));
+    let x = side_top.0;
+    // The image is upside down: the underside's between the far and the near lower edges, the
+    // side's below that. A pixel's row either side of an edge is left out (it holds both).
+    let underside = far_bottom.1 + 1..side_bottom.1;
+    let side = side_bottom.1 + 1..side_top.1;
+    assert!(!underside.is_empty() && !side.is_empty(), "underside rows {underside:?}, side rows {side:?}");
+    let region =
+        Region { x: x as u32, y: far_bottom.1 as u32, width: 1, height: (side_top.1 - far_bottom.1 + 1) as u32 };
+    let sampling = Sampling { region: Some(region), ..Sampling::new(2) };
+    let truth = groundtruth::render(&gpu, &scene, w, h, &sampling, |_, _| {}).unwrap();
     let (report, planar) = common::render_with(&gpu, &scene, w, h, reflecting(Reflections::Planar));
     assert_clean(&report, "pier on a calm sea, planar reflections");
-    // 0.83 here; 1.10 with the far faces.
-    let ratio = sum(&planar) / sum(&plain);
-    assert!(ratio < 0.9, "the deck's image at {top:?} .. {bottom:?}: {ratio} of the plain sea's radiance");
+    let traced = |y: usize| common::luminance(truth.radiance[y - far_bottom.1]);
+    let drawn = |y: usize| common::luminance(planar.hdr[y * w as usize + x]);
+    let ratio = |rows: std::ops::Range<usize>| rows.clone().map(drawn).sum::<f64>() / rows.map(traced).sum::<f64>();
+    let mean = |rows: std::ops::Range<usize>| rows.clone().map(drawn).sum::<f64>() / rows.len() as f64;
+    let sunlit = ratio(side.clone());
+    let contrast = mean(side.clone()) / mean(underside.clone());
+    // 1.05 and 15 here (the truth's contrast is 50: the objects' light from the sea below is
+    // the open sea's, where the truth's sea under a deck is in its shade); culled as the eye's
+    // pass, the side's image is 0.07 of the truth's and darker than the underside's.
+    assert!((sunlit - 1.0).abs() < 0.25, "the sunlit side's image (rows {side:?}): {sunlit} of the truth's");
+    assert!(contrast > 5.0, "the sunlit side's image against the underside's (rows {underside:?}): {contrast}");
 }
 
 /// The boat 52 m ahead with the sun low behind it, seen from 25 m up: its hull's shadow falls

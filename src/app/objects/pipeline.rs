@@ -29,10 +29,10 @@ pub struct ObjectPipelines<'g> {
     /// Depth only, from the sun, into the ocean's shadow map (embed::Ocean::record_shadows):
     /// no face culled, so that open and single-sided surfaces cast too.
     pub caster: Owned<'g, vk::Pipeline>,
-    /// Mirrored about the sea into the ocean's planar images (embed::Ocean::record_planar). The
-    /// mirror turns each face's outside with it: a face seen from its outside still winds
-    /// counter-clockwise, so the single-sided one culls as the eye's does (culling the other way
-    /// showed a deck's sunlit top from below, in place of its shaded underside).
+    /// Mirrored about the sea into the ocean's planar images (embed::Ocean::record_planar). A
+    /// mirror's determinant is -1: a face seen from its outside winds clockwise in its image, so
+    /// the single-sided one culls the other winding from the eye's (culling the eye's showed each
+    /// solid's far faces from inside: a pier's shaded back wall in place of its sunlit side).
     pub mirrored_single_sided: Owned<'g, vk::Pipeline>,
     pub mirrored_double_sided: Owned<'g, vk::Pipeline>,
     pub layout: Owned<'g, vk::PipelineLayout>,
@@ -138,11 +138,8 @@ impl<'g> ObjectPipelines<'g> {
             depth_format: PLANAR_DEPTH_FORMAT,
             ..desc(name, cull)
         };
-        let mirrored_single_sided = graphics_pipeline(
-            device,
-            layout.raw,
-            &mirrored("objects mirrored", Some(vk::FrontFace::COUNTER_CLOCKWISE)),
-        )?;
+        let mirrored_single_sided =
+            graphics_pipeline(device, layout.raw, &mirrored("objects mirrored", Some(vk::FrontFace::CLOCKWISE)))?;
         let mirrored_double_sided =
             graphics_pipeline(device, layout.raw, &mirrored("objects mirrored double-sided", None))?;
         Ok(ObjectPipelines {

@@ -28,9 +28,9 @@ pub const PLANAR_COLOUR_FORMAT: vk::Format = HDR_FORMAT;
 /// inside the pass's rendering scope (viewport and scissor its frame's): colour
 /// PLANAR_COLOUR_FORMAT, depth PLANAR_DEPTH_FORMAT in the host's own depth convention (cleared to its
 /// far plane), the host's projection. Each object is mirrored about the sea's tangent plane
-/// below it (`plane_below`, `mirror`; a face seen from its outside keeps its winding, so it is
-/// culled as in the host's own pass), lit where it stands (the
-/// light's view from the mirrored eye), and drawn only above that plane.
+/// below it (`plane_below`, `mirror`; the mirror reverses every face's winding on screen, so a
+/// host culling back faces culls the other winding here than in its own pass), lit where it
+/// stands (the light's view from the mirrored eye), and drawn only above that plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MirrorView {
     /// Camera-relative world (z up, m) to the host's clip space: its projection and view, as
