@@ -114,7 +114,12 @@ vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
     return textureGrad(sky_map, sky_map_uv(u), du_x * to_uv, du_y * to_uv);
 }
 
-vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
+// The sky map's lookups along a footprint's longer axis (slope vector `axis`, 1 sigma), at -+
+// `offset` sigma of it about the footprint's centre (0: one lookup stood for all of it): what a
+// reflection's tap between them hides (objects_over_sky).
+struct SkyPair { vec3 low; vec3 high; vec2 axis; float offset; };
+
+vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean, out SkyPair pair) {
     const float eps = 1e-3;
     VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2) : gaussian_slopes(sigma2);
     slopes.mean += lean;
@@ -125,7 +130,12 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
     vec2 dir_b = len_b > 0.0 ? slopes.axis_across / len_b : vec2(0.0);
     vec2 dx = (reflected_u(f, v, slopes.mean + eps * dir_a) - u0) * (2.0 * len_a / eps);
     vec2 dy = (reflected_u(f, v, slopes.mean + eps * dir_b) - u0) * (2.0 * len_b / eps);
-    if (METHOD != METHOD_FULL) return vec4(sky_map_grad(u0, dx, dy).rgb, 0.0);
+    pair.axis = vec2(0.0);
+    pair.offset = 0.0;
+    if (METHOD != METHOD_FULL) {
+        pair.low = pair.high = sky_map_grad(u0, dx, dy).rgb;
+        return vec4(pair.low, 0.0);
+    }
     // The longer image axis: its slope axis and gradient; the shorter one's gradient.
     bool a_longer = dot(dx, dx) >= dot(dy, dy);
     vec2 axis = a_longer ? slopes.axis_along : slopes.axis_across;
@@ -133,11 +143,19 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
     float len_major = length(major), len_minor = length(minor);
     // len_minor <= len_major, so the share is in [1/2, 1]; a zero footprint (a glassy sea) is round.
     float share = len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
-    if (share >= 1.0) return sky_map_grad(u0, major, minor);
-    vec2 step = axis * sqrt(1.0 - share * share);
+    if (share >= 1.0) {
+        vec4 one = sky_map_grad(u0, major, minor);
+        pair.low = pair.high = one.rgb;
+        return one;
+    }
+    pair.axis = axis;
+    pair.offset = sqrt(1.0 - share * share);
     vec2 g_major = major * share;
-    return 0.5 * (sky_map_grad(reflected_u(f, v, slopes.mean + step), g_major, minor)
-                + sky_map_grad(reflected_u(f, v, slopes.mean - step), g_major, minor));
+    vec4 high = sky_map_grad(reflected_u(f, v, slopes.mean + pair.offset * axis), g_major, minor);
+    vec4 low = sky_map_grad(reflected_u(f, v, slopes.mean - pair.offset * axis), g_major, minor);
+    pair.low = low.rgb;
+    pair.high = high.rgb;
+    return 0.5 * (high + low);
 }
 
 #include "masking.glsl"
@@ -150,7 +168,7 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
 // without GLINTS).
 #ifdef HAS_LOCAL_REFLECTIONS
 // Lookups at most along a reflection cone's longer axis (ReflectionCone).
-const int CONE_TAPS_MAX = 4;
+const int CONE_TAPS_MAX = 8;
 
 // The reflected directions of a pixel's unresolved slopes, over the footprint the sky lookup
 // filters (mean_sky_radiance's: the same mean, axes and variance; the stereographic map is
@@ -166,9 +184,33 @@ const int CONE_TAPS_MAX = 4;
 // footprint's variance, d^2 (n^2 - 1) / 12 + s^2 = 1, and tiled without gaps where d = 2 s,
 // s^2 = 3 / (n^2 + 2). The fewest taps whose s reaches down to the shorter axis (s >= minor /
 // major, the blur covering the footprint across): one for a round footprint, two (the sky's
-// pair) down to 0.71, three to 0.52, four below (there s = 0.41 blurs wider than the shorter
-// axis, as the sky's pair does below 1/2).
-struct ReflectionCone { vec3 r; vec3 taps[CONE_TAPS_MAX]; int count; float blur; float extent; };
+// pair) down to 0.71, three to 0.52, four to 0.41, ..., eight below 0.24 (there s = 0.21 blurs
+// wider than the shorter axis). At grazing view the footprint is ten times longer than wide: four
+// taps blurred a pier's piles across four times their width, and their reflection's depth with
+// it (docs/bench/objects.md).
+//
+// Each tap also keeps its slopes' offset from the centre (`offsets`), where along the sky's
+// lookups it lies (objects_over_sky).
+struct ReflectionCone {
+    vec3 r;
+    vec3 taps[CONE_TAPS_MAX];
+    vec2 offsets[CONE_TAPS_MAX];
+    int count;
+    float blur;
+    float extent;
+};
+
+// What a cone's lookups of the objects see, tap by tap: rgb their radiance premultiplied by a,
+// the share of the tap's footprint they cover. count 1: one lookup stood for the whole cone
+// (shade.glsl cone_read), in taps[0].
+struct ConeSeen { vec4 taps[CONE_TAPS_MAX]; int count; };
+
+ConeSeen nothing_seen() {
+    ConeSeen none;
+    for (int i = 0; i < CONE_TAPS_MAX; i++) none.taps[i] = vec4(0.0);
+    none.count = 1;
+    return none;
+}
 
 ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     const float eps = 1e-3;
@@ -189,8 +231,9 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     float spacing = count > 1 ? sqrt(12.0 * max(1.0 - share * share, 0.0) / float(count * count - 1)) : 0.0;
     vec2 axis = angle_a >= angle_b ? slopes.axis_along : slopes.axis_across;
     for (int i = 0; i < CONE_TAPS_MAX; i++) {
-        float at = (float(i) - 0.5 * float(count - 1)) * spacing;
-        cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + at * axis) : cone.r;
+        float at = i < count ? (float(i) - 0.5 * float(count - 1)) * spacing : 0.0;
+        cone.offsets[i] = at * axis;
+        cone.taps[i] = reflected_dir(f, v, slopes.mean + cone.offsets[i]);
     }
     cone.count = count;
     cone.blur = 2.0 * share * major;
@@ -198,8 +241,46 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     return cone;
 }
 
-vec4 local_reflection(vec3 point, ReflectionCone cone);
-vec4 planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
+ConeSeen local_reflection(vec3 point, ReflectionCone cone);
+ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
+
+// The change the objects a cone's taps see (`seen`) make to the reflected sky's mean radiance
+// (before the mean Fresnel; the sky map's radiance scaled by sky_scale): each tap's objects in
+// place of the sky it hides, weighted by the Fresnel of the facets that mirror v into it over
+// the taps' mean. A cone's reflections at grazing view span incidences whose Fresnel differs
+// threefold (its rays near the horizon mirror most), and the sky they hide is not the whole
+// footprint's mean (the horizon's is brighter): a pier's piles, met by the low rays, darken the
+// sea more than their share of the footprint, a deck's underside, met by the steep ones, less.
+// The sky a tap hides is read from the sky lookup's own pair (`pair`, mean_sky_radiance's),
+// linear between them along the footprint's longer axis and held beyond them: no lookup more.
+// One lookup for the whole cone (a footprint of a few pixels) replaces the mean sky `sky` by its
+// objects, unweighted.
+vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyPair pair, vec3 sky_scale) {
+    if (seen.count == 1) return seen.taps[0].rgb - seen.taps[0].a * sky_scale * sky;
+    float weight[CONE_TAPS_MAX];
+    float mean = 0.0;
+    for (int i = 0; i < cone.count; i++) {
+        // v + t is 0 only for a tap turned straight back along the view (a facet seen edge-on),
+        // where the Fresnel's limit is 1.
+        vec3 h = v + cone.taps[i];
+        float len2 = dot(h, h);
+        weight[i] = len2 > 0.0 ? fresnel_exact(dot(v, h) * inversesqrt(len2)) : 1.0;
+        mean += weight[i];
+    }
+    // The exact Fresnel is at least the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for
+    // water; a medium of eta 1 reflects nothing, and every tap weighs alike.
+    float scale = mean > 0.0 ? float(cone.count) / mean : 1.0;
+    // A tap's offset along the pair's axis, in units of the pair's half spacing (1 at `high`).
+    float along = pair.offset > 0.0 ? 1.0 / (pair.offset * dot(pair.axis, pair.axis)) : 0.0;
+    vec3 change = vec3(0.0);
+    for (int i = 0; i < cone.count; i++) {
+        vec4 tap = seen.taps[i];
+        float t = clamp(0.5 + 0.5 * dot(cone.offsets[i], pair.axis) * along, 0.0, 1.0);
+        vec3 hidden = sky_scale * mix(pair.low, pair.high, t);
+        if (tap.a > 0.0) change += (weight[i] * scale) * (tap.rgb - tap.a * hidden);
+    }
+    return change / float(cone.count);
+}
 #endif
 
 vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint, vec3 point) {
@@ -246,22 +327,29 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
-    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean) : vec4(0.0);
+    SkyPair pair;
+    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean, pair) : vec4(0.0);
     // The host's objects the sky lookup's mirror direction meets stand in front of the sky, over
-    // the share of the footprint they cover: traced in screen space (shade.glsl
-    // local_reflection), and where that meets none, read from their mirror images
-    // (planar_reflection).
-    vec4 local = vec4(0.0);
+    // the share of the footprint they cover: read from their mirror images (shade.glsl
+    // planar_reflection), and where those hold none, traced in screen space (local_reflection).
+    vec3 objects = vec3(0.0);
 #ifdef HAS_LOCAL_REFLECTIONS
     if ((LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && TERM_SKY) {
         VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
         slopes.mean += lean;
         ReflectionCone cone = reflection_cone(f, v, slopes);
-        local = local_reflection(point, cone);
-        if (local.a < 1.0) local += (1.0 - local.a) * planar_reflection(point, cone, up);
+        // The mirror images first: they show an object as the sea sees it. Where they hold
+        // none (an object the host does not mirror), the screen's trace.
+        ConeSeen seen = planar_reflection(point, cone, up);
+        bool held = false;
+        for (int i = 0; i < CONE_TAPS_MAX; i++) held = held || seen.taps[i].a > 0.0;
+        if (!held) seen = local_reflection(point, cone);
+        objects = objects_over_sky(v, cone, seen, sky.rgb, pair, light.sky_scale);
     }
 #endif
-    if (TERM_SKY) color += fresnel * (light.sky_scale * sky.rgb * (1.0 - local.a) + local.rgb);
+    // The objects' change is at most the whole sky they hide; where the taps' Fresnel-weighted
+    // sky exceeds the mean's, a dark object over all of it could take more: 0 is the limit.
+    if (TERM_SKY) color += max(fresnel * (light.sky_scale * sky.rgb + objects), vec3(0.0));
     if (TERM_SEA) color += (1.0 - fresnel * (1.0 - sky.a)) * frame.sea_albedo.rgb * light.sky_irradiance / PI;
     return color;
 }

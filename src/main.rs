@@ -63,8 +63,8 @@ struct MethodArgs {
     glints: Option<Switch>,
     /// How the sea reflects the scene's objects: `screen` traces each pixel's reflection in
     /// screen space against the objects' depth (glsl/shade.glsl local_reflection), `planar` reads
-    /// the objects drawn again mirrored about the sea (planar_reflection), `both` the screen's
-    /// where it meets an object and the mirror's elsewhere, `none` leaves them to the sky's
+    /// the objects drawn again mirrored about the sea (planar_reflection), `both` the mirror's
+    /// where it holds an object and the screen's elsewhere, `none` leaves them to the sky's
     /// reflection alone. Default: the scene's `render.reflections`. Without objects there is
     /// nothing to reflect either way.
     #[arg(long, value_enum)]

@@ -169,7 +169,8 @@ pub enum Reflections {
     /// each pixel's reflected ray (glsl/shade.glsl planar_reflection): what the screen does not
     /// hold too, with the mirror's error where the sea is far from flat.
     Planar,
-    /// The screen's where its ray meets an object, the mirror's for the rest.
+    /// The mirror's where its images hold an object, the screen's trace where they hold none (an
+    /// object a host draws but does not mirror).
     Both,
 }
 

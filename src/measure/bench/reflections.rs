@@ -71,6 +71,8 @@ pub struct TruthReflection {
     /// truth's sum); without, the whole.
     pub measured: Vec<f64>,
     pub measured_noise: Vec<f64>,
+    /// The bare truth's sky term (luminance), the sea the reflection is measured relative to.
+    pub bare: Vec<f64>,
 }
 
 impl TruthReflection {
@@ -92,6 +94,7 @@ impl TruthReflection {
             reflection,
             noise: variance.to_vec(),
             resolved,
+            bare: bare.to_vec(),
         }
     }
 
@@ -176,6 +179,22 @@ pub struct ObjectReflection {
     /// The standard deviation of the reflection alone within those blocks (pooled over them), the
     /// method's against the truth's with its noise removed.
     pub contrast: Contrast,
+    /// The energy relative to each one's own sea (`relative_to_seas`; NaN until then).
+    pub relative_energy_error: f64,
+}
+
+impl ObjectReflection {
+    /// With the reflection's energy measured relative to each one's own sea: the method's sum over
+    /// its bare scene's sky term there, against the truth's over the bare truth's, less 1. The
+    /// objects change the sky term by their radiance less the sky's, both times the Fresnel, so a
+    /// sea whose own sky term is off by a factor there changes the reflection's energy by about
+    /// that factor: this share leaves the sea's own error out, and shows the reflection's.
+    pub fn relative_to_seas(self, method_bare: &[f64], truth: &TruthReflection, select: &[usize]) -> Self {
+        let resolved = select.iter().copied().filter(|&i| truth.resolved[i]);
+        let (method_sea, truth_sea) = resolved.fold((0.0, 0.0), |(m, t), i| (m + method_bare[i], t + truth.bare[i]));
+        let relative = (self.method_sum / method_sea) / (self.truth_sum / truth_sea) - 1.0;
+        ObjectReflection { relative_energy_error: if relative.is_finite() { relative } else { f64::NAN }, ..self }
+    }
 }
 
 /// The method's reflection alone (`method`, luminance per pixel) against the truth's over the
@@ -227,6 +246,7 @@ pub fn object_reflection(method: &[f64], truth: &TruthReflection, select: &[usiz
         energy_uncertainty,
         contrast_blocks: count,
         contrast,
+        relative_energy_error: f64::NAN,
     }
 }
 
@@ -433,8 +453,21 @@ pub fn run(gpu: &Gpu, request: &Request) -> Result<Vec<Row>> {
                 gpu_ms,
                 all: errors(&images, &truth_images, &truth.variance, &sea),
                 bands: bands.iter().map(|b| (b.len(), errors(&images, &truth_images, &truth.variance, b))).collect(),
-                reflection: object_reflection(&reflection, &truth_reflection, &sea),
-                reflection_bands: bands.iter().map(|b| object_reflection(&reflection, &truth_reflection, b)).collect(),
+                reflection: object_reflection(&reflection, &truth_reflection, &sea).relative_to_seas(
+                    &bare_sky_luminance,
+                    &truth_reflection,
+                    &sea,
+                ),
+                reflection_bands: bands
+                    .iter()
+                    .map(|b| {
+                        object_reflection(&reflection, &truth_reflection, b).relative_to_seas(
+                            &bare_sky_luminance,
+                            &truth_reflection,
+                            b,
+                        )
+                    })
+                    .collect(),
             }
         });
         let row = Row { method, outcome: outcome.map_err(|e| e.to_string()) };
@@ -474,7 +507,7 @@ pub fn summary(row: &Row) -> String {
     match &row.outcome {
         Err(e) => format!("{name:<7} failed: {e}"),
         Ok(m) => format!(
-            "{name:<7} {:7.1} ms  rmse {:.4}  energy {:+.3}  sky energy {:+.3}  reflected objects: energy {:+.3} ± {:.3} ({} within {:.0}%), contrast {:.3} ({} within {:.0}%)",
+            "{name:<7} {:7.1} ms  rmse {:.4}  energy {:+.3}  sky energy {:+.3}  reflected objects: energy {:+.3} ± {:.3} ({} within {:.0}%; relative to its sea {:+.3}), contrast {:.3} ({} within {:.0}%)",
             m.gpu_ms,
             m.all.rmse[0],
             m.all.energy_error[0],
@@ -483,6 +516,7 @@ pub fn summary(row: &Row) -> String {
             m.reflection.energy_uncertainty,
             verdict(m.energy_pass()),
             100.0 * ENERGY_TARGET,
+            m.reflection.relative_energy_error,
             m.reflection.contrast.ratio,
             verdict(m.contrast_pass()),
             100.0 * CONTRAST_TARGET,
@@ -512,7 +546,7 @@ fn csv_header() -> String {
     format!(
         "method,status,gpu_ms,band,distance_min_m,distance_max_m,sea_pixels{terms},resolved_pixels,\
          truth_reflection_sum,method_reflection_sum,reflection_energy_error,reflection_energy_uncertainty,\
-         contrast_blocks,contrast_method,contrast_truth,contrast_truth_signal,contrast_ratio,energy_pass,\
+         reflection_relative_energy_error,contrast_blocks,contrast_method,contrast_truth,contrast_truth_signal,contrast_ratio,energy_pass,\
          contrast_pass,error"
     )
 }
@@ -525,7 +559,7 @@ fn csv_line(method: &str, gpu_ms: f64, band: (&str, f64, f64, usize), e: &TermEr
         }
     }
     write!(line, ",{}", r.resolved_pixels).unwrap();
-    for v in [r.truth_sum, r.method_sum, r.energy_error, r.energy_uncertainty] {
+    for v in [r.truth_sum, r.method_sum, r.energy_error, r.energy_uncertainty, r.relative_energy_error] {
         write!(line, ",{}", csv_value(v)).unwrap();
     }
     write!(line, ",{}", r.contrast_blocks).unwrap();
@@ -597,9 +631,13 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
          bare sky's; {}): energy = sum of the method's / sum of the truth's - 1 (target within {:.0}%); \
          contrast = the standard deviation of the reflection alone within the {CONTRAST_BLOCK_PX}x{CONTRAST_BLOCK_PX} \
          blocks holding a resolved pixel, the method's over the truth's with its noise removed (target within \
-         {:.0}% of 1). The truths' noise in their difference, for the energy's ± and the contrast: {}.\n\n\
-         | method | GPU ms | RMSE total | energy total | RMSE sky | energy sky | resolved pixels | reflected objects' energy | target | contrast | target |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n",
+         {:.0}% of 1). The truths' noise in their difference, for the energy's ± and the contrast: {}. \
+         Relative to its sea: the method's sum over its bare scene's sky term there against the truth's over the \
+         bare truth's, less 1 (the objects replace the sky's radiance by theirs, both times the Fresnel: a sea whose \
+         own sky term is off by a factor there moves the reflection's energy by about that factor, which this \
+         leaves out).\n\n\
+         | method | GPU ms | RMSE total | energy total | RMSE sky | energy sky | resolved pixels | reflected objects' energy | target | relative to its sea | contrast | target |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
         info.reference.display(),
         info.bare_reference.display(),
         info.sampling,
@@ -624,7 +662,7 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
         match &r.outcome {
             Ok(m) => writeln!(
                 md,
-                "| {} | {:.1} | {:.4} | {} | {:.4} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {:.1} | {:.4} | {} | {:.4} | {} | {} | {} | {} | {} | {} | {} |",
                 r.method.name(),
                 m.gpu_ms,
                 m.all.rmse[0],
@@ -634,12 +672,13 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
                 m.reflection.resolved_pixels,
                 signed(m.reflection.energy_error, m.reflection.energy_uncertainty),
                 verdict(m.energy_pass()),
+                signed(m.reflection.relative_energy_error, f64::NAN),
                 plain(m.reflection.contrast.ratio, 3),
                 verdict(m.contrast_pass()),
             )
             .unwrap(),
             Err(e) => {
-                writeln!(md, "| {} | failed: {} | | | | | | | | | |", r.method.name(), e.replace('|', "\\|")).unwrap()
+                writeln!(md, "| {} | failed: {} | | | | | | | | | | |", r.method.name(), e.replace('|', "\\|")).unwrap()
             }
         }
     }
@@ -655,7 +694,7 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
     let measured: Vec<(&str, &Measured)> =
         rows.iter().filter_map(|r| r.outcome.as_ref().ok().map(|m| (r.method.name(), m))).collect();
     type Cell = fn(&ObjectReflection) -> String;
-    let quantities: [(&str, &str, Cell, Cell); 3] = [
+    let quantities: [(&str, &str, Cell, Cell); 4] = [
         ("resolved pixels", "truth", |r| r.resolved_pixels.to_string(), |_| String::new()),
         (
             "energy",
@@ -663,6 +702,7 @@ fn write_outputs(rows: &[Row], dir: &Path, scene_name: &str, info: &TruthInfo, f
             |r| plain(if r.resolved_pixels > 0 { r.truth_sum } else { f64::NAN }, 3),
             |r| signed(r.energy_error, r.energy_uncertainty),
         ),
+        ("energy relative to its sea", "", |_| String::new(), |r| signed(r.relative_energy_error, f64::NAN)),
         (
             "contrast",
             "truth's std (kcd/m²)",
@@ -756,6 +796,28 @@ mod tests {
         };
         let half: Vec<f64> = dark.iter().map(|v| 0.5 * v).collect();
         assert!((object_reflection(&half, &dark_truth, &all).energy_error + 0.5).abs() < 1e-9);
+    }
+
+    /// A sea whose own sky term is 1.5 times the truth's, reflecting the objects in the same
+    /// proportion: 50% too much energy, none relative to its sea; and a reflection of the truth's
+    /// energy over that sea is a third short of it relative to its sea.
+    #[test]
+    fn the_energy_relative_to_its_sea_leaves_the_sea_s_own_error_out() {
+        let (signal, truth) = synthetic_truth(0.04);
+        let all: Vec<usize> = (0..W * H).collect();
+        let bright_sea: Vec<f64> = truth.bare.iter().map(|b| 1.5 * b).collect();
+        let scaled: Vec<f64> = signal.iter().map(|s| 1.5 * s).collect();
+        let r = object_reflection(&scaled, &truth, &all);
+        assert!(r.relative_energy_error.is_nan(), "not measured until asked");
+        let r = r.relative_to_seas(&bright_sea, &truth, &all);
+        assert!((r.energy_error - 0.5).abs() < 1e-9, "{}", r.energy_error);
+        assert!(r.relative_energy_error.abs() < 1e-9, "{}", r.relative_energy_error);
+        let same = object_reflection(&signal, &truth, &all).relative_to_seas(&bright_sea, &truth, &all);
+        assert!(same.energy_error.abs() < 1e-9 && (same.relative_energy_error + 1.0 / 3.0).abs() < 1e-9);
+        // Without resolved pixels there is nothing to measure.
+        let right: Vec<usize> = all.iter().copied().filter(|&i| i % W >= 8).collect();
+        let none = object_reflection(&signal, &truth, &right).relative_to_seas(&bright_sea, &truth, &right);
+        assert!(none.relative_energy_error.is_nan());
     }
 
     #[test]
