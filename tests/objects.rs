@@ -276,6 +276,18 @@ fn reflecting(reflections: Reflections) -> ocean::embed::Shading {
     }
 }
 
+/// The sky term alone (where the objects' reflections are), reflected by `reflections`.
+fn sky_term(reflections: Reflections) -> ocean::embed::Shading {
+    ocean::embed::Shading {
+        shader: ocean::embed::ShaderConfig {
+            reflections,
+            terms: ocean::embed::Terms { sun: false, sky: true, sea: false },
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
 /// On a mirror-calm sea the objects' reflections stand where a plane mirror puts them, traced in
 /// screen space or read from the mirror pass, or both: the cabin's side reflected at the pixel
 /// its image below the waterline projects to (within a pixel), its paint's hue in place of the
@@ -421,17 +433,9 @@ fn a_rough_sea_mirrors_a_pier_s_piles_as_the_truth_does() {
     let (x0, x1) = (left.min(right), left.max(right));
     let region = Region { x: x0 as u32, y: waterline as u32 + 2, width: (x1 - x0) as u32, height: 6 };
     let sampling = Sampling { region: Some(region), ..Sampling::new(3) };
-    let sky_only = |reflections| ocean::embed::Shading {
-        shader: ocean::embed::ShaderConfig {
-            reflections,
-            terms: ocean::embed::Terms { sun: false, sky: true, sea: false },
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let (report, with) = common::render_with(&gpu, &scene, w, h, sky_only(Reflections::Planar));
+    let (report, with) = common::render_with(&gpu, &scene, w, h, sky_term(Reflections::Planar));
     assert_clean(&report, "pier through a rough sea, planar reflections");
-    let (_, without) = common::render_with(&gpu, &bare, w, h, sky_only(Reflections::None));
+    let (_, without) = common::render_with(&gpu, &bare, w, h, sky_term(Reflections::None));
     let traced = groundtruth::render(&gpu, &scene, w, h, &sampling, |_, _| {}).unwrap();
     let traced_bare = groundtruth::render(&gpu, &bare, w, h, &sampling, |_, _| {}).unwrap();
     let (mut drawn, mut truth) = (0.0, 0.0);
@@ -459,17 +463,9 @@ fn both_methods_count_an_object_once() {
     let gpu = gpu();
     let scene = Scene::load(&root().join("scenes/objects/boat_sunset.toml")).unwrap();
     let (w, h) = (240, 180);
-    let sky_only = |reflections| ocean::embed::Shading {
-        shader: ocean::embed::ShaderConfig {
-            reflections,
-            terms: ocean::embed::Terms { sun: false, sky: true, sea: false },
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let (_, none) = common::render_with(&gpu, &scene, w, h, sky_only(Reflections::None));
-    let (_, planar) = common::render_with(&gpu, &scene, w, h, sky_only(Reflections::Planar));
-    let (report, both) = common::render_with(&gpu, &scene, w, h, sky_only(Reflections::Both));
+    let (_, none) = common::render_with(&gpu, &scene, w, h, sky_term(Reflections::None));
+    let (_, planar) = common::render_with(&gpu, &scene, w, h, sky_term(Reflections::Planar));
+    let (report, both) = common::render_with(&gpu, &scene, w, h, sky_term(Reflections::Both));
     assert_clean(&report, "boat at sunset, both reflections");
     let reflection = |frame: &RenderedFrame| -> f64 {
         frame.hdr.iter().zip(&none.hdr).map(|(&p, &q)| common::luminance(p) - common::luminance(q)).sum()
