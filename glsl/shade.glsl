@@ -154,12 +154,11 @@ ConeSeen cone_read(sampler2D image, vec3 point, ReflectionCone cone, vec3 mirror
 // The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
 // slopes (brdf.glsl ReflectionCone), which widens the reflection as it widens the sky's: each
 // tap's (brdf.glsl ConeSeen) at the path where the centre ray meets them, nothing where the ray
-// meets nothing on screen. The ray
-// is marched in screen space, where 1 / depth is linear, through the depth pyramid: a cell whose
-// nearest object lies beyond the ray's farthest point there is stepped over whole, and the walk
-// climbs a level; otherwise it goes down one, and on level 0 the ray meets the object if it is no
-// farther behind it than the object's assumed depth (McGuire & Mara 2014's screen-space march;
-// the hierarchy is Uludag's, GPU Pro 5, 2014).
+// meets nothing on screen. The ray is marched in screen space, where 1 / depth is linear,
+// through the depth pyramid: a cell whose nearest object lies beyond the ray's farthest point
+// there is stepped over whole, and the walk climbs a level; otherwise it goes down one, and on
+// level 0 the ray meets the object if it is no farther behind it than the object's assumed depth
+// (McGuire & Mara 2014's screen-space march; the hierarchy is Uludag's, GPU Pro 5, 2014).
 ConeSeen local_reflection(vec3 point, ReflectionCone cone) {
     if (!LOCAL_REFLECTIONS) return nothing_seen();
     vec3 r = cone.r;
@@ -267,12 +266,12 @@ vec2 planar_depth(vec2 s, int level) {
 // The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
 // slopes (brdf.glsl ReflectionCone), read from their mirror images (a planar reflection: the
 // objects drawn mirrored about the sea's tangent plane, normal `up`), tap by tap (brdf.glsl
-// ConeSeen). The mirrored centre ray m, from the point mirrored
-// about the mean sea, goes on into the mirror's world; where it meets a mirrored object is found
-// by fixed-point steps on its path t: the image's depth over the whole footprint at the screen
-// position of point + t m, the first from the objects found nearest the point's own pixel. The
-// cone's lookups are read at that path, so a footprint whose centre passes beside an object still
-// takes its share of it. A flat sea's ray is the view ray and needs none.
+// ConeSeen). The mirrored centre ray m, from the point mirrored about the mean sea, goes on into
+// the mirror's world; where it meets a mirrored object is found by fixed-point steps on its path
+// t: the image's depth over the whole footprint at the screen position of point + t m, the first
+// from the objects found nearest the point's own pixel. The cone's lookups are read at that path,
+// so a footprint whose centre passes beside an object still takes its share of it. A flat sea's
+// ray is the view ray and needs none.
 ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
     if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return nothing_seen();
     vec2 size = vec2(textureSize(planar_colour, 0));
