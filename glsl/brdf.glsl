@@ -233,7 +233,7 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     for (int i = 0; i < CONE_TAPS_MAX; i++) {
         float at = i < count ? (float(i) - 0.5 * float(count - 1)) * spacing : 0.0;
         cone.offsets[i] = at * axis;
-        cone.taps[i] = reflected_dir(f, v, slopes.mean + cone.offsets[i]);
+        cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + cone.offsets[i]) : cone.r;
     }
     cone.count = count;
     cone.blur = 2.0 * share * major;
@@ -342,7 +342,7 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
         // none (an object the host does not mirror), the screen's trace.
         ConeSeen seen = planar_reflection(point, cone, up);
         bool held = false;
-        for (int i = 0; i < CONE_TAPS_MAX; i++) held = held || seen.taps[i].a > 0.0;
+        for (int i = 0; i < seen.count; i++) held = held || seen.taps[i].a > 0.0;
         if (!held) seen = local_reflection(point, cone);
         objects = objects_over_sky(v, cone, seen, sky.rgb, pair, light.sky_scale);
     }

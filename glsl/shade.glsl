@@ -307,7 +307,7 @@ ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
         found = next;
     }
     ConeSeen seen = cone_read(planar_colour, point, cone, up, path, size);
-    for (int i = 0; i < CONE_TAPS_MAX; i++) {
+    for (int i = 0; i < seen.count; i++) {
         seen.taps[i].rgb = clamp(seen.taps[i].rgb / frame.host.x, vec3(0.0), vec3(HDR_MAX));
     }
     return seen;
