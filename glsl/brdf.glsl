@@ -189,13 +189,16 @@ const int CONE_TAPS_MAX = 8;
 // taps blurred a pier's piles across four times their width, and their reflection's depth with
 // it (docs/bench/objects.md).
 //
-// Each tap also keeps its slopes' offset from the centre (`offsets`), where along the sky's
-// lookups it lies (objects_over_sky).
+// The taps are evenly spaced; each stands for the slopes nearer to it than to its neighbours
+// (`spacing` d in the longer axis's sigmas, slopes.glsl tap_mass), not an equal part of them.
+// Each also keeps its slopes' offset from the centre (`offsets`), where along the sky's lookups
+// it lies (objects_over_sky).
 struct ReflectionCone {
     vec3 r;
     vec3 taps[CONE_TAPS_MAX];
     vec2 offsets[CONE_TAPS_MAX];
     int count;
+    float spacing;
     float blur;
     float extent;
 };
@@ -236,6 +239,7 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
         cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + cone.offsets[i]) : cone.r;
     }
     cone.count = count;
+    cone.spacing = spacing;
     cone.blur = 2.0 * share * major;
     cone.extent = 2.0 * major;
     return cone;
@@ -246,30 +250,31 @@ ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
 
 // The change the objects a cone's taps see (`seen`) make to the reflected sky's mean radiance
 // (before the mean Fresnel; the sky map's radiance scaled by sky_scale): each tap's objects in
-// place of the sky it hides, weighted by the Fresnel of the facets that mirror v into it over
-// the taps' mean. A cone's reflections at grazing view span incidences whose Fresnel differs
-// threefold (its rays near the horizon mirror most), and the sky they hide is not the whole
-// footprint's mean (the horizon's is brighter): a pier's piles, met by the low rays, darken the
-// sea more than their share of the footprint, a deck's underside, met by the steep ones, less.
-// The sky a tap hides is read from the sky lookup's own pair (`pair`, mean_sky_radiance's),
-// linear between them along the footprint's longer axis and held beyond them: no lookup more.
-// One lookup for the whole cone (a footprint of a few pixels) replaces the mean sky `sky` by its
-// objects, unweighted.
+// place of the sky it hides, weighted by its share of the slopes (tap_mass, slopes.glsl) and by
+// the Fresnel of the facets that mirror v into it, over the taps' mean. A cone's reflections at
+// grazing view span incidences whose Fresnel differs threefold (its rays near the horizon mirror
+// most), and the sky they hide is not the whole footprint's mean (the horizon's is brighter): a
+// pier's piles, met by the low rays, darken the sea more than their share of the footprint, a
+// deck's underside, met by the steep ones, less. The sky a tap hides is read from the sky
+// lookup's own pair (`pair`, mean_sky_radiance's), linear between them along the footprint's
+// longer axis and held beyond them: no lookup more. One lookup for the whole cone (a footprint
+// of a few pixels) replaces the mean sky `sky` by its objects, unweighted.
 vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyPair pair, vec3 sky_scale) {
     if (seen.count == 1) return seen.taps[0].rgb - seen.taps[0].a * sky_scale * sky;
-    float weight[CONE_TAPS_MAX];
+    float mass[CONE_TAPS_MAX], weight[CONE_TAPS_MAX];
     float mean = 0.0;
     for (int i = 0; i < cone.count; i++) {
+        mass[i] = tap_mass(i, cone.count, cone.spacing);
         // v + t is 0 only for a tap turned straight back along the view (a facet seen edge-on),
         // where the Fresnel's limit is 1.
         vec3 h = v + cone.taps[i];
         float len2 = dot(h, h);
-        weight[i] = len2 > 0.0 ? fresnel_exact(dot(v, h) * inversesqrt(len2)) : 1.0;
+        weight[i] = mass[i] * (len2 > 0.0 ? fresnel_exact(dot(v, h) * inversesqrt(len2)) : 1.0);
         mean += weight[i];
     }
     // The exact Fresnel is at least the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for
-    // water; a medium of eta 1 reflects nothing, and every tap weighs alike.
-    float scale = mean > 0.0 ? float(cone.count) / mean : 1.0;
+    // water, so mean > 0; a medium of eta 1 reflects nothing, and the masses alone weigh.
+    for (int i = 0; i < cone.count; i++) weight[i] = mean > 0.0 ? weight[i] / mean : mass[i];
     // A tap's offset along the pair's axis, in units of the pair's half spacing (1 at `high`).
     float along = pair.offset > 0.0 ? 1.0 / (pair.offset * dot(pair.axis, pair.axis)) : 0.0;
     vec3 change = vec3(0.0);
@@ -277,9 +282,9 @@ vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyP
         vec4 tap = seen.taps[i];
         float t = clamp(0.5 + 0.5 * dot(cone.offsets[i], pair.axis) * along, 0.0, 1.0);
         vec3 hidden = sky_scale * mix(pair.low, pair.high, t);
-        if (tap.a > 0.0) change += (weight[i] * scale) * (tap.rgb - tap.a * hidden);
+        if (tap.a > 0.0) change += weight[i] * (tap.rgb - tap.a * hidden);
     }
-    return change / float(cone.count);
+    return change;
 }
 #endif
 

@@ -56,6 +56,7 @@ void main() {
         r.x = binomial_count(a.x, a.y, a.z, w.x, w.y, w.z);
         break;
     }
+    case 14u: r.x = tap_mass(int(a.x), int(a.y), a.z); break;             // (tap, count, spacing)
     default: break;
     }
     results[i] = r;

@@ -100,6 +100,24 @@ float normal_cdf_positive(float r) {
     return 1.0 - 0.5 * poly * exp(-x * x);
 }
 
+// Standard normal CDF for any r, from the positive half's.
+float normal_cdf(float r) {
+    return r >= 0.0 ? normal_cdf_positive(r) : 1.0 - normal_cdf_positive(-r);
+}
+
+// The share of a Gaussian's mass that tap i of `count` stands for, taps spaced `spacing`
+// standard deviations apart about its mean ((i - (count - 1) / 2) spacing): the mass nearer to it
+// than to its neighbours, the outer taps' reaching to infinity, so the shares sum to 1. Equal
+// parts of eight taps spanning -+1.49 sigma (brdf.glsl ReflectionCone) gave the central two 0.76
+// of their share and the outer four 1.24-1.29: a footprint that meets an object with its edge
+// alone took a tap's whole part of it (docs/bench/objects.md, "Each tap's share of the slopes").
+float tap_mass(int i, int count, float spacing) {
+    float at = (float(i) - 0.5 * float(count - 1)) * spacing;
+    float lower = i == 0 ? 0.0 : normal_cdf(at - 0.5 * spacing);
+    float upper = i == count - 1 ? 1.0 : normal_cdf(at + 0.5 * spacing);
+    return upper - lower;
+}
+
 // The slopes of the facets seen from v (local frame), each weighted by its projected area
 // (v_z - zeta . v_xy)^+, for Gaussian slopes of covariance diag(sigma2): their mean and the two
 // 1-sigma axes of their covariance. In whitened slopes z = zeta / sigma the weight depends on z

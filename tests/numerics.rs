@@ -467,3 +467,68 @@ fn the_glints_binomial_count_is_the_laws_quantile_and_keeps_its_mean() {
         assert!((got[0] as f64 - want).abs() < 1e-3 * want, "u1 {u1}, u2 {u2}: {} against {want}", got[0]);
     }
 }
+
+/// The standard normal's mass between a and b in f64, by Simpson's rule on its density (the
+/// infinite ends cut at 12 standard deviations, where the tail is below 1e-32).
+fn normal_mass(a: f64, b: f64) -> f64 {
+    let (a, b) = (a.max(-12.0), b.min(12.0));
+    if b <= a {
+        return 0.0;
+    }
+    let n = 20_000;
+    let h = (b - a) / n as f64;
+    let density = |x: f64| (-0.5 * x * x).exp() / TAU.sqrt();
+    let inner: f64 = (1..n).map(|k| density(a + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 }).sum();
+    (density(a) + density(b) + inner) * h / 3.0
+}
+
+#[test]
+fn a_reflection_cones_taps_share_the_gaussian_by_nearness() {
+    // Each tap of a cone stands for the slopes nearer to it than to its neighbours: the masses
+    // sum to 1, match the f64 integral, and favour the centre over equal parts.
+    let mut args = Vec::new();
+    for count in 1..=8u32 {
+        // The cone's own spacing (brdf.glsl reflection_cone: sqrt(12 (1 - s^2) / (n^2 - 1)) at
+        // s^2 = 3 / (n^2 + 2)), and wider and narrower ones.
+        let own = if count > 1 {
+            let n2 = (count * count) as f64;
+            (12.0 * (1.0 - 3.0 / (n2 + 2.0)) / (n2 - 1.0)).sqrt()
+        } else {
+            0.0
+        };
+        for spacing in [own, 0.1, 0.5, 1.0, 2.0] {
+            for tap in 0..count {
+                args.push([[tap as f32, count as f32, spacing as f32, 0.0], [0.0; 4]]);
+            }
+        }
+    }
+    let out = run(Function::TapMass, &args, 0.0);
+    let mut worst_error: f64 = 0.0;
+    let mut sums = std::collections::BTreeMap::<(u32, u32), f64>::new();
+    for (a, r) in args.iter().zip(&out) {
+        let (tap, count, spacing) = (a[0][0] as f64, a[0][1] as u32, a[0][2] as f64);
+        let at = (tap - 0.5 * (count as f64 - 1.0)) * spacing;
+        let lower = if tap == 0.0 { f64::NEG_INFINITY } else { at - 0.5 * spacing };
+        let upper = if tap as u32 == count - 1 { f64::INFINITY } else { at + 0.5 * spacing };
+        let want = normal_mass(lower, upper);
+        let got = r[0] as f64;
+        assert!(got.is_finite() && got >= 0.0, "tap {tap} of {count} at spacing {spacing}: {got}");
+        worst_error = worst_error.max((got - want).abs());
+        *sums.entry((count, a[0][2].to_bits())).or_default() += got;
+    }
+    eprintln!("tap masses: largest error {worst_error:.2e}");
+    assert!(worst_error < 1e-6, "tap masses off the Gaussian's by {worst_error}");
+    for ((count, _), sum) in sums {
+        assert!((sum - 1.0).abs() < 2e-6, "{count} taps' masses sum to {sum}");
+    }
+    // Eight taps at the cone's own spacing: the central pair stands for more than an equal
+    // eighth, the outer ones for less.
+    let eight: Vec<f64> = args
+        .iter()
+        .zip(&out)
+        .filter(|(a, _)| a[0][1] == 8.0 && (a[0][2] as f64 - (12.0 * (1.0 - 3.0 / 66.0) / 63.0f64).sqrt()).abs() < 1e-6)
+        .map(|(_, r)| r[0] as f64)
+        .collect();
+    assert_eq!(eight.len(), 8);
+    assert!(eight[3] > 0.16 && eight[0] < 0.105, "eight taps' masses {eight:?}");
+}

@@ -49,6 +49,9 @@ pub enum Function {
     /// (n, p, n p, u0), (u1, u2) -> the glints' binomial count drawn from uniforms in [0, 1)
     /// (multiples of 2^-24)
     BinomialCount = 13,
+    /// (tap, count, spacing in standard deviations) -> the Gaussian's share that a reflection
+    /// cone's tap stands for (slopes.glsl tap_mass)
+    TapMass = 14,
 }
 
 /// Evaluates `function` at every pair of argument vectors. `sun_slope_variance` is the sun disc's
