@@ -260,7 +260,9 @@ ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
 // longer axis and held beyond them: no lookup more. One lookup for the whole cone (a footprint
 // of a few pixels) replaces the mean sky `sky` by its objects, unweighted.
 vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyPair pair, vec3 sky_scale) {
-    if (seen.count == 1) return seen.taps[0].rgb - seen.taps[0].a * sky_scale * sky;
+    // A reflection below the horizon meets the sea (the sky map's waves stop all of it,
+    // sky_map.glsl): the mirror image would show it the objects from below the water.
+    if (seen.count == 1) return cone.r.z > 0.0 ? seen.taps[0].rgb - seen.taps[0].a * sky_scale * sky : vec3(0.0);
     float mass[CONE_TAPS_MAX], weight[CONE_TAPS_MAX];
     float mean = 0.0;
     for (int i = 0; i < cone.count; i++) {
@@ -282,7 +284,7 @@ vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyP
         vec4 tap = seen.taps[i];
         float t = clamp(0.5 + 0.5 * dot(cone.offsets[i], pair.axis) * along, 0.0, 1.0);
         vec3 hidden = sky_scale * mix(pair.low, pair.high, t);
-        if (tap.a > 0.0) change += weight[i] * (tap.rgb - tap.a * hidden);
+        if (tap.a > 0.0 && cone.taps[i].z > 0.0) change += weight[i] * (tap.rgb - tap.a * hidden);
     }
     return change;
 }
