@@ -274,9 +274,6 @@ vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyP
         weight[i] = mass[i] * (len2 > 0.0 ? fresnel_exact(dot(v, h) * inversesqrt(len2)) : 1.0);
         mean += weight[i];
     }
-    // The exact Fresnel is at least the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for
-    // water, so mean > 0; a medium of eta 1 reflects nothing, and the masses alone weigh.
-    for (int i = 0; i < cone.count; i++) weight[i] = mean > 0.0 ? weight[i] / mean : mass[i];
     // A tap's offset along the pair's axis, in units of the pair's half spacing (1 at `high`).
     float along = pair.offset > 0.0 ? 1.0 / (pair.offset * dot(pair.axis, pair.axis)) : 0.0;
     vec3 change = vec3(0.0);
@@ -284,7 +281,10 @@ vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyP
         vec4 tap = seen.taps[i];
         float t = clamp(0.5 + 0.5 * dot(cone.offsets[i], pair.axis) * along, 0.0, 1.0);
         vec3 hidden = sky_scale * mix(pair.low, pair.high, t);
-        if (tap.a > 0.0 && cone.taps[i].z > 0.0) change += weight[i] * (tap.rgb - tap.a * hidden);
+        // The exact Fresnel is at least the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for
+        // water, so mean > 0; a medium of eta 1 reflects nothing, and the masses alone weigh.
+        float share = mean > 0.0 ? weight[i] / mean : mass[i];
+        if (tap.a > 0.0 && cone.taps[i].z > 0.0) change += share * (tap.rgb - tap.a * hidden);
     }
     return change;
 }

@@ -169,7 +169,7 @@ vec3 struck_facet_normal(vec3 d_local, vec2 sigma2) {
     vec2 back = -d_local.xy / sin_d;   // towards where the ray comes from
     float sigma_s = sqrt(var);
     float r = max(-d_local.z / sin_d / sigma_s, -3.0);
-    float cdf = r >= 0.0 ? normal_cdf_positive(r) : 1.0 - normal_cdf_positive(-r);   // >= 1.3e-3
+    float cdf = normal_cdf(r);   // >= 1.3e-3
     float m = 0.39894228 * exp(-0.5 * min(r * r, 2.0 * EXP_UNDERFLOW)) / cdf;
     vec2 mean = -sigma2 * back / (sigma_s * (r + m));   // r + m > 0 for every finite r
     return normalize(vec3(-mean, 1.0));

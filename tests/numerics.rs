@@ -486,17 +486,20 @@ fn normal_mass(a: f64, b: f64) -> f64 {
 fn a_reflection_cones_taps_share_the_gaussian_by_nearness() {
     // Each tap of a cone stands for the slopes nearer to it than to its neighbours: the masses
     // sum to 1, match the f64 integral, and favour the centre over equal parts.
-    let mut args = Vec::new();
-    for count in 1..=8u32 {
-        // The cone's own spacing (brdf.glsl reflection_cone: sqrt(12 (1 - s^2) / (n^2 - 1)) at
-        // s^2 = 3 / (n^2 + 2)), and wider and narrower ones.
-        let own = if count > 1 {
-            let n2 = (count * count) as f64;
+    // The cone's own spacing for `count` taps (brdf.glsl reflection_cone: sqrt(12 (1 - s^2) /
+    // (n^2 - 1)) at s^2 = 3 / (n^2 + 2)).
+    let own_spacing = |count: u32| {
+        let n2 = (count * count) as f64;
+        if count > 1 {
             (12.0 * (1.0 - 3.0 / (n2 + 2.0)) / (n2 - 1.0)).sqrt()
         } else {
             0.0
-        };
-        for spacing in [own, 0.1, 0.5, 1.0, 2.0] {
+        }
+    };
+    let mut args = Vec::new();
+    for count in 1..=8u32 {
+        // The cone's own spacing, and wider and narrower ones.
+        for spacing in [own_spacing(count), 0.1, 0.5, 1.0, 2.0] {
             for tap in 0..count {
                 args.push([[tap as f32, count as f32, spacing as f32, 0.0], [0.0; 4]]);
             }
@@ -526,7 +529,7 @@ fn a_reflection_cones_taps_share_the_gaussian_by_nearness() {
     let eight: Vec<f64> = args
         .iter()
         .zip(&out)
-        .filter(|(a, _)| a[0][1] == 8.0 && (a[0][2] as f64 - (12.0 * (1.0 - 3.0 / 66.0) / 63.0f64).sqrt()).abs() < 1e-6)
+        .filter(|(a, _)| a[0][1] == 8.0 && a[0][2] == own_spacing(8) as f32)
         .map(|(_, r)| r[0] as f64)
         .collect();
     assert_eq!(eight.len(), 8);
