@@ -10,8 +10,12 @@
 //! the normal: a convolution with the clamped cosine).
 //!
 //! Below the horizon the sea is the environment: the sky mirrored in a level sea times its exact
-//! Fresnel (model::fresnel), plus the light the sea scatters back up through the surface, the
-//! paper's refracted term (the sea's albedo times the irradiance entering, over π).
+//! Fresnel (model::fresnel), plus the light the sea scatters back up through the surface: the
+//! paper's refracted term, the sea's albedo times the sky's irradiance over π, the same sea the
+//! shading draws (glsl/brdf.glsl `sea_radiance`) and the ground truth's objects see
+//! (glsl/groundtruth_objects.glsl `environment`). The paper's sea scatters no sunlight up, and an
+//! object must not see a brighter sea than the eye does: at noon that would light a pier deck's
+//! underside by several times the sea beneath it.
 
 use crate::model::fresnel::fresnel_exact;
 use glam::DVec3;
@@ -46,14 +50,11 @@ impl Environment {
     }
 
     /// The light at sea level on `rows` (even) bands: `sky` above the horizon (radiance, the
-    /// sun's disc apart), evaluated once per upper cell, and the sea below it, under the sun at
-    /// unit `sun` of irradiance `sun_irradiance` normal to it, the sky's irradiance on the level
-    /// sea being `sky_irradiance`, the sea's albedo `sea_albedo`.
+    /// sun's disc apart), evaluated once per upper cell, and the sea below it, the sky's
+    /// irradiance on the level sea being `sky_irradiance`, the sea's albedo `sea_albedo`.
     pub fn sea_level(
         rows: usize,
         sky: impl Fn(DVec3) -> [f64; 3],
-        sun: DVec3,
-        sun_irradiance: [f64; 3],
         sky_irradiance: [f64; 3],
         sea_albedo: [f64; 3],
     ) -> Environment {
@@ -61,8 +62,6 @@ impl Environment {
         let columns = 2 * rows;
         let upper: Vec<[f64; 3]> =
             (0..rows / 2 * columns).map(|i| sky(Environment::direction(rows, i / columns, i % columns))).collect();
-        // The irradiance entering a level sea: the sun's at its height, the sky's whole.
-        let entering: [f64; 3] = std::array::from_fn(|c| sun_irradiance[c] * sun.z.max(0.0) + sky_irradiance[c]);
         let mut radiance = upper.clone();
         for row in rows / 2..rows {
             // The mirror direction is the upper row as far above the horizon.
@@ -71,7 +70,7 @@ impl Environment {
                 let cos = -Environment::direction(rows, row, column).z;
                 let f = fresnel_exact(cos, WATER_ETA);
                 let sky = upper[mirror * columns + column];
-                radiance.push(std::array::from_fn(|c| f * sky[c] + (1.0 - f) * sea_albedo[c] * entering[c] / PI));
+                radiance.push(std::array::from_fn(|c| f * sky[c] + (1.0 - f) * sea_albedo[c] * sky_irradiance[c] / PI));
             }
         }
         Environment { rows, radiance }
@@ -160,7 +159,7 @@ mod tests {
             let glow = 1.0 + 4.0 * d.dot(sun).max(0.0).powi(8);
             [glow * 0.6, glow * 0.8, glow]
         };
-        let env = Environment::sea_level(48, sky, sun, [30.0; 3], [3.0; 3], [0.01, 0.03, 0.05]);
+        let env = Environment::sea_level(48, sky, [3.0; 3], [0.01, 0.03, 0.05]);
         let table = env.irradiance_table();
         let brightest: [f64; 3] = std::array::from_fn(|c| table.iter().map(|e| e[c] as f64).fold(0.0, f64::max));
         // Errors against the brightest irradiance: near the nadir, where the sea's light is a
@@ -181,7 +180,7 @@ mod tests {
     #[test]
     fn the_sea_below_reflects_the_sky_and_scatters_its_albedo() {
         let sky = |_: DVec3| [2.0, 2.0, 2.0];
-        let env = Environment::sea_level(64, sky, DVec3::Z, [0.0; 3], [2.0 * PI; 3], [0.1; 3]);
+        let env = Environment::sea_level(64, sky, [2.0 * PI; 3], [0.1; 3]);
         // The cell nearest the nadir: Fresnel 2%, then the albedo's share of the sky's
         // irradiance over pi.
         let down = env.radiance[env.radiance.len() - 1][0];

@@ -58,8 +58,7 @@ impl ObjectLight {
         };
         let scaled = |d: DVec3| sky(d).map(|l| l * radiance_scale);
         let f64s = |v: [f32; 3]| v.map(f64::from);
-        let (sun_e, sky_e) = (f64s(light.sun_illuminance), f64s(light.sky_illuminance));
-        let environment = Environment::sea_level(ENVIRONMENT_ROWS, scaled, sun, sun_e, sky_e, SEA_ALBEDO);
+        let environment = Environment::sea_level(ENVIRONMENT_ROWS, scaled, f64s(light.sky_illuminance), SEA_ALBEDO);
         &self.environment.insert((key, environment.irradiance_table())).1
     }
 
@@ -129,7 +128,7 @@ mod tests {
                 assert!((ratio - 1.0).abs() < 0.01, "{model:?} at {elevation}: up {ratio:.4} of the sky's");
                 // Facing down, the sea alone: the sky it mirrors (water's Fresnel over a uniform
                 // sky is 6.6%, more where the bright horizon meets the grazing Fresnel) and what
-                // its albedo scatters up of the sun's and the sky's light.
+                // its albedo scatters up of the sky's light.
                 let share = down[c] / sky_irradiance[c];
                 assert!(share > 0.03 && share < 0.35, "{model:?} at {elevation}: down {share:.3} of the sky's");
             }
