@@ -84,12 +84,16 @@ vec3 reflected_dir(Frame3 f, vec3 v, vec2 zeta) {
     return reflect(-v, normalize(-zeta.x * f.t_x - zeta.y * f.t_y + f.n));
 }
 
-// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u: the
-// paper folds directions below the horizon onto their mirror image; METHOD_FULL keeps the whole
-// plane, where they lie beyond the unit circle and read the sea they meet (glsl/sky_map.glsl).
-vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
-    vec3 r = reflected_dir(f, v, zeta);
+// Unit direction r in the sky map's u: the paper folds directions below the horizon onto their
+// mirror image; METHOD_FULL keeps the whole plane, where they lie beyond the unit circle and read
+// the sea they meet (glsl/sky_map.glsl).
+vec2 sky_u(vec3 r) {
     return METHOD == METHOD_FULL ? stereographic_plane(r) : stereographic(r);
+}
+
+// Reflected direction of v about the facet with slope zeta (local frame), in the sky map's u.
+vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
+    return sky_u(reflected_dir(f, v, zeta));
 }
 
 // Average sky radiance over the slope distribution: textureGrad lookups whose footprint is the
@@ -114,12 +118,7 @@ vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
     return textureGrad(sky_map, sky_map_uv(u), du_x * to_uv, du_y * to_uv);
 }
 
-// The sky map's lookups along a footprint's longer axis (slope vector `axis`, 1 sigma), at -+
-// `offset` sigma of it about the footprint's centre (0: one lookup stood for all of it): what a
-// reflection's tap between them hides (objects_over_sky).
-struct SkyPair { vec3 low; vec3 high; vec2 axis; float offset; };
-
-vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean, out SkyPair pair) {
+vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
     const float eps = 1e-3;
     VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2) : gaussian_slopes(sigma2);
     slopes.mean += lean;
@@ -130,12 +129,7 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean, out SkyPair pai
     vec2 dir_b = len_b > 0.0 ? slopes.axis_across / len_b : vec2(0.0);
     vec2 dx = (reflected_u(f, v, slopes.mean + eps * dir_a) - u0) * (2.0 * len_a / eps);
     vec2 dy = (reflected_u(f, v, slopes.mean + eps * dir_b) - u0) * (2.0 * len_b / eps);
-    pair.axis = vec2(0.0);
-    pair.offset = 0.0;
-    if (METHOD != METHOD_FULL) {
-        pair.low = pair.high = sky_map_grad(u0, dx, dy).rgb;
-        return vec4(pair.low, 0.0);
-    }
+    if (METHOD != METHOD_FULL) return vec4(sky_map_grad(u0, dx, dy).rgb, 0.0);
     // The longer image axis: its slope axis and gradient; the shorter one's gradient.
     bool a_longer = dot(dx, dx) >= dot(dy, dy);
     vec2 axis = a_longer ? slopes.axis_along : slopes.axis_across;
@@ -143,18 +137,11 @@ vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean, out SkyPair pai
     float len_major = length(major), len_minor = length(minor);
     // len_minor <= len_major, so the share is in [1/2, 1]; a zero footprint (a glassy sea) is round.
     float share = len_major > 0.0 ? max(len_minor / len_major, SKY_TAP_SHARE_MIN) : 1.0;
-    if (share >= 1.0) {
-        vec4 one = sky_map_grad(u0, major, minor);
-        pair.low = pair.high = one.rgb;
-        return one;
-    }
-    pair.axis = axis;
-    pair.offset = sqrt(1.0 - share * share);
+    if (share >= 1.0) return sky_map_grad(u0, major, minor);
+    float offset = sqrt(1.0 - share * share);
     vec2 g_major = major * share;
-    vec4 high = sky_map_grad(reflected_u(f, v, slopes.mean + pair.offset * axis), g_major, minor);
-    vec4 low = sky_map_grad(reflected_u(f, v, slopes.mean - pair.offset * axis), g_major, minor);
-    pair.low = low.rgb;
-    pair.high = high.rgb;
+    vec4 high = sky_map_grad(reflected_u(f, v, slopes.mean + offset * axis), g_major, minor);
+    vec4 low = sky_map_grad(reflected_u(f, v, slopes.mean - offset * axis), g_major, minor);
     return 0.5 * (high + low);
 }
 
@@ -191,12 +178,9 @@ const int CONE_TAPS_MAX = 8;
 //
 // The taps are evenly spaced; each stands for the slopes nearer to it than to its neighbours
 // (`spacing` d in the longer axis's sigmas, slopes.glsl tap_mass), not an equal part of them.
-// Each also keeps its slopes' offset from the centre (`offsets`), where along the sky's lookups
-// it lies (objects_over_sky).
 struct ReflectionCone {
     vec3 r;
     vec3 taps[CONE_TAPS_MAX];
-    vec2 offsets[CONE_TAPS_MAX];
     int count;
     float spacing;
     float blur;
@@ -235,8 +219,7 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     vec2 axis = angle_a >= angle_b ? slopes.axis_along : slopes.axis_across;
     for (int i = 0; i < CONE_TAPS_MAX; i++) {
         float at = i < count ? (float(i) - 0.5 * float(count - 1)) * spacing : 0.0;
-        cone.offsets[i] = at * axis;
-        cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + cone.offsets[i]) : cone.r;
+        cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + at * axis) : cone.r;
     }
     cone.count = count;
     cone.spacing = spacing;
@@ -255,11 +238,14 @@ ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
 // grazing view span incidences whose Fresnel differs threefold (its rays near the horizon mirror
 // most), and the sky they hide is not the whole footprint's mean (the horizon's is brighter): a
 // pier's piles, met by the low rays, darken the sea more than their share of the footprint, a
-// deck's underside, met by the steep ones, less. The sky a tap hides is read from the sky
-// lookup's own pair (`pair`, mean_sky_radiance's), linear between them along the footprint's
-// longer axis and held beyond them: no lookup more. One lookup for the whole cone (a footprint
-// of a few pixels) replaces the mean sky `sky` by its objects, unweighted.
-vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyPair pair, vec3 sky_scale) {
+// deck's underside, met by the steep ones, less. The sky a tap hides is the sky map's in the
+// tap's own direction, filtered over the tap's blur (the stereographic map's scale is
+// 1 / (1 + z), so `blur` radians are blur / (1 + z) of the map), read only for the taps that meet
+// an object. The sky lookup's pair, interpolated along the footprint, held the outer taps at the
+// pair's own elevation: the horizon's bright sky, which the lowest taps hide, was a third too
+// dim. One lookup for the whole cone (a footprint of a few pixels) replaces the mean sky `sky`
+// by its objects, unweighted.
+vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, vec3 sky_scale) {
     // A reflection below the horizon meets the sea (the sky map's waves stop all of it,
     // sky_map.glsl): the mirror image would show it the objects from below the water.
     if (seen.count == 1) return cone.r.z > 0.0 ? seen.taps[0].rgb - seen.taps[0].a * sky_scale * sky : vec3(0.0);
@@ -274,17 +260,17 @@ vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, SkyP
         weight[i] = mass[i] * (len2 > 0.0 ? fresnel_exact(dot(v, h) * inversesqrt(len2)) : 1.0);
         mean += weight[i];
     }
-    // A tap's offset along the pair's axis, in units of the pair's half spacing (1 at `high`).
-    float along = pair.offset > 0.0 ? 1.0 / (pair.offset * dot(pair.axis, pair.axis)) : 0.0;
     vec3 change = vec3(0.0);
     for (int i = 0; i < cone.count; i++) {
         vec4 tap = seen.taps[i];
-        float t = clamp(0.5 + 0.5 * dot(cone.offsets[i], pair.axis) * along, 0.0, 1.0);
-        vec3 hidden = sky_scale * mix(pair.low, pair.high, t);
+        vec3 d = cone.taps[i];
+        if (!(tap.a > 0.0) || !(d.z > 0.0)) continue;
+        float texel = cone.blur / (1.0 + d.z);   // d.z > 0
+        vec3 hidden = sky_scale * sky_map_grad(sky_u(d), vec2(texel, 0.0), vec2(0.0, texel)).rgb;
         // The exact Fresnel is at least the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for
         // water, so mean > 0; a medium of eta 1 reflects nothing, and the masses alone weigh.
         float share = mean > 0.0 ? weight[i] / mean : mass[i];
-        if (tap.a > 0.0 && cone.taps[i].z > 0.0) change += share * (tap.rgb - tap.a * hidden);
+        change += share * (tap.rgb - tap.a * hidden);
     }
     return change;
 }
@@ -334,8 +320,7 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
-    SkyPair pair;
-    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean, pair) : vec4(0.0);
+    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean) : vec4(0.0);
     // The host's objects the sky lookup's mirror direction meets stand in front of the sky, over
     // the share of the footprint they cover: read from their mirror images (shade.glsl
     // planar_reflection), and where those hold none, traced in screen space (local_reflection).
@@ -351,7 +336,7 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
         bool held = false;
         for (int i = 0; i < seen.count; i++) held = held || seen.taps[i].a > 0.0;
         if (!held) seen = local_reflection(point, cone);
-        objects = objects_over_sky(v, cone, seen, sky.rgb, pair, light.sky_scale);
+        objects = objects_over_sky(v, cone, seen, sky.rgb, light.sky_scale);
     }
 #endif
     // The objects' change is at most the whole sky they hide; where the taps' Fresnel-weighted
