@@ -118,10 +118,8 @@ vec4 sky_map_grad(vec2 u, vec2 du_x, vec2 du_y) {
     return textureGrad(sky_map, sky_map_uv(u), du_x * to_uv, du_y * to_uv);
 }
 
-vec4 mean_sky_radiance(Frame3 f, vec3 v, vec2 sigma2, vec2 lean) {
+vec4 mean_sky_radiance(Frame3 f, vec3 v, VisibleSlopes slopes) {
     const float eps = 1e-3;
-    VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(to_local(f, v), sigma2) : gaussian_slopes(sigma2);
-    slopes.mean += lean;
     vec2 u0 = reflected_u(f, v, slopes.mean);
     // u's derivative along each axis's direction, times twice its length (0 for a zero axis).
     float len_a = length(slopes.axis_along), len_b = length(slopes.axis_across);
@@ -228,8 +226,13 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     return cone;
 }
 
+// A sea point's start into the mirror's world (shade.glsl mirror_start): the point mirrored
+// about the mean sea, its forward depth and its pixel in the mirror's images.
+struct MirrorStart { vec3 point; float z0; vec2 s; };
+
 ConeSeen local_reflection(vec3 point, ReflectionCone cone);
-ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up);
+bool mirror_start(vec3 point, vec3 up, out MirrorStart start);
+ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up);
 
 // The change the objects a cone's taps see (`seen`) make to the reflected sky's mean radiance
 // (before the mean Fresnel; the sky map's radiance scaled by sky_scale): each tap's objects in
@@ -320,19 +323,25 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
-    vec4 sky = looks_up ? mean_sky_radiance(f, v, sigma2, lean) : vec4(0.0);
+    VisibleSlopes slopes;
+    vec4 sky = vec4(0.0);
+    if (looks_up) {
+        slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
+        slopes.mean += lean;
+        sky = mean_sky_radiance(f, v, slopes);
+    }
     // The host's objects the sky lookup's mirror direction meets stand in front of the sky, over
     // the share of the footprint they cover: read from their mirror images (shade.glsl
     // planar_reflection), and where those hold none, traced in screen space (local_reflection).
     vec3 objects = vec3(0.0);
 #ifdef HAS_LOCAL_REFLECTIONS
-    if ((LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && TERM_SKY) {
-        VisibleSlopes slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
-        slopes.mean += lean;
+    MirrorStart start;
+    bool mirrored = (LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && TERM_SKY && mirror_start(point, up, start);
+    if ((LOCAL_REFLECTIONS || mirrored) && TERM_SKY) {
         ReflectionCone cone = reflection_cone(f, v, slopes);
         // The mirror images first: they show an object as the sea sees it. Where they hold
         // none (an object the host does not mirror), the screen's trace.
-        ConeSeen seen = planar_reflection(point, cone, up);
+        ConeSeen seen = mirrored ? planar_reflection(start, cone, up) : nothing_seen();
         bool held = false;
         for (int i = 0; i < seen.count; i++) held = held || seen.taps[i].a > 0.0;
         if (!held) seen = local_reflection(point, cone);

@@ -263,32 +263,47 @@ vec2 planar_depth(vec2 s, int level) {
     return texel.y > 0.0 ? vec2(texel.x, texel.x / texel.y) : vec2(0.0);
 }
 
-// The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
-// slopes (brdf.glsl ReflectionCone), read from their mirror images (a planar reflection: the
-// objects drawn mirrored about the sea's tangent plane, normal `up`), tap by tap (brdf.glsl
-// ConeSeen). The mirrored centre ray m, from the point mirrored about the mean sea, goes on into
-// the mirror's world; where it meets a mirrored object is found by fixed-point steps on its path
-// t: the image's depth over the whole footprint at the screen position of point + t m, the first
-// from the objects found nearest the point's own pixel. The cone's lookups are read at that path,
-// so a footprint whose centre passes beside an object still takes its share of it. A flat sea's
-// ray is the view ray and needs none.
-ConeSeen planar_reflection(vec3 point, ReflectionCone cone, vec3 up) {
-    if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return nothing_seen();
+// Where the sea point `point` (camera-relative) starts into the mirror's world (brdf.glsl
+// MirrorStart): mirrored about the mean sea, its forward depth and its pixel in the mirror's
+// images. False where no mirrored object lies within the widest search around that pixel (most
+// of the sea, at one read): the caller then builds no reflection cone.
+bool mirror_start(vec3 point, vec3 up, out MirrorStart start) {
+    start.point = point;
+    start.z0 = 0.0;
+    start.s = vec2(0.0);
+    if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return false;
     vec2 size = vec2(textureSize(planar_colour, 0));
-    vec3 forward = frame.cam_forward.xyz;
     // The mirror world is the mean sea's: the point, on a wave, mirrors to as far below it (an
     // object is cut at the water it stands in, its floating hull's waterline above or below).
-    point -= 2.0 * dot(point - sea_point(point.xy), up) * up;
+    start.point = point - 2.0 * dot(point - sea_point(point.xy), up) * up;
+    start.z0 = dot(start.point, frame.cam_forward.xyz);
+    if (!(start.z0 > 0.0)) return false;
+    start.s = clamp(reflection_screen(start.point, start.z0, size), vec2(0.0), size - 1e-3);
+    int top = textureQueryLevels(planar_colour) - 1;
+    return planar_depth(start.s, min(PLANAR_SEARCH_LEVELS, top)).x != 0.0;
+}
+
+// The objects the sea point mirrors along the cone of its unresolved slopes (brdf.glsl
+// ReflectionCone), read from their mirror images (a planar reflection: the objects drawn
+// mirrored about the sea's tangent plane, normal `up`), tap by tap (brdf.glsl ConeSeen), from
+// where mirror_start found it starts. The mirrored centre ray m, from the mirrored point, goes on
+// into the mirror's world; where it meets a mirrored object is found by fixed-point steps on its
+// path t: the image's depth over the whole footprint at the screen position of point + t m, the
+// first from the objects found nearest the point's own pixel. The cone's lookups are read at that
+// path, so a footprint whose centre passes beside an object still takes its share of it. A flat
+// sea's ray is the view ray and needs none.
+ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up) {
+    vec2 size = vec2(textureSize(planar_colour, 0));
+    vec3 forward = frame.cam_forward.xyz;
+    vec3 point = start.point;
     vec3 m = reflect(cone.r, up);
-    float z0 = dot(point, forward), mf = dot(m, forward);
+    float z0 = start.z0, mf = dot(m, forward);
     // A mirrored ray that does not recede from the eye meets nothing the view holds beyond the
     // point.
-    if (!(z0 > 0.0) || !(mf > 0.0)) return nothing_seen();
-    vec2 s = clamp(reflection_screen(point, z0, size), vec2(0.0), size - 1e-3);
+    if (!(mf > 0.0)) return nothing_seen();
+    vec2 s = start.s;
     vec2 found = vec2(0.0);
     int top = textureQueryLevels(planar_colour) - 1;
-    // No mirrored object within the widest search: most of the sea, at one read.
-    if (planar_depth(s, min(PLANAR_SEARCH_LEVELS, top)).x == 0.0) return nothing_seen();
     for (int level = 0; level <= PLANAR_SEARCH_LEVELS && found.x == 0.0; level += 2) {
         found = planar_depth(s, min(level, top));
     }
