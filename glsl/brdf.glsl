@@ -98,9 +98,11 @@ vec2 reflected_u(Frame3 f, vec3 v, vec2 zeta) {
 
 // Average sky radiance over the slope distribution: textureGrad lookups whose footprint is the
 // image of the 2-sigma slope ellipse (paper, algorithm 5.1; derivatives by finite differences
-// along its axes), centred on the mirror direction (the paper) or, for METHOD_FULL, the ellipse
-// of the visible facets' slopes (slopes.glsl) moved by `lean` (0 for the paper). rgb: the reflected sky; a: the share of the
-// reflections that meet the sea again and enter it there (0 for the paper, whose map holds none).
+// along its axes). `slopes` is the ellipse: the Gaussian's, centred on the mirror direction (the
+// paper), or for METHOD_FULL the visible facets' (slopes.glsl) moved by the lean (sea_radiance
+// forms it once, for this lookup and the reflection cone). rgb: the reflected sky; a: the share
+// of the reflections that meet the sea again and enter it there (0 for the paper, whose map holds
+// none).
 //
 // A mipmap lookup filters isotropically over the footprint's longer axis. At grazing view the
 // ellipse's image is long in elevation and narrow in azimuth (along-view slopes turn the
@@ -323,7 +325,7 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     // The refracted term takes the light entering at this facet and, for METHOD_FULL, at the next
     // one where a reflection meets the sea again (a of the lookup), as the ground truth counts it.
     bool looks_up = TERM_SKY || (TERM_SEA && METHOD == METHOD_FULL);
-    VisibleSlopes slopes;
+    VisibleSlopes slopes;   // formed wherever the sky is looked up, which TERM_SKY implies
     vec4 sky = vec4(0.0);
     if (looks_up) {
         slopes = METHOD == METHOD_FULL ? visible_slopes(vl, sigma2) : gaussian_slopes(sigma2);
