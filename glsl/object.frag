@@ -131,6 +131,7 @@ void main() {
     vec3 specular_albedo = f0 * ab.x + ab.y;
     radiance += diffuse_albedo / PI * irradiance(n) + specular_albedo / PI * irradiance(r);
 
-    vec3 seen = radiance * o.transmittance.rgb + o.inscatter.rgb;
+    vec3 seen = MIRROR ? radiance * o.mirror_transmittance.rgb + o.mirror_inscatter.rgb
+                       : radiance * o.transmittance.rgb + o.inscatter.rgb;
     out_colour = vec4(min(seen, vec3(frame.sun_irradiance.w)), 1.0);
 }

@@ -30,6 +30,10 @@ struct Instance {
     vec4 inscatter;
     // rgb: the air's transmittance over that path.
     vec4 transmittance;
+    // The same between the object and the sea that mirrors it into the eye (its mirror image's:
+    // the shading sees that sea through the air between it and the eye).
+    vec4 mirror_inscatter;
+    vec4 mirror_transmittance;
     // The mean sea's tangent plane below the object, which it is mirrored about for the sea's
     // planar reflections: xyz its unit normal n, w its offset (n . x = w on it).
     vec4 mirror_plane;

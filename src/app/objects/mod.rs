@@ -76,6 +76,8 @@ struct Instance {
     normal_from_model: [[f32; 4]; 3],
     inscatter: [f32; 4],
     transmittance: [f32; 4],
+    mirror_inscatter: [f32; 4],
+    mirror_transmittance: [f32; 4],
     mirror_plane: [f32; 4],
     water_plane: [f32; 4],
 }
@@ -503,12 +505,19 @@ impl<'g> Objects<'g> {
                     [normal.row(0), normal.row(1), normal.row(2)].map(|r| [r.x as f32, r.y as f32, r.z as f32, 0.0]);
                 let (inscatter, transmittance) =
                     self.light.air_between(frame.scene, sun, frame.eye.z, p.origin, frame.radiance_scale);
+                // Its mirror image carries the air from the object to the sea that reflects it
+                // alone: the shading sees that sea through the air between it and the eye.
+                let from_sea = p.origin - MirrorView::reflecting_point(p.origin, (n, w));
+                let (mirror_inscatter, mirror_transmittance) =
+                    self.light.air_between(frame.scene, sun, 0.0, from_sea, frame.radiance_scale);
                 let v4 = |v: [f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32, 0.0];
                 Instance {
                     relative_from_model: p.relative_from_model.as_mat4().to_cols_array_2d(),
                     normal_from_model: rows,
                     inscatter: v4(inscatter),
                     transmittance: v4(transmittance),
+                    mirror_inscatter: v4(mirror_inscatter),
+                    mirror_transmittance: v4(mirror_transmittance),
                     mirror_plane: plane4((n, w)),
                     water_plane: plane4(p.water_plane),
                 }

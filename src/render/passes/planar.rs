@@ -54,6 +54,17 @@ impl MirrorView {
         let linear = glam::DMat3::IDENTITY - 2.0 * glam::DMat3::from_cols(n * n.x, n * n.y, n * n.z);
         DMat4::from_mat3_translation(linear, 2.0 * w * n)
     }
+
+    /// The point of plane (n, w) below the eye (w < 0) that mirrors camera-relative `p` into the
+    /// eye: where the line from the eye's mirror image 2 w n to p crosses the plane. A point on
+    /// or below the plane is its own (the segment from it is empty).
+    pub fn reflecting_point(p: DVec3, (n, w): (DVec3, f64)) -> DVec3 {
+        let eye_image = 2.0 * w * n;
+        // n . (p - eye_image) = (n . p - w) - w > 0 where p is above the plane and the eye too.
+        let rise = n.dot(p - eye_image);
+        let t = if rise > 0.0 { (-w / rise).clamp(0.0, 1.0) } else { 1.0 };
+        eye_image + t * (p - eye_image)
+    }
 }
 
 const MIRROR_DEPTH_BINDING: u32 = 1;
@@ -145,6 +156,21 @@ impl<'g> PlanarPass<'g> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_reflecting_point_sees_the_eye_and_the_object_at_one_elevation() {
+        // The eye 3 m above a level sea (z = -3 in its own frame), an object 1 m above it 30 m off.
+        let plane = (DVec3::Z, -3.0);
+        let p = DVec3::new(30.0, 0.0, -2.0);
+        let q = MirrorView::reflecting_point(p, plane);
+        assert!((q - DVec3::new(22.5, 0.0, -3.0)).length() < 1e-12, "{q}");
+        // Angle of incidence equals angle of reflection.
+        let (to_eye, to_object) = ((-q).normalize(), (p - q).normalize());
+        assert!((to_eye.z - to_object.z).abs() < 1e-12, "{to_eye} {to_object}");
+        // A point at the water is its own.
+        let at = DVec3::new(10.0, 5.0, -3.0);
+        assert!((MirrorView::reflecting_point(at, plane) - at).length() < 1e-12);
+    }
 
     #[test]
     fn the_mirror_reflects_about_its_plane() {
