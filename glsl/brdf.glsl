@@ -178,26 +178,20 @@ const int CONE_TAPS_MAX = 8;
 //
 // The taps are evenly spaced; each stands for the slopes nearer to it than to its neighbours
 // (`spacing` d in the longer axis's sigmas, slopes.glsl tap_mass), not an equal part of them.
+// Each tap's direction is formed where it is read (cone_tap_dir), one at a time: no array of them
+// is built or copied.
 struct ReflectionCone {
     vec3 r;
-    vec3 taps[CONE_TAPS_MAX];
+    // What forms tap i's direction: the slopes' frame, the view, the centre and the longer axis.
+    Frame3 f;
+    vec3 v;
+    vec2 mean;
+    vec2 axis;
     int count;
     float spacing;
     float blur;
     float extent;
 };
-
-// What a cone's lookups of the objects see, tap by tap: rgb their radiance premultiplied by a,
-// the share of the tap's footprint they cover. count 1: one lookup stood for the whole cone
-// (shade.glsl cone_read), in taps[0].
-struct ConeSeen { vec4 taps[CONE_TAPS_MAX]; int count; };
-
-ConeSeen nothing_seen() {
-    ConeSeen none;
-    for (int i = 0; i < CONE_TAPS_MAX; i++) none.taps[i] = vec4(0.0);
-    none.count = 1;
-    return none;
-}
 
 ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     const float eps = 1e-3;
@@ -215,29 +209,37 @@ ReflectionCone reflection_cone(Frame3 f, vec3 v, VisibleSlopes slopes) {
     int count = clamp(int(ceil(sqrt(max(3.0 / max(ratio * ratio, 1e-6) - 2.0, 1.0)) - 1e-4)), 1, CONE_TAPS_MAX);
     float share = max(ratio, sqrt(3.0 / float(count * count + 2)));
     // n = 1: s = 1, the one lookup carries the whole variance.
-    float spacing = count > 1 ? sqrt(12.0 * max(1.0 - share * share, 0.0) / float(count * count - 1)) : 0.0;
-    vec2 axis = angle_a >= angle_b ? slopes.axis_along : slopes.axis_across;
-    for (int i = 0; i < CONE_TAPS_MAX; i++) {
-        float at = i < count ? (float(i) - 0.5 * float(count - 1)) * spacing : 0.0;
-        cone.taps[i] = i < count ? reflected_dir(f, v, slopes.mean + at * axis) : cone.r;
-    }
+    cone.spacing = count > 1 ? sqrt(12.0 * max(1.0 - share * share, 0.0) / float(count * count - 1)) : 0.0;
+    cone.f = f;
+    cone.v = v;
+    cone.mean = slopes.mean;
+    cone.axis = angle_a >= angle_b ? slopes.axis_along : slopes.axis_across;
     cone.count = count;
-    cone.spacing = spacing;
     cone.blur = 2.0 * share * major;
     cone.extent = 2.0 * major;
     return cone;
+}
+
+// Tap i's direction (i < cone.count), at (i - (count - 1) / 2) spacing sigmas along the axis.
+vec3 cone_tap_dir(ReflectionCone cone, int i) {
+    float at = (float(i) - 0.5 * float(cone.count - 1)) * cone.spacing;
+    return reflected_dir(cone.f, cone.v, cone.mean + at * cone.axis);
 }
 
 // A sea point's start into the mirror's world (shade.glsl mirror_start): the point mirrored
 // about the mean sea, its forward depth and its pixel in the mirror's images.
 struct MirrorStart { vec3 point; float z0; vec2 s; };
 
-ConeSeen local_reflection(vec3 point, ReflectionCone cone);
-bool mirror_start(vec3 point, vec3 up, out MirrorStart start);
-ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up);
+// The sky a cone's reflection shows where no object stands: the sky map's mean radiance over the
+// footprint, `mean` (scaled by `scale`, SeaLight's sky_scale), and what a tap hides of it.
+struct ConeSky { vec3 mean; vec3 scale; };
 
-// The change the objects a cone's taps see (`seen`) make to the reflected sky's mean radiance
-// (before the mean Fresnel; the sky map's radiance scaled by sky_scale): each tap's objects in
+vec4 local_reflection(vec3 point, ReflectionCone cone, ConeSky sky);
+bool mirror_start(vec3 point, vec3 up, out MirrorStart start);
+vec4 planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up, ConeSky sky);
+
+// The change the objects a cone's taps see make to the reflected sky's mean radiance (before the
+// mean Fresnel), summed tap by tap as they are read (shade.glsl cone_change): each tap's objects in
 // place of the sky it hides, weighted by its share of the slopes (tap_mass, slopes.glsl) and by
 // the Fresnel of the facets that mirror v into it, over the taps' mean. A cone's reflections at
 // grazing view span incidences whose Fresnel differs threefold (its rays near the horizon mirror
@@ -248,36 +250,47 @@ ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up);
 // 1 / (1 + z), so `blur` radians are blur / (1 + z) of the map), read only for the taps that meet
 // an object. The sky lookup's pair, interpolated along the footprint, held the outer taps at the
 // pair's own elevation: the horizon's bright sky, which the lowest taps hide, was a third too
-// dim. One lookup for the whole cone (a footprint of a few pixels) replaces the mean sky `sky`
-// by its objects, unweighted.
-vec3 objects_over_sky(vec3 v, ReflectionCone cone, ConeSeen seen, vec3 sky, vec3 sky_scale) {
+// dim. One lookup for the whole cone (a footprint of a few pixels) replaces the mean sky by its
+// objects, unweighted.
+struct ConeSum { vec3 weighted; vec3 by_mass; float weight; bool held; };
+
+ConeSum no_cone_sum() {
+    return ConeSum(vec3(0.0), vec3(0.0), 0.0, false);
+}
+
+// Adds tap i (direction d) seeing `tap` (rgb premultiplied by its coverage a) to `sum`.
+void add_tap(inout ConeSum sum, ReflectionCone cone, int i, vec3 d, vec4 tap, ConeSky sky) {
+    float mass = tap_mass(i, cone.count, cone.spacing);
+    // v + d is 0 only for a tap turned straight back along the view (a facet seen edge-on),
+    // where the Fresnel's limit is 1.
+    vec3 h = cone.v + d;
+    float len2 = dot(h, h);
+    float weight = mass * (len2 > 0.0 ? fresnel_exact(dot(cone.v, h) * inversesqrt(len2)) : 1.0);
+    sum.weight += weight;
     // A reflection below the horizon meets the sea (the sky map's waves stop all of it,
     // sky_map.glsl): the mirror image would show it the objects from below the water.
-    if (seen.count == 1) return cone.r.z > 0.0 ? seen.taps[0].rgb - seen.taps[0].a * sky_scale * sky : vec3(0.0);
-    float mass[CONE_TAPS_MAX], weight[CONE_TAPS_MAX];
-    float mean = 0.0;
-    for (int i = 0; i < cone.count; i++) {
-        mass[i] = tap_mass(i, cone.count, cone.spacing);
-        // v + t is 0 only for a tap turned straight back along the view (a facet seen edge-on),
-        // where the Fresnel's limit is 1.
-        vec3 h = v + cone.taps[i];
-        float len2 = dot(h, h);
-        weight[i] = mass[i] * (len2 > 0.0 ? fresnel_exact(dot(v, h) * inversesqrt(len2)) : 1.0);
-        mean += weight[i];
-    }
-    vec3 change = vec3(0.0);
-    for (int i = 0; i < cone.count; i++) {
-        vec4 tap = seen.taps[i];
-        vec3 d = cone.taps[i];
-        if (!(tap.a > 0.0) || !(d.z > 0.0)) continue;
-        float texel = cone.blur / (1.0 + d.z);   // d.z > 0
-        vec3 hidden = sky_scale * sky_map_grad(sky_u(d), vec2(texel, 0.0), vec2(0.0, texel)).rgb;
-        // The exact Fresnel is at least the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for
-        // water, so mean > 0; a medium of eta 1 reflects nothing, and the masses alone weigh.
-        float share = mean > 0.0 ? weight[i] / mean : mass[i];
-        change += share * (tap.rgb - tap.a * hidden);
-    }
-    return change;
+    if (!(tap.a > 0.0) || !(d.z > 0.0)) return;
+    sum.held = true;
+    float texel = cone.blur / (1.0 + d.z);   // d.z > 0
+    vec3 hidden = sky.scale * sky_map_grad(sky_u(d), vec2(texel, 0.0), vec2(0.0, texel)).rgb;
+    vec3 change = tap.rgb - tap.a * hidden;
+    sum.weighted += weight * change;
+    sum.by_mass += mass * change;
+}
+
+// The summed taps' change (rgb) and whether any met an object (a). The exact Fresnel is at least
+// the normal incidence's ((eta - 1) / (eta + 1))^2 > 0 for water, so the weight is > 0; a medium
+// of eta 1 reflects nothing, and the masses alone weigh.
+vec4 cone_sum_change(ConeSum sum) {
+    return vec4(sum.weight > 0.0 ? sum.weighted / sum.weight : sum.by_mass, sum.held ? 1.0 : 0.0);
+}
+
+// One lookup standing for the whole cone: its objects in place of the mean sky, where the centre
+// ray is above the horizon.
+vec4 one_tap_change(ReflectionCone cone, vec4 tap, ConeSky sky) {
+    bool held = tap.a > 0.0;
+    vec3 change = cone.r.z > 0.0 ? tap.rgb - tap.a * sky.scale * sky.mean : vec3(0.0);
+    return vec4(change, held ? 1.0 : 0.0);
 }
 #endif
 
@@ -341,13 +354,12 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     bool mirrored = (LOCAL_REFLECTIONS || PLANAR_REFLECTIONS) && TERM_SKY && mirror_start(point, up, start);
     if ((LOCAL_REFLECTIONS || mirrored) && TERM_SKY) {
         ReflectionCone cone = reflection_cone(f, v, slopes);
+        ConeSky cone_sky = ConeSky(sky.rgb, light.sky_scale);
         // The mirror images first: they show an object as the sea sees it. Where they hold
         // none (an object the host does not mirror), the screen's trace.
-        ConeSeen seen = mirrored ? planar_reflection(start, cone, up) : nothing_seen();
-        bool held = false;
-        for (int i = 0; i < seen.count; i++) held = held || seen.taps[i].a > 0.0;
-        if (!held) seen = local_reflection(point, cone);
-        objects = objects_over_sky(v, cone, seen, sky.rgb, light.sky_scale);
+        vec4 change = mirrored ? planar_reflection(start, cone, up, cone_sky) : vec4(0.0);
+        if (LOCAL_REFLECTIONS && change.a == 0.0) change = local_reflection(point, cone, cone_sky);
+        objects = change.rgb;
     }
 #endif
     // The objects' change is at most the whole sky they hide; where the taps' Fresnel-weighted

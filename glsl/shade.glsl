@@ -133,39 +133,42 @@ vec4 cone_tap(sampler2D image, vec3 q, float blur_m, vec2 size) {
 // one lookup over all of it: its taps would lie within a texel or two of each other.
 const float CONE_ONE_TAP_PX = 4.0;
 
-// A cone's lookups in `image` `path` metres along its taps from `point`, mirrored about the
-// plane of unit normal `mirror` where that is not 0.
-ConeSeen cone_read(sampler2D image, vec3 point, ReflectionCone cone, vec3 mirror, float path, vec2 size) {
-    ConeSeen seen = nothing_seen();
-    vec3 centre = point + (dot(mirror, mirror) > 0.0 ? reflect(cone.r, mirror) : cone.r) * path;
+// The change a cone's lookups in `image` make to the reflected sky (brdf.glsl add_tap), `path`
+// metres along its taps from `point`, mirrored about the plane of unit normal `mirror` where that
+// is not 0; each lookup's radiance times `to_radiance`, held to at most `most`.
+vec4 cone_change(sampler2D image, vec3 point, ReflectionCone cone, vec3 mirror, float path, vec2 size,
+                 float to_radiance, float most, ConeSky sky) {
+    bool mirrored = dot(mirror, mirror) > 0.0;
+    vec3 centre = point + (mirrored ? reflect(cone.r, mirror) : cone.r) * path;
     float z = dot(centre, frame.cam_forward.xyz);
     if (z > 0.0 && path * cone.extent < CONE_ONE_TAP_PX * pixel_m_at(z, size)) {
-        seen.taps[0] = cone_tap(image, centre, path * cone.extent, size);
-        return seen;
+        vec4 tap = cone_tap(image, centre, path * cone.extent, size);
+        return one_tap_change(cone, vec4(clamp(tap.rgb * to_radiance, vec3(0.0), vec3(most)), tap.a), sky);
     }
+    ConeSum sum = no_cone_sum();
     for (int i = 0; i < cone.count; i++) {
-        vec3 tap = dot(mirror, mirror) > 0.0 ? reflect(cone.taps[i], mirror) : cone.taps[i];
-        seen.taps[i] = cone_tap(image, point + tap * path, path * cone.blur, size);
+        vec3 d = cone_tap_dir(cone, i);
+        vec4 tap = cone_tap(image, point + (mirrored ? reflect(d, mirror) : d) * path, path * cone.blur, size);
+        add_tap(sum, cone, i, d, vec4(clamp(tap.rgb * to_radiance, vec3(0.0), vec3(most)), tap.a), sky);
     }
-    seen.count = cone.count;
-    return seen;
+    return cone_sum_change(sum);
 }
 
 // The objects the sea point `point` (camera-relative) mirrors along the cone of its unresolved
 // slopes (brdf.glsl ReflectionCone), which widens the reflection as it widens the sky's: each
-// tap's (brdf.glsl ConeSeen) at the path where the centre ray meets them, nothing where the ray
+// tap's change (cone_change) at the path where the centre ray meets them, nothing where the ray
 // meets nothing on screen. The ray is marched in screen space, where 1 / depth is linear,
 // through the depth pyramid: a cell whose nearest object lies beyond the ray's farthest point
 // there is stepped over whole, and the walk climbs a level; otherwise it goes down one, and on
 // level 0 the ray meets the object if it is no farther behind it than the object's assumed depth
 // (McGuire & Mara 2014's screen-space march; the hierarchy is Uludag's, GPU Pro 5, 2014).
-ConeSeen local_reflection(vec3 point, ReflectionCone cone) {
-    if (!LOCAL_REFLECTIONS) return nothing_seen();
+vec4 local_reflection(vec3 point, ReflectionCone cone, ConeSky sky) {
+    if (!LOCAL_REFLECTIONS) return vec4(0.0);
     vec3 r = cone.r;
     vec2 size = vec2(textureSize(reflection_depth, 0));
     vec3 forward = frame.cam_forward.xyz;
     float z0 = dot(point, forward), rf = dot(r, forward);
-    if (!(z0 > 0.0)) return nothing_seen();
+    if (!(z0 > 0.0)) return vec4(0.0);
     // Far enough that the segment's end is at the vanishing point to within a pixel, or half way
     // to the eye's plane for a ray turning back towards the eye (its depth stays positive).
     float reach = 1e4 * z0;
@@ -178,7 +181,7 @@ ConeSeen local_reflection(vec3 point, ReflectionCone cone) {
     float k0 = 1.0 / z0, k1 = 1.0 / z1;
     vec2 ds = s1 - s0;
     float len = max(abs(ds.x), abs(ds.y));
-    if (len < 1.0) return nothing_seen();   // the reflection stays in its own pixel
+    if (len < 1.0) return vec4(0.0);   // the reflection stays in its own pixel
     // Where the ray leaves the screen.
     vec2 exits = vec2(ds.x > 0.0 ? (size.x - s0.x) / ds.x : ds.x < 0.0 ? -s0.x / ds.x : 1.0,
                       ds.y > 0.0 ? (size.y - s0.y) / ds.y : ds.y < 0.0 ? -s0.y / ds.y : 1.0);
@@ -188,7 +191,7 @@ ConeSeen local_reflection(vec3 point, ReflectionCone cone) {
     // Only the part of the path inside the objects' rectangle can meet one: the rest is not
     // walked, and a path that misses it (most of the sea's) returns at once.
     vec4 rect = reflection_bounds.rect;
-    if (rect.x >= rect.z || rect.y >= rect.w) return nothing_seen();   // no object on screen
+    if (rect.x >= rect.z || rect.y >= rect.w) return vec4(0.0);   // no object on screen
     for (int axis = 0; axis < 2; axis++) {
         float lo = rect[axis], hi = rect[axis + 2];
         if (ds[axis] != 0.0) {
@@ -196,14 +199,14 @@ ConeSeen local_reflection(vec3 point, ReflectionCone cone) {
             alpha = max(alpha, min(a, b));
             end_alpha = min(end_alpha, max(a, b));
         } else if (s0[axis] < lo || s0[axis] >= hi) {
-            return nothing_seen();
+            return vec4(0.0);
         }
     }
-    if (alpha >= end_alpha) return nothing_seen();
+    if (alpha >= end_alpha) return vec4(0.0);
     // Depth is monotonic along the path (1 / depth is linear): nearer than every object at both
     // ends of its part in the rectangle, it passes in front of them all.
     float z_far = max(1.0 / (k0 + alpha * (k1 - k0)), 1.0 / (k0 + end_alpha * (k1 - k0)));
-    if (z_far < reflection_bounds.nearest) return nothing_seen();
+    if (z_far < reflection_bounds.nearest) return vec4(0.0);
     int level = 0;
     int top = textureQueryLevels(reflection_depth) - 1;
     float hit = -1.0;
@@ -239,12 +242,12 @@ ConeSeen local_reflection(vec3 point, ReflectionCone cone) {
             alpha = max(exit_alpha, alpha) + nudge;
         }
     }
-    if (hit < 0.0) return nothing_seen();
+    if (hit < 0.0) return vec4(0.0);
     vec2 at = s0 + ds * hit;
     float z = 1.0 / (k0 + hit * (k1 - k0));
     // The path from the sea to the object, along which the cone's lookups meet its depth.
     float path = abs(rf) > 1e-3 ? (z - z0) / rf : hit * reach;
-    return cone_read(reflection_colour, point, cone, vec3(0.0), path, size);
+    return cone_change(reflection_colour, point, cone, vec3(0.0), path, size, 1.0, 3.0e38, sky);
 }
 
 // Mip levels searched, every other one, for mirrored objects near a point's own pixel: the
@@ -285,14 +288,14 @@ bool mirror_start(vec3 point, vec3 up, out MirrorStart start) {
 
 // The objects the sea point mirrors along the cone of its unresolved slopes (brdf.glsl
 // ReflectionCone), read from their mirror images (a planar reflection: the objects drawn
-// mirrored about the sea's tangent plane, normal `up`), tap by tap (brdf.glsl ConeSeen), from
+// mirrored about the sea's tangent plane, normal `up`), tap by tap (cone_change), from
 // where mirror_start found it starts. The mirrored centre ray m, from the mirrored point, goes on
 // into the mirror's world; where it meets a mirrored object is found by fixed-point steps on its
 // path t: the image's depth over the whole footprint at the screen position of point + t m, the
 // first from the objects found nearest the point's own pixel. The cone's lookups are read at that
 // path, so a footprint whose centre passes beside an object still takes its share of it. A flat
 // sea's ray is the view ray and needs none.
-ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up) {
+vec4 planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up, ConeSky sky) {
     vec2 size = vec2(textureSize(planar_colour, 0));
     vec3 forward = frame.cam_forward.xyz;
     vec3 point = start.point;
@@ -300,19 +303,19 @@ ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up) {
     float z0 = start.z0, mf = dot(m, forward);
     // A mirrored ray that does not recede from the eye meets nothing the view holds beyond the
     // point.
-    if (!(mf > 0.0)) return nothing_seen();
+    if (!(mf > 0.0)) return vec4(0.0);
     vec2 s = start.s;
     vec2 found = vec2(0.0);
     int top = textureQueryLevels(planar_colour) - 1;
     for (int level = 0; level <= PLANAR_SEARCH_LEVELS && found.x == 0.0; level += 2) {
         found = planar_depth(s, min(level, top));
     }
-    if (found.x == 0.0) return nothing_seen();
+    if (found.x == 0.0) return vec4(0.0);
     float path = 0.0;
     for (int i = 0; i < 2; i++) {
         // What stands nearer the eye than the point is not behind the mirror: no reflection of it.
         path = (found.y - z0) / mf;
-        if (!(path > 0.0)) return nothing_seen();
+        if (!(path > 0.0)) return vec4(0.0);
         vec3 q = point + m * path;
         float z = dot(q, forward);
         vec2 at = clamp(reflection_screen(q, z, size), vec2(0.0), size - 1e-3);
@@ -321,11 +324,8 @@ ConeSeen planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up) {
         if (next.x == 0.0) break;
         found = next;
     }
-    ConeSeen seen = cone_read(planar_colour, point, cone, up, path, size);
-    for (int i = 0; i < seen.count; i++) {
-        seen.taps[i].rgb = clamp(seen.taps[i].rgb / frame.host.x, vec3(0.0), vec3(HDR_MAX));
-    }
-    return seen;
+    // The host's unit to the ocean's, each lookup held to the half float's range.
+    return cone_change(planar_colour, point, cone, up, path, size, 1.0 / frame.host.x, HDR_MAX, sky);
 }
 
 // The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and
