@@ -135,21 +135,22 @@ const float CONE_ONE_TAP_PX = 4.0;
 
 // The change a cone's lookups in `image` make to the reflected sky (brdf.glsl add_tap), `path`
 // metres along its taps from `point`, mirrored about the plane of unit normal `mirror` where that
-// is not 0; each lookup's radiance times `to_radiance`, held to at most `most`.
+// is not 0; each lookup's radiance times `to_radiance`, held to the half float's range (the
+// screen's sources are already, glsl/reflection_sources.comp).
 vec4 cone_change(sampler2D image, vec3 point, ReflectionCone cone, vec3 mirror, float path, vec2 size,
-                 float to_radiance, float most, ConeSky sky) {
+                 float to_radiance, ConeSky sky) {
     bool mirrored = dot(mirror, mirror) > 0.0;
     vec3 centre = point + (mirrored ? reflect(cone.r, mirror) : cone.r) * path;
     float z = dot(centre, frame.cam_forward.xyz);
     if (z > 0.0 && path * cone.extent < CONE_ONE_TAP_PX * pixel_m_at(z, size)) {
         vec4 tap = cone_tap(image, centre, path * cone.extent, size);
-        return one_tap_change(cone, vec4(clamp(tap.rgb * to_radiance, vec3(0.0), vec3(most)), tap.a), sky);
+        return one_tap_change(cone, vec4(clamp(tap.rgb * to_radiance, vec3(0.0), vec3(HDR_MAX)), tap.a), sky);
     }
     ConeSum sum = no_cone_sum();
     for (int i = 0; i < cone.count; i++) {
         vec3 d = cone_tap_dir(cone, i);
         vec4 tap = cone_tap(image, point + (mirrored ? reflect(d, mirror) : d) * path, path * cone.blur, size);
-        add_tap(sum, cone, i, d, vec4(clamp(tap.rgb * to_radiance, vec3(0.0), vec3(most)), tap.a), sky);
+        add_tap(sum, cone, i, d, vec4(clamp(tap.rgb * to_radiance, vec3(0.0), vec3(HDR_MAX)), tap.a), sky);
     }
     return cone_sum_change(sum);
 }
@@ -247,7 +248,7 @@ vec4 local_reflection(vec3 point, ReflectionCone cone, ConeSky sky) {
     float z = 1.0 / (k0 + hit * (k1 - k0));
     // The path from the sea to the object, along which the cone's lookups meet its depth.
     float path = abs(rf) > 1e-3 ? (z - z0) / rf : hit * reach;
-    return cone_change(reflection_colour, point, cone, vec3(0.0), path, size, 1.0, 3.0e38, sky);
+    return cone_change(reflection_colour, point, cone, vec3(0.0), path, size, 1.0, sky);
 }
 
 // Mip levels searched, every other one, for mirrored objects near a point's own pixel: the
@@ -324,8 +325,8 @@ vec4 planar_reflection(MirrorStart start, ReflectionCone cone, vec3 up, ConeSky 
         if (next.x == 0.0) break;
         found = next;
     }
-    // The host's unit to the ocean's, each lookup held to the half float's range.
-    return cone_change(planar_colour, point, cone, up, path, size, 1.0 / frame.host.x, HDR_MAX, sky);
+    // The host's unit to the ocean's.
+    return cone_change(planar_colour, point, cone, up, path, size, 1.0 / frame.host.x, sky);
 }
 
 // The physical sky's aerial perspective (glsl/aerial_perspective.comp) at screen position uv and
