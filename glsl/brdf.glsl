@@ -226,10 +226,6 @@ vec3 cone_tap_dir(ReflectionCone cone, int i) {
     return reflected_dir(cone.f, cone.v, cone.mean + at * cone.axis);
 }
 
-// A sea point's start into the mirror's world (shade.glsl mirror_start): the point mirrored
-// about the mean sea, its forward depth and its pixel in the mirror's images.
-struct MirrorStart { vec3 point; float z0; vec2 s; };
-
 // The sky a cone's reflection shows where no object stands: the sky map's mean radiance over the
 // footprint, `mean` (scaled by `scale`, SeaLight's sky_scale), and what a tap hides of it.
 struct ConeSky { vec3 mean; vec3 scale; };

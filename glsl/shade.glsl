@@ -37,6 +37,19 @@ layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixe
 // passes/planar.rs, planar_reflection): left out where the host hands no depth, or asks for none.
 layout(constant_id = 15) const bool LOCAL_REFLECTIONS = false;
 layout(constant_id = 16) const bool PLANAR_REFLECTIONS = false;
+// The host's objects mirrored about the sea (passes/planar.rs): their radiance (host unit)
+// premultiplied by coverage, and their coverage and coverage over forward depth, both mipmapped
+// by means; whether the host drew them this frame.
+layout(set = 0, binding = 17) uniform sampler2D planar_colour;
+layout(set = 0, binding = 18) uniform sampler2D planar_inverse_depth;
+#include "planar_start.glsl"
+// Whether this dispatch shades the 8x8 tiles a list names (constant 17; passes/planar_tiles.rs
+// sorts the sea-only rows' tiles by whether any of their pixels may mirror an object, and each
+// list is shaded by the pipeline that reads the mirror or by the one without its code), and
+// where its list starts among `planar_tiles.tiles`.
+layout(constant_id = 17) const bool TILED = false;
+layout(set = 0, binding = 19, std430) readonly buffer PlanarTiles { uvec4 args[2]; uint tiles[]; } planar_tiles;
+layout(push_constant) uniform ShadePush { uint planar_drawn; uint tile_list; } shade_push;
 #define HAS_LOCAL_REFLECTIONS
 #include "brdf.glsl"
 layout(set = 0, binding = 5) uniform sampler2D aerial_inscatter;
@@ -66,12 +79,6 @@ layout(set = 0, binding = 15) uniform sampler2D reflection_depth;
 // their nearest forward depth (glsl/reflection_bounds.comp).
 layout(set = 0, binding = 16, std430) readonly buffer ReflectionBounds { vec4 rect; float nearest; } reflection_bounds;
 
-// The host's objects mirrored about the sea (passes/planar.rs): their radiance (host unit)
-// premultiplied by coverage, and their coverage and coverage over forward depth, both mipmapped
-// by means; whether the host drew them this frame.
-layout(set = 0, binding = 17) uniform sampler2D planar_colour;
-layout(set = 0, binding = 18) uniform sampler2D planar_inverse_depth;
-layout(push_constant) uniform ShadePush { uint planar_drawn; } shade_push;
 
 // Cells a reflected ray visits at most: skipping up the pyramid, a ray crosses a 1024-pixel
 // screen in about 2 log2(1024) of them; the rest go to refining near objects and to the pixels
@@ -101,14 +108,6 @@ float surface_back(ivec2 cell, float nearest, vec2 ds) {
         if (d < beyond) back = max(back, d);
     }
     return back;
-}
-
-// The pixel position (in the reflection images' base level) of camera-relative point q at
-// forward depth z = q . forward (> 0).
-vec2 reflection_screen(vec3 q, float z, vec2 size) {
-    vec3 right = frame.cam_right.xyz, down = frame.cam_down.xyz;
-    vec2 ndc = vec2(dot(q, right) / dot(right, right), dot(q, down) / dot(down, down)) / z;
-    return (ndc * 0.5 + 0.5) * size;
 }
 
 // The pixel size in metres at forward depth z > 0, in images of the view's size.
@@ -251,40 +250,14 @@ vec4 local_reflection(vec3 point, ReflectionCone cone, ConeSky sky) {
     return cone_change(reflection_colour, point, cone, vec3(0.0), path, size, 1.0, sky);
 }
 
-// Mip levels searched, every other one, for mirrored objects near a point's own pixel: the
-// farthest, 2^8 pixels on, is as far as a 2-sigma slope of 0.4 turns a reflection on a 1024-pixel
-// view.
-const int PLANAR_SEARCH_LEVELS = 8;
-
-// The mirrored objects' coverage and harmonic mean forward depth over the footprint of `level`
-// at pixel s (0 coverage: none there).
-vec2 planar_depth(vec2 s, int level) {
-    // The level's size by arithmetic, as local_reflection's (textureSize at a level that differs
-    // between lanes is not to be trusted).
-    ivec2 cells = max(textureSize(planar_inverse_depth, 0) >> level, ivec2(1));
-    ivec2 cell = clamp(ivec2(floor(s / float(1 << level))), ivec2(0), cells - 1);
-    vec2 texel = texelFetch(planar_inverse_depth, cell, level).xy;
-    return texel.y > 0.0 ? vec2(texel.x, texel.x / texel.y) : vec2(0.0);
-}
-
-// Where the sea point `point` (camera-relative) starts into the mirror's world (brdf.glsl
-// MirrorStart): mirrored about the mean sea, its forward depth and its pixel in the mirror's
-// images. False where no mirrored object lies within the widest search around that pixel (most
-// of the sea, at one read): the caller then builds no reflection cone.
+// Where the sea point `point` (camera-relative) starts into the mirror's world (planar_start):
+// false where the host drew no mirror images this frame, or none lies within the widest search
+// around the point's pixel (most of the sea, at one read): the caller then builds no reflection
+// cone.
 bool mirror_start(vec3 point, vec3 up, out MirrorStart start) {
-    start.point = point;
-    start.z0 = 0.0;
-    start.s = vec2(0.0);
+    start = MirrorStart(point, 0.0, vec2(0.0));
     if (!PLANAR_REFLECTIONS || shade_push.planar_drawn == 0u) return false;
-    vec2 size = vec2(textureSize(planar_colour, 0));
-    // The mirror world is the mean sea's: the point, on a wave, mirrors to as far below it (an
-    // object is cut at the water it stands in, its floating hull's waterline above or below).
-    start.point = point - 2.0 * dot(point - sea_point(point.xy), up) * up;
-    start.z0 = dot(start.point, frame.cam_forward.xyz);
-    if (!(start.z0 > 0.0)) return false;
-    start.s = clamp(reflection_screen(start.point, start.z0, size), vec2(0.0), size - 1e-3);
-    int top = textureQueryLevels(planar_colour) - 1;
-    return planar_depth(start.s, min(PLANAR_SEARCH_LEVELS, top)).x != 0.0;
+    return planar_start(point, up, start);
 }
 
 // The objects the sea point mirrors along the cone of its unresolved slopes (brdf.glsl
@@ -468,7 +441,10 @@ vec3 sky(vec3 dir) {
 // Every invocation runs to the end (no early return): the blocked train loop needs the whole
 // subgroup, and a CPU driver runs both sides of a branch anyway.
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    // A listed tile's pixels (its workgroup coordinates packed x | y << 16), or the dispatch's.
+    uint tile = TILED ? planar_tiles.tiles[shade_push.tile_list + gl_WorkGroupID.x] : 0u;
+    ivec2 p = TILED ? ivec2(uvec2(tile & 0xffffu, tile >> 16) * 8u + gl_LocalInvocationID.xy)
+                    : ivec2(gl_GlobalInvocationID.xy);
     bool inside = all(lessThan(p, imageSize(hdr_bits)));
     uvec4 bits = inside ? imageLoad(hdr_bits, p) : NO_SEA_BITS;
     bool covered = bits != NO_SEA_BITS;

@@ -115,6 +115,10 @@ enum Command {
         /// Render with the general pipeline: leave nothing out (for comparison).
         #[arg(long)]
         no_specialize: bool,
+        /// Shade every tile of the sea with the mirror's code, unsorted (for comparison; see
+        /// src/render/passes/planar_tiles.rs).
+        #[arg(long)]
+        no_planar_tiles: bool,
         /// How the shading loop reads the wave table: in blocks shared by subgroup broadcasts
         /// (where the device allows; else per train), or per train.
         #[arg(long, value_enum, default_value_t = TrainReads::Blocks)]
@@ -156,6 +160,9 @@ enum Command {
         /// Profile the general pipeline: leave nothing out.
         #[arg(long)]
         no_specialize: bool,
+        /// Shade every tile of the sea with the mirror's code, unsorted (for comparison).
+        #[arg(long)]
+        no_planar_tiles: bool,
         #[arg(long, value_enum, default_value_t = TrainReads::Blocks)]
         train_reads: TrainReads,
     },
@@ -479,6 +486,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             terms,
             frames,
             no_specialize,
+            no_planar_tiles,
             train_reads,
             stats,
         } => {
@@ -500,7 +508,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 // The terms alone on black, by the same method, glints and reflections.
                 ShaderConfig { terms, background: false, ..base }
             };
-            let shader = ShaderConfig { train_reads, ..shader };
+            let shader = ShaderConfig { train_reads, planar_tiles: !no_planar_tiles, ..shader };
             let shading = Shading { shader, ssaa, statistics: stats, ..Shading::default() };
             let request = RenderRequest {
                 scene,
@@ -864,6 +872,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             png,
             method,
             no_specialize,
+            no_planar_tiles,
             train_reads,
         } => {
             claim_stdout(&[
@@ -872,7 +881,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 ("--png", png.as_deref(), true),
             ])?;
             let (scene, scene_name) = load_scene(scene)?;
-            let shader = ShaderConfig { train_reads, ..method.shader(&scene)? };
+            let shader = ShaderConfig { train_reads, planar_tiles: !no_planar_tiles, ..method.shader(&scene)? };
             let request = ocean::app::profile::ProfileRequest {
                 scene,
                 scene_name,

@@ -358,6 +358,45 @@ fn planar_reflections_hold_what_the_screen_does_not() {
     assert!(ratio(Reflections::Both) > 1.15, "{seen:?}");
 }
 
+/// The sea's tiles sorted by whether they may read the mirror (passes/planar_tiles.rs) shade as
+/// the unsorted pass does: a tile the sort leaves without the mirror's code holds no pixel that
+/// would have read it. The boat's preset, its reflection across many tiles of the sea-only rows
+/// and the rest of them far from it; the same within a half float's rounding (the two pipelines
+/// are compiled apart), and the reflection there in both.
+#[test]
+fn sorting_the_tiles_by_the_mirror_changes_no_pixel() {
+    let gpu = gpu();
+    let scene = Scene::load(&root().join("scenes/objects/boat_sunset.toml")).unwrap();
+    let (w, h) = (320, 240);
+    let planar = |tiles: bool| ocean::embed::Shading {
+        shader: ocean::embed::ShaderConfig {
+            reflections: Reflections::Planar,
+            planar_tiles: tiles,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let (report, sorted) = common::render_with(&gpu, &scene, w, h, planar(true));
+    assert_clean(&report, "boat, tiles sorted");
+    assert!(report.pipelines.iter().any(|p| p == "planar tiles"), "{:?}", report.pipelines);
+    let (report, unsorted) = common::render_with(&gpu, &scene, w, h, planar(false));
+    assert_clean(&report, "boat, tiles unsorted");
+    assert!(!report.pipelines.iter().any(|p| p == "planar tiles"), "{:?}", report.pipelines);
+    let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
+    let mut reflected = 0;
+    for ((a, b), c) in sorted.hdr.iter().zip(&unsorted.hdr).zip(&plain.hdr) {
+        for k in 0..3 {
+            // binary16 keeps 11 significant bits: one rounding is within 2^-11 of the value.
+            let tolerance = 2.0 * (a[k].abs().max(b[k].abs()) / 2048.0).max(6.0e-8);
+            assert!((a[k] - b[k]).abs() <= tolerance, "{a:?} against {b:?}");
+        }
+        if (common::luminance(*a) - common::luminance(*c)).abs() > 0.02 * common::luminance(*c) {
+            reflected += 1;
+        }
+    }
+    assert!(reflected > 100, "the boat's reflection changes only {reflected} pixels");
+}
+
 /// The mirror image shows what a mirror below the objects sees, as the exact tracer sees it on a
 /// calm sea: a pier deck's side facing the eye sunlit (the sun is behind the eye), its underside
 /// in shade. The mirror reverses every face's winding on screen; culled as the eye's pass culls,

@@ -20,6 +20,7 @@ use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::placeholders::PlaceholdersPass;
 use crate::render::passes::planar::{MirrorView, PlanarPass};
+use crate::render::passes::planar_tiles::PlanarTilesPass;
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::reflections::ReflectionsPass;
 use crate::render::passes::resolve::ResolvePass;
@@ -302,6 +303,7 @@ impl<'g> Renderer<'g> {
             },
             reflections: options.shader.reflections.screen(),
             planar: options.shader.reflections.planar(),
+            planar_tiles: options.shader.planar_tiles,
         };
         let resources = Resources::new(gpu, &spec)?;
         // First in every frame, or recorded ahead of it by a host that draws casters into it.
@@ -333,6 +335,9 @@ impl<'g> Renderer<'g> {
             passes.push(Box::new(OceanPass::new(device, &resources, options.shader)?));
             if let Some(images) = &resources.reflections {
                 passes.push(Box::new(ReflectionsPass::new(gpu, &resources, images, frames_in_flight)?));
+            }
+            if let Some(tiles) = PlanarTilesPass::new(device, &resources, options.shader.background)? {
+                passes.push(Box::new(tiles));
             }
             passes.push(Box::new(ShadePass::new(device, &resources, options.shader)?));
         }

@@ -4,6 +4,7 @@
 use crate::error::{Error, Result, VkContext};
 use crate::model::fresnel::MeanFresnelTable;
 use crate::render::frame::{FrameUniforms, GpuWaves};
+use crate::render::passes::shade::SHADE_GROUP;
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
 use crate::vk::external::HostImage;
@@ -63,6 +64,9 @@ pub struct ResourceSpec {
     pub reflections: bool,
     /// Whether the sea reflects the host's objects drawn mirrored (passes/planar.rs).
     pub planar: bool,
+    /// Whether the shading pass's sea-only tiles are sorted by whether they may read the mirror
+    /// (passes/planar_tiles.rs), where the mirror is its only reflection read.
+    pub planar_tiles: bool,
 }
 
 /// What the sea's local reflections read (passes/reflections.rs), at the host's size, every
@@ -101,6 +105,12 @@ pub const PLANAR_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The depth pyramid's format: forward depths in metres, to 100 km and beyond in full precision.
 pub const REFLECTION_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+
+/// Where the planar tiles' lists start (glsl/planar_tiles.comp PlanarTiles): after two
+/// VkDispatchIndirectCommands, each padded to 16 bytes (the lists' own dispatches read them at
+/// 0 and PLANAR_TILE_ARGS_STRIDE).
+pub const PLANAR_TILE_LISTS_OFFSET: u64 = 32;
+pub const PLANAR_TILE_ARGS_STRIDE: u64 = 16;
 
 /// The physical atmosphere's tables (glsl/atmosphere.glsl), sampled linearly, clamped.
 pub struct AtmosphereTables<'g> {
@@ -196,6 +206,9 @@ pub struct Resources<'g> {
     pub reflections: Option<ReflectionImages<'g>>,
     /// The planar reflections' mirror images, in a host's frame that reflects its objects so.
     pub planar: Option<PlanarImages<'g>>,
+    /// The shading pass's tiles sorted by whether they may mirror an object
+    /// (passes/planar_tiles.rs): where the mirror is the sea's only reflection read.
+    pub planar_tiles: Option<Buffer<'g>>,
 }
 
 /// Rays per side of the aerial perspective's camera volume, and slices along each.
@@ -228,6 +241,7 @@ impl<'g> Resources<'g> {
             in_place,
             reflections,
             planar,
+            planar_tiles,
         } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
@@ -367,6 +381,17 @@ impl<'g> Resources<'g> {
         } else {
             None
         };
+        // The sea-only rows' tiles sorted for the shading pass (passes/planar_tiles.rs), where the
+        // mirror is the only reflection read: two indirect dispatches' arguments, then two lists
+        // as long as the view has tiles.
+        let planar_tiles = if planar_tiles && planar.is_some() && reflections.is_none() {
+            let tiles =
+                u64::from(hdr.extent.width.div_ceil(SHADE_GROUP)) * u64::from(hdr.extent.height.div_ceil(SHADE_GROUP));
+            let usage = B::STORAGE_BUFFER | B::INDIRECT_BUFFER;
+            Some(Buffer::new(gpu, "planar tiles", PLANAR_TILE_LISTS_OFFSET + 2 * 4 * tiles, usage, Location::Gpu)?)
+        } else {
+            None
+        };
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
@@ -391,6 +416,7 @@ impl<'g> Resources<'g> {
             exposure,
             reflections,
             planar,
+            planar_tiles,
         })
     }
 

@@ -233,6 +233,10 @@ pub fn pipelines(options: &Options) -> Vec<String> {
     }
     if options.shader.reflections.planar() && !options.shader.draws_nothing() {
         names.push("planar reflection".to_owned());
+        // Its tiles sorted where the mirror is the only reflection read (passes/planar_tiles.rs).
+        if options.shader.planar_tiles && !options.shader.reflections.screen() {
+            names.push("planar tiles".to_owned());
+        }
     }
     if options.ssaa > 1 {
         names.push("resolve".to_owned());

@@ -76,6 +76,8 @@ pub enum Access {
     VertexStorageRead,
     /// An index buffer read by indexed draws.
     IndexRead,
+    /// Indirect arguments read by vkCmdDispatchIndirect (or an indirect draw).
+    IndirectRead,
     TransferRead,
     TransferWrite,
     /// vkCmdClearColorImage (the clear stage, not copy or blit).
@@ -104,6 +106,7 @@ impl Access {
             Access::FragmentUniformRead => S::FRAGMENT_SHADER,
             Access::VertexStorageRead => S::VERTEX_SHADER,
             Access::IndexRead => S::INDEX_INPUT,
+            Access::IndirectRead => S::DRAW_INDIRECT,
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
             Access::ClearWrite => S::CLEAR,
             Access::FragmentSampled => S::FRAGMENT_SHADER,
@@ -125,6 +128,7 @@ impl Access {
             Access::ComputeUniformRead | Access::FragmentUniformRead => A::UNIFORM_READ,
             Access::VertexStorageRead => A::SHADER_STORAGE_READ,
             Access::IndexRead => A::INDEX_READ,
+            Access::IndirectRead => A::INDIRECT_COMMAND_READ,
             Access::TransferRead => A::TRANSFER_READ,
             Access::TransferWrite | Access::ClearWrite => A::TRANSFER_WRITE,
             Access::FragmentSampled => A::SHADER_SAMPLED_READ,
@@ -152,7 +156,8 @@ impl Access {
             | Access::ComputeUniformRead
             | Access::FragmentUniformRead
             | Access::VertexStorageRead
-            | Access::IndexRead => L::GENERAL,
+            | Access::IndexRead
+            | Access::IndirectRead => L::GENERAL,
             Access::Present => L::PRESENT_SRC_KHR,
         }
     }

@@ -12,6 +12,7 @@ pub mod host_tonemap;
 pub mod ocean;
 pub mod placeholders;
 pub mod planar;
+pub mod planar_tiles;
 pub mod pyramid;
 pub mod readback;
 pub mod reflections;

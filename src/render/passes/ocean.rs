@@ -110,6 +110,10 @@ pub struct ShaderConfig {
     /// pass (constant 16, planar_reflection; passes/planar.rs), or both. The renderer keeps them
     /// only in a host's frame with depth (objects to reflect) and with the sky term.
     pub reflections: Reflections,
+    /// Where the mirror is the only reflection read: whether the sea-only rows' tiles are sorted
+    /// by whether they may read it (passes/planar_tiles.rs), and those that cannot are shaded
+    /// without its code (constant 17). Off: every tile with it (for comparison).
+    pub planar_tiles: bool,
 }
 
 impl Default for ShaderConfig {
@@ -128,6 +132,7 @@ impl Default for ShaderConfig {
             glints: true,
             ray_hit: true,
             reflections: Reflections::Screen,
+            planar_tiles: true,
         }
     }
 }
@@ -183,8 +188,22 @@ impl ShaderConfig {
         self.words(sea_only, false)
     }
 
+    /// The sea-only rows' shader for one of the planar tiles' lists (passes/planar_tiles.rs):
+    /// with the mirror's code (`reads_mirror`) or without.
+    pub fn shade_tiled_specialization(&self, reads_mirror: bool) -> Specialization {
+        let mut words = self.word_list(true, false);
+        words[16] = u32::from(reads_mirror && self.reflections.planar());
+        words.push(1);
+        Specialization::words(&words)
+    }
+
     fn words(&self, sea_only: bool, sun_view: bool) -> Specialization {
-        Specialization::words(&[
+        Specialization::words(&self.word_list(sea_only, sun_view))
+    }
+
+    /// Constants 0 to 16 of the ocean's shaders, in order.
+    fn word_list(&self, sea_only: bool, sun_view: bool) -> Vec<u32> {
+        vec![
             self.terms.sun as u32,
             self.terms.sky as u32,
             self.terms.sea as u32,
@@ -202,7 +221,7 @@ impl ShaderConfig {
             self.steps_to_ray_hit() as u32,
             self.reflections.screen() as u32,
             self.reflections.planar() as u32,
-        ])
+        ]
     }
 
     /// Only `terms`, on black (for comparing terms one by one).

@@ -6,7 +6,8 @@ use super::ocean::{sky_shaded_rows, ShaderConfig, TrainReads};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{
-    Resources, EYE_SKY_BINDING, FRAME_BINDING, MEAN_FRESNEL_BINDING, SEA_LIGHT_BINDING, WAVES_BINDING,
+    Resources, EYE_SKY_BINDING, FRAME_BINDING, MEAN_FRESNEL_BINDING, PLANAR_TILE_ARGS_STRIDE, SEA_LIGHT_BINDING,
+    WAVES_BINDING,
 };
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
@@ -32,7 +33,11 @@ const REFLECTION_BOUNDS_BINDING: u32 = 16;
 /// stands in without them), and a push constant saying whether the host drew them this frame.
 const PLANAR_COLOUR_BINDING: u32 = 17;
 const PLANAR_INVERSE_DEPTH_BINDING: u32 = 18;
-const PUSH_BYTES: u32 = 4;
+/// The sea-only rows' tiles sorted by whether they may mirror an object (passes/planar_tiles.rs;
+/// any storage buffer stands in where there are none, never read).
+const PLANAR_TILES_BINDING: u32 = 19;
+/// Whether the host drew the mirror images this frame, and where a tiled dispatch's list starts.
+const PUSH_BYTES: u32 = 8;
 
 /// The shading pass's workgroups are SHADE_GROUP x SHADE_GROUP pixels (glsl/shade.comp's
 /// local size).
@@ -61,10 +66,36 @@ pub struct ShadePass<'g> {
     pipeline: Owned<'g, vk::Pipeline>,
     /// The same shader without the sky, for the rows that see only sea (frame::sea_only_rows).
     sea_pipeline: Owned<'g, vk::Pipeline>,
+    /// The sea-only rows' pipelines for the planar tiles' two lists, where there are lists.
+    tiled: Option<TiledPipelines<'g>>,
     /// Whether the visibility pass shades the rows only sky covers (a picture with a background).
     sky_done_above: bool,
     /// Whether the shader counts trains into `Resources::train_counts` (zeroed by the host first).
     counts: bool,
+}
+
+/// The sea-only rows' pipelines for the planar tiles' lists (passes/planar_tiles.rs): list 0
+/// (the tiles that may mirror an object) with the mirror's code, list 1 without it.
+struct TiledPipelines<'g> {
+    reading: Owned<'g, vk::Pipeline>,
+    plain: Owned<'g, vk::Pipeline>,
+    /// Tiles each list can hold: the view's.
+    capacity: u32,
+}
+
+/// The workgroup rows the shading pass dispatches with its sea-only pipeline: from frame::
+/// sea_only_rows (rounded up to whole workgroups) to the bottom, after the rows the visibility
+/// pass shaded (`sky_done_above`).
+pub fn sea_group_rows(frame: &Frame, extent: vk::Extent2D, sky_done_above: bool) -> std::ops::Range<u32> {
+    let (first, rows) = shaded_group_rows(frame, extent, sky_done_above);
+    frame.sea_rows.div_ceil(SHADE_GROUP).clamp(first, rows)..rows
+}
+
+/// The first workgroup row the shading pass dispatches, and the count of workgroup rows.
+fn shaded_group_rows(frame: &Frame, extent: vk::Extent2D, sky_done_above: bool) -> (u32, u32) {
+    let rows = extent.height.div_ceil(SHADE_GROUP);
+    let skipped = if sky_done_above { sky_shaded_rows(frame.sky_rows) / SHADE_GROUP } else { 0 };
+    (skipped.min(rows), rows)
 }
 
 impl<'g> ShadePass<'g> {
@@ -92,6 +123,7 @@ impl<'g> ShadePass<'g> {
                 (REFLECTION_BOUNDS_BINDING, D::STORAGE_BUFFER, compute),
                 (PLANAR_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (PLANAR_INVERSE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
+                (PLANAR_TILES_BINDING, D::STORAGE_BUFFER, compute),
             ],
             PUSH_BYTES,
         )?;
@@ -143,6 +175,8 @@ impl<'g> ShadePass<'g> {
         bindings.write_image(PLANAR_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, colour, read, r.sky_sampler.raw);
         let sampler = r.depth_sampler.raw;
         bindings.write_image(PLANAR_INVERSE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, inverse_depth, read, sampler);
+        let tiles = r.planar_tiles.as_ref().map_or(r.mean_fresnel.raw, |tiles| tiles.raw);
+        bindings.write_buffer(PLANAR_TILES_BINDING, D::STORAGE_BUFFER, tiles);
         let depth = if r.depth_read { &r.depth } else { &r.shadow_map };
         bindings.write_image(SCENE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, depth.view, read, r.depth_sampler.raw);
         bindings.write_buffer(TRAIN_COUNTS_BINDING, D::STORAGE_BUFFER, r.train_counts.raw);
@@ -164,10 +198,24 @@ impl<'g> ShadePass<'g> {
         let pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade")?;
         let spec = config.shade_specialization(true);
         let sea_pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only)")?;
+        let tiled = match &r.planar_tiles {
+            Some(_) => {
+                let capacity = r.hdr.extent.width.div_ceil(SHADE_GROUP) * r.hdr.extent.height.div_ceil(SHADE_GROUP);
+                let spec = config.shade_tiled_specialization(true);
+                let reading =
+                    specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only, mirror)")?;
+                let spec = config.shade_tiled_specialization(false);
+                let plain =
+                    specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only, no mirror)")?;
+                Some(TiledPipelines { reading, plain, capacity })
+            }
+            None => None,
+        };
         Ok(ShadePass {
             bindings,
             pipeline,
             sea_pipeline,
+            tiled,
             sky_done_above: config.background,
             counts: config.count_trains,
         })
@@ -206,18 +254,19 @@ impl Pass for ShadePass<'_> {
         if self.counts {
             t.buffer(&r.train_counts, Access::ComputeStorageReadWrite);
         }
+        if let Some(tiles) = &r.planar_tiles {
+            t.buffer(tiles, Access::IndirectRead);
+            t.buffer(tiles, Access::ComputeStorageRead);
+        }
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
-        let extent = r.hdr.extent;
         // The rows only sky covers were shaded by the visibility pass: a CPU driver runs both
         // sides of a branch for lanes that disagree, and the masked-off side even when no lane
         // takes it, so sky pixels in this shader would pay for all of the sea's code.
-        let groups = (extent.width.div_ceil(SHADE_GROUP), extent.height.div_ceil(SHADE_GROUP));
-        let skipped = if self.sky_done_above { sky_shaded_rows(rec.frame.sky_rows) / SHADE_GROUP } else { 0 };
-        let first = skipped.min(groups.1);
-        if first < groups.1 {
-            self.dispatch(rec, first, groups);
+        let (first, rows) = shaded_group_rows(rec.frame, r.hdr.extent, self.sky_done_above);
+        if first < rows {
+            self.dispatch(rec, r, first);
         }
         if self.counts {
             // The host reads the counters after the frame's fence.
@@ -228,28 +277,49 @@ impl Pass for ShadePass<'_> {
 }
 
 impl ShadePass<'_> {
-    /// Dispatches workgroup rows `first..groups.1`, split where only sea is seen.
-    fn dispatch(&self, rec: &Recorder, first: u32, groups: (u32, u32)) {
+    /// Dispatches workgroup rows `first..` to the bottom, split where only sea is seen; those
+    /// rows by the planar tiles' lists where there are lists.
+    fn dispatch(&self, rec: &Recorder, r: &Resources, first: u32) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
+        let columns = r.hdr.extent.width.div_ceil(SHADE_GROUP);
         // The same reason splits the rest: the rows that see only sea (whole workgroup rows from
         // frame::sea_only_rows down) get the shader without the sky's code.
-        let sea_first = rec.frame.sea_rows.div_ceil(SHADE_GROUP).clamp(first, groups.1);
+        let sea = sea_group_rows(rec.frame, r.hdr.extent, self.sky_done_above);
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-        let planar_drawn = u32::from(rec.frame.planar_drawn).to_ne_bytes();
-        // SAFETY: the layout's push range is PUSH_BYTES for the compute stage.
-        unsafe {
-            device.cmd_push_constants(cmd, self.bindings.layout(), vk::ShaderStageFlags::COMPUTE, 0, &planar_drawn)
+        let push = |tile_list: u32| {
+            let words = [u32::from(rec.frame.planar_drawn), tile_list];
+            let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_ne_bytes()).collect();
+            // SAFETY: the layout's push range is PUSH_BYTES for the compute stage.
+            unsafe { device.cmd_push_constants(cmd, self.bindings.layout(), vk::ShaderStageFlags::COMPUTE, 0, &bytes) };
         };
-        for (pipeline, rows) in [(&self.pipeline, first..sea_first), (&self.sea_pipeline, sea_first..groups.1)] {
+        push(0);
+        let mut row_ranges = vec![(&self.pipeline, first..sea.start)];
+        match (&self.tiled, &r.planar_tiles) {
+            (Some(tiled), Some(tiles)) if !sea.is_empty() => {
+                for (list, pipeline) in [(0u32, &tiled.reading), (1, &tiled.plain)] {
+                    push(list * tiled.capacity);
+                    // SAFETY: outside a rendering scope; the set (bound above) was made for this
+                    // layout (every pipeline shares it); the buffer was declared for indirect
+                    // reads, and planar_tiles.comp wrote (x, 1, 1) there this frame.
+                    unsafe {
+                        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
+                        device.cmd_dispatch_indirect(cmd, tiles.raw, u64::from(list) * PLANAR_TILE_ARGS_STRIDE);
+                    }
+                }
+                push(0);
+            }
+            _ => row_ranges.push((&self.sea_pipeline, sea)),
+        }
+        for (pipeline, rows) in row_ranges {
             if rows.is_empty() {
                 continue;
             }
             // SAFETY: outside a rendering scope; the set (bound above) was made for this layout
-            // (both pipelines share it), the pass's images were declared, and the pipelines
+            // (every pipeline shares it), the pass's images were declared, and the pipelines
             // allow a base group.
             unsafe {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
-                device.cmd_dispatch_base(cmd, 0, rows.start, 0, groups.0, rows.len() as u32, 1);
+                device.cmd_dispatch_base(cmd, 0, rows.start, 0, columns, rows.len() as u32, 1);
             }
         }
     }
