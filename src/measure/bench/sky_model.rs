@@ -152,24 +152,26 @@ fn glint_markdown(scene: &Scene, waves: &WaveSet) -> String {
          Lambda_l), the factor by which Smith's masking leaves the sun too bright; and Smith's at each facet's own height, \
          C(h)^(Lambda_v + Lambda_l), which keeps the correlation of height and slope but not of the facet's slope with \
          its neighbours'; and the mirror facets' projected area per unit length over the Gaussian slopes', before any \
-         masking).\n",
+         masking). A share is left blank (—) where no facet of the profiles has the mirror slope.\n",
         scene.sun.elevation_deg
     );
     s.push_str("| depression | mirror slope | seen | Smith | lit | Smith | seen and lit | Smith | exact / Smith | Smith at height | density / Gaussian |\n");
     s.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    // A share over no facet (none of the profiles' has the mirror slope) is left blank.
+    let share = |x: f64, decimals: usize| if x.is_finite() { format!("{x:.decimals$}") } else { "—".to_owned() };
     for (m, depression) in rows.iter().zip(DEPRESSIONS_DEG) {
         let _ = writeln!(
             s,
-            "| {depression}° | {:+.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.4} | {:.3} |",
+            "| {depression}° | {:+.4} | {} | {:.4} | {} | {:.4} | {} | {:.4} | {} | {} | {:.3} |",
             m.mirror_slope,
-            m.seen,
+            share(m.seen, 4),
             m.smith_seen,
-            m.lit,
+            share(m.lit, 4),
             m.smith_lit,
-            m.seen_and_lit,
+            share(m.seen_and_lit, 4),
             m.smith_seen_and_lit,
-            m.seen_and_lit / m.smith_seen_and_lit,
-            m.smith_at_height,
+            share(m.seen_and_lit / m.smith_seen_and_lit, 3),
+            share(m.smith_at_height, 4),
             m.density_over_gaussian
         );
     }
