@@ -4,7 +4,7 @@
 use crate::error::{Error, Result, VkContext};
 use crate::model::fresnel::MeanFresnelTable;
 use crate::render::frame::{FrameUniforms, GpuWaves};
-use crate::render::passes::shade::SHADE_GROUP;
+use crate::render::passes::shade::shade_tiles;
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
 use crate::vk::external::HostImage;
@@ -385,8 +385,7 @@ impl<'g> Resources<'g> {
         // mirror is the only reflection read: two indirect dispatches' arguments, then two lists
         // as long as the view has tiles.
         let planar_tiles = if planar_tiles && planar.is_some() && reflections.is_none() {
-            let tiles =
-                u64::from(hdr.extent.width.div_ceil(SHADE_GROUP)) * u64::from(hdr.extent.height.div_ceil(SHADE_GROUP));
+            let tiles = u64::from(shade_tiles(hdr.extent));
             let usage = B::STORAGE_BUFFER | B::INDIRECT_BUFFER;
             Some(Buffer::new(gpu, "planar tiles", PLANAR_TILE_LISTS_OFFSET + 2 * 4 * tiles, usage, Location::Gpu)?)
         } else {

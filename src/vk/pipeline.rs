@@ -119,6 +119,16 @@ impl<'g> Bindings<'g> {
         self.pipeline_layout.raw
     }
 
+    /// Records `words` as the push constants of a compute layout made by `with_push_constants`
+    /// with at least 4 bytes per word.
+    pub fn push_compute_words(&self, cmd: vk::CommandBuffer, words: &[u32]) {
+        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_ne_bytes()).collect();
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        // SAFETY: `cmd` is recording; the layout's push range covers the words for the compute
+        // stage (the caller's precondition).
+        unsafe { self.device.raw.cmd_push_constants(cmd, self.pipeline_layout.raw, compute, 0, &bytes) };
+    }
+
     pub fn write_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
         self.write_buffer_range(binding, ty, buffer, vk::WHOLE_SIZE);
     }

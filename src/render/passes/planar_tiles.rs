@@ -1,8 +1,8 @@
 //! Planar tiles: the shading pass's tiles in the rows that see only sea, sorted by whether any of
 //! their pixels may mirror an object (glsl/planar_tiles.comp: one invocation per tile, bounding
-//! where its pixels' mirrored points can lie from the camera and the waves' height), into two lists that the shading
-//! pass dispatches indirectly, each with its own pipeline: the one that reads the mirror images,
-//! and the one without that code. A CPU driver runs all of a shader's branches for every lane,
+//! where its pixels' mirrored points can lie from the camera and the waves' height), into two
+//! lists that the shading pass dispatches indirectly, each with its own pipeline: the one that
+//! reads the mirror images, and the one without that code. A CPU driver runs all of a shader's branches for every lane,
 //! masked, so the mirror's code cost every pixel of the boat's view 13% of the shading though a
 //! tenth of them read it (docs/bench/objects.md). Only where the mirror is the sea's one
 //! reflection read (the screen's trace, where asked, runs everywhere).
@@ -66,12 +66,8 @@ impl<'g> PlanarTilesPass<'g> {
     }
 
     fn push(&self, rec: &Recorder, reset: bool, first_row: u32) {
-        let words = [u32::from(rec.frame.planar_drawn), u32::from(reset), first_row];
-        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_ne_bytes()).collect();
-        // SAFETY: the layout's push range is PUSH_BYTES for the compute stage.
-        unsafe {
-            rec.device.raw.cmd_push_constants(rec.cmd, self.bindings.layout(), vk::ShaderStageFlags::COMPUTE, 0, &bytes)
-        };
+        // PUSH_BYTES: three words.
+        self.bindings.push_compute_words(rec.cmd, &[u32::from(rec.frame.planar_drawn), u32::from(reset), first_row]);
     }
 }
 

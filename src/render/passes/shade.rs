@@ -83,6 +83,11 @@ struct TiledPipelines<'g> {
     capacity: u32,
 }
 
+/// The shading pass's workgroups (tiles) over an image of `extent`: each planar tile list's length.
+pub fn shade_tiles(extent: vk::Extent2D) -> u32 {
+    extent.width.div_ceil(SHADE_GROUP) * extent.height.div_ceil(SHADE_GROUP)
+}
+
 /// The workgroup rows the shading pass dispatches with its sea-only pipeline: from frame::
 /// sea_only_rows (rounded up to whole workgroups) to the bottom, after the rows the visibility
 /// pass shaded (`sky_done_above`).
@@ -200,7 +205,7 @@ impl<'g> ShadePass<'g> {
         let sea_pipeline = specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only)")?;
         let tiled = match &r.planar_tiles {
             Some(_) => {
-                let capacity = r.hdr.extent.width.div_ceil(SHADE_GROUP) * r.hdr.extent.height.div_ceil(SHADE_GROUP);
+                let capacity = shade_tiles(r.hdr.extent);
                 let spec = config.shade_tiled_specialization(true);
                 let reading =
                     specialized_compute_pipeline(device, layout, code, Some(&spec), "shade (sea only, mirror)")?;
@@ -286,12 +291,9 @@ impl ShadePass<'_> {
         // frame::sea_only_rows down) get the shader without the sky's code.
         let sea = sea_group_rows(rec.frame, r.hdr.extent, self.sky_done_above);
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-        let push = |tile_list: u32| {
-            let words = [u32::from(rec.frame.planar_drawn), tile_list];
-            let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_ne_bytes()).collect();
-            // SAFETY: the layout's push range is PUSH_BYTES for the compute stage.
-            unsafe { device.cmd_push_constants(cmd, self.bindings.layout(), vk::ShaderStageFlags::COMPUTE, 0, &bytes) };
-        };
+        // PUSH_BYTES: two words.
+        let push =
+            |tile_list: u32| self.bindings.push_compute_words(cmd, &[u32::from(rec.frame.planar_drawn), tile_list]);
         push(0);
         let mut row_ranges = vec![(&self.pipeline, first..sea.start)];
         match (&self.tiled, &r.planar_tiles) {
