@@ -11,10 +11,14 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 1) uniform sampler2D mirror_depth;
 layout(set = 0, binding = 2, rgba16f) uniform writeonly image2D inverse_depth;
 
+// The texels written: origin <= p < end, where the host's mirrored objects may lie
+// (src/render/passes/mod.rs dispatch_within); the pass clears the rest.
+layout(push_constant) uniform Region { ivec2 origin; ivec2 end; } region;
+
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 p = region.origin + ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(inverse_depth);
-    if (any(greaterThanEqual(p, size))) return;
+    if (any(greaterThanEqual(p, min(size, region.end)))) return;
     float depth = texelFetch(mirror_depth, p, 0).r;
     vec3 ray = camera_ray((vec2(p) + 0.5) / vec2(size) * 2.0 - 1.0);
     // The host's projection inverted along the ray, as glsl/reflection_sources.comp does: at

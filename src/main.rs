@@ -119,6 +119,10 @@ enum Command {
         /// src/render/passes/planar_tiles.rs).
         #[arg(long)]
         no_planar_tiles: bool,
+        /// Build the mirror's images over the whole view, not only where the objects' mirror
+        /// images may lie (for comparison; see src/render/passes/planar.rs).
+        #[arg(long)]
+        no_planar_cover: bool,
         /// How the shading loop reads the wave table: in blocks shared by subgroup broadcasts
         /// (where the device allows; else per train), or per train.
         #[arg(long, value_enum, default_value_t = TrainReads::Blocks)]
@@ -163,6 +167,9 @@ enum Command {
         /// Shade every tile of the sea with the mirror's code, unsorted (for comparison).
         #[arg(long)]
         no_planar_tiles: bool,
+        /// Build the mirror's images over the whole view (for comparison).
+        #[arg(long)]
+        no_planar_cover: bool,
         #[arg(long, value_enum, default_value_t = TrainReads::Blocks)]
         train_reads: TrainReads,
     },
@@ -487,6 +494,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             frames,
             no_specialize,
             no_planar_tiles,
+            no_planar_cover,
             train_reads,
             stats,
         } => {
@@ -508,7 +516,8 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 // The terms alone on black, by the same method, glints and reflections.
                 ShaderConfig { terms, background: false, ..base }
             };
-            let shader = ShaderConfig { train_reads, planar_tiles: !no_planar_tiles, ..shader };
+            let shader =
+                ShaderConfig { train_reads, planar_tiles: !no_planar_tiles, planar_cover: !no_planar_cover, ..shader };
             let shading = Shading { shader, ssaa, statistics: stats, ..Shading::default() };
             let request = RenderRequest {
                 scene,
@@ -873,6 +882,7 @@ fn run(cli: Cli) -> ocean::Result<()> {
             method,
             no_specialize,
             no_planar_tiles,
+            no_planar_cover,
             train_reads,
         } => {
             claim_stdout(&[
@@ -881,7 +891,12 @@ fn run(cli: Cli) -> ocean::Result<()> {
                 ("--png", png.as_deref(), true),
             ])?;
             let (scene, scene_name) = load_scene(scene)?;
-            let shader = ShaderConfig { train_reads, planar_tiles: !no_planar_tiles, ..method.shader(&scene)? };
+            let shader = ShaderConfig {
+                train_reads,
+                planar_tiles: !no_planar_tiles,
+                planar_cover: !no_planar_cover,
+                ..method.shader(&scene)?
+            };
             let request = ocean::app::profile::ProfileRequest {
                 scene,
                 scene_name,

@@ -358,33 +358,28 @@ fn planar_reflections_hold_what_the_screen_does_not() {
     assert!(ratio(Reflections::Both) > 1.15, "{seen:?}");
 }
 
-/// The sea's tiles sorted by whether they may read the mirror (passes/planar_tiles.rs) shade as
-/// the unsorted pass does: a tile the sort leaves without the mirror's code holds no pixel that
-/// would have read it. The boat's preset, its reflection across many tiles of the sea-only rows
-/// and the rest of them far from it; the same within a half float's rounding (the two pipelines
-/// are compiled apart), and the reflection there in both.
-#[test]
-fn sorting_the_tiles_by_the_mirror_changes_no_pixel() {
+/// The boat's preset with planar reflections at w x h, rendered with two variants of the shading
+/// (`variant(true)`, `variant(false)`, labelled): both clean, the same within a half float's
+/// rounding, and the boat's reflection in the picture. Their reports, in that order.
+fn planar_variants_agree(
+    w: u32,
+    h: u32,
+    variant: impl Fn(bool) -> ocean::embed::ShaderConfig,
+    labels: [&str; 2],
+) -> [ocean::app::report::Report; 2] {
     let gpu = gpu();
     let scene = Scene::load(&root().join("scenes/objects/boat_sunset.toml")).unwrap();
-    let (w, h) = (320, 240);
-    let planar = |tiles: bool| ocean::embed::Shading {
-        shader: ocean::embed::ShaderConfig {
-            reflections: Reflections::Planar,
-            planar_tiles: tiles,
-            ..Default::default()
-        },
+    let planar = |on: bool| ocean::embed::Shading {
+        shader: ocean::embed::ShaderConfig { reflections: Reflections::Planar, ..variant(on) },
         ..Default::default()
     };
-    let (report, sorted) = common::render_with(&gpu, &scene, w, h, planar(true));
-    assert_clean(&report, "boat, tiles sorted");
-    assert!(report.pipelines.iter().any(|p| p == "planar tiles"), "{:?}", report.pipelines);
-    let (report, unsorted) = common::render_with(&gpu, &scene, w, h, planar(false));
-    assert_clean(&report, "boat, tiles unsorted");
-    assert!(!report.pipelines.iter().any(|p| p == "planar tiles"), "{:?}", report.pipelines);
+    let (report_on, on) = common::render_with(&gpu, &scene, w, h, planar(true));
+    assert_clean(&report_on, labels[0]);
+    let (report_off, off) = common::render_with(&gpu, &scene, w, h, planar(false));
+    assert_clean(&report_off, labels[1]);
     let (_, plain) = common::render_with(&gpu, &scene, w, h, without_reflections());
     let mut reflected = 0;
-    for ((a, b), c) in sorted.hdr.iter().zip(&unsorted.hdr).zip(&plain.hdr) {
+    for ((a, b), c) in on.hdr.iter().zip(&off.hdr).zip(&plain.hdr) {
         for k in 0..3 {
             // binary16 keeps 11 significant bits: one rounding is within 2^-11 of the value.
             let tolerance = 2.0 * (a[k].abs().max(b[k].abs()) / 2048.0).max(6.0e-8);
@@ -395,6 +390,32 @@ fn sorting_the_tiles_by_the_mirror_changes_no_pixel() {
         }
     }
     assert!(reflected > 100, "the boat's reflection changes only {reflected} pixels");
+    [report_on, report_off]
+}
+
+/// The sea's tiles sorted by whether they may read the mirror (passes/planar_tiles.rs) shade as
+/// the unsorted pass does: a tile the sort leaves without the mirror's code holds no pixel that
+/// would have read it. The boat's preset, its reflection across many tiles of the sea-only rows
+/// and the rest of them far from it; the same within a half float's rounding (the two pipelines
+/// are compiled apart), and the reflection there in both.
+#[test]
+fn sorting_the_tiles_by_the_mirror_changes_no_pixel() {
+    let tiles = |on: bool| ocean::embed::ShaderConfig { planar_tiles: on, ..Default::default() };
+    let [sorted, unsorted] = planar_variants_agree(320, 240, tiles, ["boat, tiles sorted", "boat, tiles unsorted"]);
+    assert!(sorted.pipelines.iter().any(|p| p == "planar tiles"), "{:?}", sorted.pipelines);
+    assert!(!unsorted.pipelines.iter().any(|p| p == "planar tiles"), "{:?}", unsorted.pipelines);
+}
+
+/// The mirror pass builds its images only where the host says its mirrored objects may lie (the
+/// boat's mirrored box covers a small part of the view): the same picture as built over the whole
+/// images, within a half float's rounding, with the boat's reflection in it. A cover that cut
+/// into the mirror image would crop the reflection and fail it. The view's sides are powers of
+/// two: a level of odd size is blitted from exact 2 x 2 blocks within a cover and at the level's
+/// own scale (W / floor(W / 2)) over the whole, which differ there by a fraction of a texel.
+#[test]
+fn building_the_mirror_within_its_cover_changes_no_pixel() {
+    let cover = |on: bool| ocean::embed::ShaderConfig { planar_cover: on, ..Default::default() };
+    planar_variants_agree(256, 256, cover, ["boat, mirror within its cover", "boat, mirror over the whole view"]);
 }
 
 /// The mirror image shows what a mirror below the objects sees, as the exact tracer sees it on a

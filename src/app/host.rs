@@ -207,7 +207,7 @@ impl<'g> OffscreenHost<'g> {
             self.ocean.record_shadows(cmd, 0, &mut |cmd, _| objects.record_casters(cmd, 0))?;
             // Their mirror images, for the sea's planar reflections, where any is in view.
             if objects.mirrored_in_view(0) {
-                self.ocean.record_planar(cmd, 0, &mut |cmd, _| objects.record_mirrored(cmd, 0))?;
+                self.ocean.record_planar(cmd, 0, objects.mirror_cover(0), &mut |cmd, _| objects.record_mirrored(cmd, 0))?;
             }
             let depth = HostImage::from(depth_image);
             self.tracker.image(&colour, 0, 1, Access::ColorAttachmentWrite, true);

@@ -266,7 +266,7 @@ pub struct SunShadow {
     pub texel_m: f64,
 }
 
-pub use crate::render::passes::planar::{MirrorView, PLANAR_COLOUR_FORMAT};
+pub use crate::render::passes::planar::{MirrorCover, MirrorView, PLANAR_COLOUR_FORMAT};
 pub use crate::render::passes::shadow::{CasterView, DEPTH_BIAS as SHADOW_DEPTH_BIAS};
 pub use crate::render::resources::PLANAR_DEPTH_FORMAT;
 /// The sun's shadow map's format, for a host's caster pipeline.
@@ -667,14 +667,19 @@ impl<'g> Ocean<'g> {
     /// command buffer `cmd` (recording, outside a rendering scope), before [`Ocean::record`]:
     /// `draw` records the host's objects mirrored about the sea as [`MirrorView`] says, inside
     /// the pass's rendering scope ([`PLANAR_COLOUR_FORMAT`] written with alpha 1,
-    /// [`PLANAR_DEPTH_FORMAT`] in the host's own depth convention). The frame's shading then reads
-    /// them along each sea pixel's reflected ray. A frame the host records none for (none of its
-    /// objects' mirror images in view) reads none, and costs nothing. Ok(false) where the ocean
-    /// reads no planar reflections ([`Ocean::mirror_view`] None).
+    /// [`PLANAR_DEPTH_FORMAT`] in the host's own depth convention). `cover` says where they may
+    /// lie ([`MirrorView::cover_of`] the corners of their mirrored bounding boxes, or
+    /// [`MirrorCover::Whole`]): the draws are scissored to it, and the pass builds what the
+    /// shading reads there alone, so a small object's mirror costs a small rectangle's work. The
+    /// frame's shading then reads them along each sea pixel's reflected ray. A frame the host
+    /// records none for (none of its objects' mirror images in view) reads none, and costs
+    /// nothing. Ok(false) where the ocean reads no planar reflections ([`Ocean::mirror_view`]
+    /// None).
     pub fn record_planar(
         &mut self,
         cmd: vk::CommandBuffer,
         slot: usize,
+        cover: MirrorCover,
         draw: &mut dyn FnMut(vk::CommandBuffer, &MirrorView),
     ) -> Result<bool> {
         check_slot(slot, self.desc.frames_in_flight)?;
@@ -682,7 +687,7 @@ impl<'g> Ocean<'g> {
         let mirror = self.mirror;
         let Some((renderer, prepared)) = self.updated(slot)? else { return Ok(false) };
         let Some(view) = mirror else { return Ok(false) };
-        renderer.record_host_planar(cmd, slot, prepared, &view, draw)
+        renderer.record_host_planar(cmd, slot, prepared, &view, cover, draw)
     }
 
     /// Records a pass of the host's own (`record`, into its command buffer `cmd`) ahead of

@@ -19,7 +19,7 @@ use crate::render::passes::host_copy::HostCopyPass;
 use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
 use crate::render::passes::placeholders::PlaceholdersPass;
-use crate::render::passes::planar::{MirrorView, PlanarPass};
+use crate::render::passes::planar::{MirrorCover, MirrorView, PlanarPass};
 use crate::render::passes::planar_tiles::PlanarTilesPass;
 use crate::render::passes::readback::ReadbackPass;
 use crate::render::passes::reflections::ReflectionsPass;
@@ -380,7 +380,11 @@ impl<'g> Renderer<'g> {
                 passes.push(Box::new(ReadbackPass));
             }
         }
-        let planar = resources.planar.as_ref().map(|images| PlanarPass::new(device, &resources, images)).transpose()?;
+        let planar = resources
+            .planar
+            .as_ref()
+            .map(|images| PlanarPass::new(device, &resources, images, options.shader.planar_cover))
+            .transpose()?;
         let scopes =
             (passes.len() + usize::from(shadow.is_some()) + usize::from(planar.is_some()) + HOST_PASSES) as u32;
         let slots = (0..frames_in_flight as usize)
@@ -817,7 +821,7 @@ impl<'g> Renderer<'g> {
 
     /// Records the mirror pass of frame `prepared` in `slot` into a host's command buffer `cmd`
     /// ahead of the frame (embed::Ocean::record_planar): `draw` records the host's objects
-    /// mirrored about the sea with `view`, into images the frame's shading then reads. Does
+    /// mirrored about the sea with `view` within `cover`, into images the frame's shading then reads. Does
     /// nothing where the renderer has no mirror pass (Ok(false)); a frame the host records none
     /// for reads none.
     pub fn record_host_planar(
@@ -826,6 +830,7 @@ impl<'g> Renderer<'g> {
         slot: usize,
         prepared: &Prepared,
         view: &MirrorView,
+        cover: MirrorCover,
         draw: &mut dyn FnMut(vk::CommandBuffer, &MirrorView),
     ) -> Result<bool> {
         let Some(pass) = &self.planar else { return Ok(false) };
@@ -836,7 +841,7 @@ impl<'g> Renderer<'g> {
         s.begin_ahead(&device.raw, cmd);
         s.profiler.begin(device, cmd, PlanarPass::NAME);
         let mut rec = Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame };
-        pass.record_mirrored(&mut rec, &self.resources, view, far, draw);
+        pass.record_mirrored(&mut rec, &self.resources, view, cover, far, draw);
         s.profiler.end(device, cmd);
         s.ahead.planar = true;
         Ok(true)

@@ -373,7 +373,8 @@ impl<'g> Resources<'g> {
             let colour = Image::new(gpu, "planar colour", HDR_FORMAT, extent, levels, usage)?;
             let usage = I::DEPTH_STENCIL_ATTACHMENT | I::SAMPLED;
             let depth = Image::new(gpu, "planar depth", PLANAR_DEPTH_FORMAT, extent, 1, usage)?;
-            let usage = I::STORAGE | I::SAMPLED;
+            // Cleared outside a host's cover (passes/planar.rs).
+            let usage = I::STORAGE | I::SAMPLED | I::TRANSFER_DST;
             let inverse_depth = Image::new(gpu, "planar inverse depth", HDR_FORMAT, extent, levels, usage)?;
             let inverse_depth_levels =
                 (0..levels).map(|level| inverse_depth.level_view(level)).collect::<Result<Vec<_>>>()?;

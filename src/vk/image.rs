@@ -225,14 +225,73 @@ pub fn host_depth_view<'g>(gpu: &'g Gpu, host: &HostImage) -> Result<Owned<'g, v
     Ok(Owned::new(&gpu.device, view, "host depth, sampled"))
 }
 
+/// A rectangle of texels of an image's level: columns x0..x1 and rows y0..y1, ends exclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelRect {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+impl PixelRect {
+    /// The whole of an `extent` level.
+    pub fn whole(extent: vk::Extent2D) -> Self {
+        PixelRect { x0: 0, y0: 0, x1: extent.width, y1: extent.height }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.x0 >= self.x1 || self.y0 >= self.y1
+    }
+
+    pub fn extent(&self) -> vk::Extent2D {
+        vk::Extent2D { width: self.x1.saturating_sub(self.x0), height: self.y1.saturating_sub(self.y0) }
+    }
+
+    /// The texels of level `level` of an image whose level 0 is `base` that hold any texel of this
+    /// rectangle of level 0: each level's texel holds the 2 x 2 below it, and an odd level's
+    /// trailing row and column fold into its last texel, so level 0's texel x lies in level l's
+    /// min(x >> l, size - 1).
+    pub fn at_level(&self, level: u32, base: vk::Extent2D) -> Self {
+        if self.is_empty() {
+            return PixelRect { x0: 0, y0: 0, x1: 0, y1: 0 };
+        }
+        let size = level_extent(base, level);
+        let texel = |v: u32, size: u32| (v >> level).min(size - 1);
+        PixelRect {
+            x0: texel(self.x0, size.width),
+            y0: texel(self.y0, size.height),
+            x1: texel(self.x1 - 1, size.width) + 1,
+            y1: texel(self.y1 - 1, size.height) + 1,
+        }
+    }
+}
+
+/// The size of level `level` of an image whose level 0 is `base`.
+pub fn level_extent(base: vk::Extent2D, level: u32) -> vk::Extent2D {
+    vk::Extent2D { width: (base.width >> level).max(1), height: (base.height >> level).max(1) }
+}
+
 /// Records a linear blit of colour level `level - 1` of `image` (in TRANSFER_SRC_OPTIMAL) onto
-/// level `level` (in TRANSFER_DST_OPTIMAL): one step of a mipmap. The format supports linear
+/// the texels `within` (level 0's rectangle) cover of level `level` (in TRANSFER_DST_OPTIMAL): one
+/// step of a mipmap. Each texel takes the 2 x 2 above it, and at an odd level's far edge the
+/// trailing row or column too, as a blit of the whole level does. The format supports linear
 /// blits (checked at device choice, or one the specification requires it of).
-fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level: u32) {
-    let size = |l: u32| vk::Offset3D {
-        x: (image.extent.width >> l).max(1) as i32,
-        y: (image.extent.height >> l).max(1) as i32,
-        z: 1,
+fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level: u32, within: PixelRect) {
+    let dst = within.at_level(level, image.extent);
+    if dst.is_empty() {
+        return;
+    }
+    let (src_size, dst_size) = (level_extent(image.extent, level - 1), level_extent(image.extent, level));
+    let src_end = |end: u32, dst_end: u32, src_end: u32| if end == dst_end { src_end } else { (2 * end).min(src_end) };
+    let src = PixelRect {
+        x0: (2 * dst.x0).min(src_size.width - 1),
+        y0: (2 * dst.y0).min(src_size.height - 1),
+        x1: src_end(dst.x1, dst_size.width, src_size.width),
+        y1: src_end(dst.y1, dst_size.height, src_size.height),
+    };
+    let corners = |r: PixelRect| {
+        [vk::Offset3D { x: r.x0 as i32, y: r.y0 as i32, z: 0 }, vk::Offset3D { x: r.x1 as i32, y: r.y1 as i32, z: 1 }]
     };
     let layer = |l: u32| vk::ImageSubresourceLayers {
         aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -242,12 +301,12 @@ fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level
     };
     let blit = vk::ImageBlit {
         src_subresource: layer(level - 1),
-        src_offsets: [vk::Offset3D::default(), size(level - 1)],
+        src_offsets: corners(src),
         dst_subresource: layer(level),
-        dst_offsets: [vk::Offset3D::default(), size(level)],
+        dst_offsets: corners(dst),
     };
-    // SAFETY: `cmd` is recording outside a rendering scope and the two levels are in the
-    // layouts named (the caller's barriers).
+    // SAFETY: `cmd` is recording outside a rendering scope, the two levels are in the layouts
+    // named (the caller's barriers) and both regions lie inside their levels.
     unsafe {
         device.cmd_blit_image(
             cmd,
@@ -264,12 +323,33 @@ fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level
 /// Fills levels 1.. of `image` from level 0, each a linear blit of the one above, with the
 /// barriers between them; the levels are left in transfer layouts for the caller to declare on.
 pub fn mipmap(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracker, image: &Image) {
+    mipmap_within(device, cmd, tracker, image, PixelRect::whole(image.extent));
+}
+
+/// As `mipmap`, over the texels that level 0's rectangle `within` covers on each level alone: the
+/// rest of each level keeps what it holds (a caller that clears it leaves it zero). On a level of
+/// odd size a part blits exact 2 x 2 blocks where the whole level's blit scales by
+/// W / floor(W / 2): the two differ there by a fraction of a texel's offset.
+pub fn mipmap_within(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracker, image: &Image, within: PixelRect) {
     for level in 1..image.mip_levels {
+        let whole = within.at_level(level, image.extent) == PixelRect::whole(level_extent(image.extent, level));
         tracker.image(image, level - 1, 1, Access::TransferRead, false);
-        tracker.image(image, level, 1, Access::TransferWrite, true);
+        tracker.image(image, level, 1, Access::TransferWrite, whole);
         tracker.flush(device, cmd);
-        blit_level(device, cmd, image, level);
+        blit_level(device, cmd, image, level, within);
     }
+}
+
+/// Clears levels `levels` of colour image `image` (declared ClearWrite by the caller) to zero.
+pub fn clear_levels(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, levels: std::ops::Range<u32>) {
+    if levels.is_empty() {
+        return;
+    }
+    let range = single_layer_levels(vk::ImageAspectFlags::COLOR, levels.start, levels.end - levels.start);
+    let zero = vk::ClearColorValue { float32: [0.0; 4] };
+    // SAFETY: `cmd` is recording outside a rendering scope; the levels are in
+    // TRANSFER_DST_OPTIMAL (the caller's declaration) and the image was made TRANSFER_DST.
+    unsafe { device.cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &zero, &[range]) };
 }
 
 /// A copy of the whole of colour level 0 of an `extent` image to or from a tightly packed buffer
@@ -302,4 +382,31 @@ pub fn copy_to_buffer(
     // SAFETY: the image was declared TransferRead (TRANSFER_SRC_OPTIMAL) and the buffer
     // TransferWrite, and the buffer holds the whole image.
     unsafe { device.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region]) };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rectangle_covers_on_each_level_the_texels_its_own_fold_into() {
+        let base = vk::Extent2D { width: 1023, height: 6 };
+        // Level 0's texel x lies in level l's min(x >> l, size - 1): check every one-texel
+        // rectangle against that rule, on every level.
+        for x in [0, 1, 510, 511, 1020, 1021, 1022] {
+            let one = PixelRect { x0: x, y0: 5, x1: x + 1, y1: 6 };
+            for level in 0..10 {
+                let size = level_extent(base, level);
+                let r = one.at_level(level, base);
+                let texel = (x >> level).min(size.width - 1);
+                assert_eq!((r.x0, r.x1), (texel, texel + 1), "x {x} level {level}");
+                assert_eq!((r.y0, r.y1), ((5 >> level).min(size.height - 1), (5 >> level).min(size.height - 1) + 1));
+            }
+        }
+        // The whole level 0 covers the whole of every level; nothing covers nothing.
+        for level in 0..10 {
+            assert_eq!(PixelRect::whole(base).at_level(level, base), PixelRect::whole(level_extent(base, level)));
+            assert!(PixelRect { x0: 3, y0: 3, x1: 3, y1: 5 }.at_level(level, base).is_empty());
+        }
+    }
 }

@@ -10,7 +10,7 @@ mod pipeline;
 mod upload;
 
 use crate::embed::Light;
-use crate::embed::MirrorView;
+use crate::embed::{MirrorCover, MirrorView};
 use crate::error::{Error, Result, VkContext};
 use crate::model::environment::{IRRADIANCE_COLUMNS, IRRADIANCE_ROWS};
 use crate::model::floating::Waterplane;
@@ -161,6 +161,8 @@ pub struct Objects<'g> {
     light: ObjectLight,
     /// Per frame slot: whether any object's mirror image is in view (the mirror pass is drawn).
     mirrored_in_view: Vec<bool>,
+    /// Per slot, where the objects' mirror images may lie (as of its `update`).
+    mirror_cover: Vec<MirrorCover>,
 }
 
 impl<'g> Objects<'g> {
@@ -294,6 +296,7 @@ impl<'g> Objects<'g> {
             batches,
             light: ObjectLight::default(),
             mirrored_in_view: vec![false; slots as usize],
+            mirror_cover: vec![MirrorCover::NOTHING; slots as usize],
         })
     }
 
@@ -364,6 +367,12 @@ impl<'g> Objects<'g> {
     /// records the ocean's mirror pass (embed::Ocean::record_planar) only then.
     pub fn mirrored_in_view(&self, slot: usize) -> bool {
         self.mirrored_in_view[slot]
+    }
+
+    /// Where the objects' mirror images in view may lie in frame `slot` (as of its `update`): the
+    /// union of their mirrored boxes' covers (embed::Ocean::record_planar's `cover`).
+    pub fn mirror_cover(&self, slot: usize) -> MirrorCover {
+        self.mirror_cover[slot]
     }
 
     /// Draws the objects of frame `slot` mirrored about the sea, inside the ocean's mirror pass
@@ -483,6 +492,7 @@ impl<'g> Objects<'g> {
         self.uniforms.write_at(slot as u64 * self.uniform_stride, &[uniforms])?;
         let planes = view_planes(frame.clip_from_relative);
         let mut mirrored_in_view = false;
+        let mut mirror_cover = MirrorCover::NOTHING;
         let instances: Vec<Instance> = self
             .order
             .iter()
@@ -490,12 +500,15 @@ impl<'g> Objects<'g> {
                 let (object, model) = &self.objects[i];
                 let p = place(frame.scene, frame.waves, object, self.waterplanes[i], frame.eye.z, frame.time_s);
                 let (n, w) = sea_plane_below(p.origin, frame.eye.z, frame.scene.planet.radius_m);
-                if frame.mirror.is_some() && !mirrored_in_view {
+                if let Some(view) = &frame.mirror {
                     let (lo, hi) = self.model_bounds[*model];
                     let model_box = CasterBox { min: lo.as_dvec3(), max: hi.as_dvec3() };
                     let mirror = MirrorView::mirror((n, w)) * p.relative_from_model;
                     let corners: Vec<DVec3> = model_box.corners().map(|c| mirror.transform_point3(c)).collect();
-                    mirrored_in_view = in_view(&planes, &corners);
+                    if in_view(&planes, &corners) {
+                        mirrored_in_view = true;
+                        mirror_cover = mirror_cover.union(view.cover_of(corners));
+                    }
                 }
                 // Normals: the inverse transpose of the linear part, scaled to keep unit normals
                 // unit (the scale is uniform).
@@ -527,6 +540,7 @@ impl<'g> Objects<'g> {
             return Err(Error::Argument("an object's placement is not finite".into()));
         }
         self.mirrored_in_view[slot] = mirrored_in_view;
+        self.mirror_cover[slot] = mirror_cover;
         self.instances.write_at(slot as u64 * self.instance_stride, &instances)
     }
 

@@ -26,6 +26,7 @@ use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
 use crate::vk::barrier::Tracker;
 use crate::vk::device::Device;
 use crate::vk::external::HostImage;
+use crate::vk::image::PixelRect;
 use crate::vk::pipeline::Bindings;
 use ash::vk;
 
@@ -114,6 +115,28 @@ pub fn dispatch_over(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings
     unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
     bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
     // SAFETY: as above.
+    unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
+}
+
+/// The push constants of a compute pass over a rectangle of texels (dispatch_within): its origin
+/// and its end, two ivec2.
+pub const REGION_PUSH_BYTES: u32 = 16;
+
+/// Records a compute pass over the texels of `region` alone: binds the pipeline and its set
+/// (made with REGION_PUSH_BYTES of push constants), pushes the region's origin and end, and
+/// dispatches one invocation per texel in the shaders' 8 x 8 groups from the origin. Nothing
+/// for an empty region.
+pub fn dispatch_within(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings, region: PixelRect) {
+    if region.is_empty() {
+        return;
+    }
+    let (device, cmd) = (&rec.device.raw, rec.cmd);
+    // SAFETY: as dispatch_over's.
+    unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
+    bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
+    bindings.push_compute_words(cmd, &[region.x0, region.y0, region.x1, region.y1]);
+    let extent = region.extent();
+    // SAFETY: as dispatch_over's.
     unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
 }
 

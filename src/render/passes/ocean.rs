@@ -114,6 +114,10 @@ pub struct ShaderConfig {
     /// by whether they may read it (passes/planar_tiles.rs), and those that cannot are shaded
     /// without its code (constant 17). Off: every tile with it (for comparison).
     pub planar_tiles: bool,
+    /// Whether the mirror pass builds its images only where the host's mirrored objects may lie
+    /// (passes/planar.rs MirrorCover). Off: over the whole images, whatever the host says (for
+    /// comparison).
+    pub planar_cover: bool,
 }
 
 impl Default for ShaderConfig {
@@ -133,6 +137,7 @@ impl Default for ShaderConfig {
             ray_hit: true,
             reflections: Reflections::Screen,
             planar_tiles: true,
+            planar_cover: true,
         }
     }
 }

@@ -1,13 +1,14 @@
 //! A pyramid whose levels a compute shader reduces one from the other, one dispatch per level:
 //! the objects' nearest-depth pyramid (glsl/reflection_depth_mip.comp) and the mirror's coverage
 //! and inverse depth (glsl/planar_mip.comp). The shader reads the finer level at binding 0 and
-//! writes the coarser at binding 1, both storage images.
+//! writes the coarser at binding 1, both storage images, over the texels of a rectangle that its
+//! push constants give (origin, end), REGION_PUSH_BYTES.
 
-use super::{dispatch_over, Recorder};
+use super::{dispatch_within, Recorder, REGION_PUSH_BYTES};
 use crate::error::Result;
 use crate::vk::barrier::Access;
 use crate::vk::device::Device;
-use crate::vk::image::Image;
+use crate::vk::image::{level_extent, Image, PixelRect};
 use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
 use ash::vk;
@@ -28,7 +29,8 @@ impl<'g> LevelReduction<'g> {
         let levels = level_views
             .windows(2)
             .map(|pair| {
-                let b = Bindings::new(device, name, &[(0, D::STORAGE_IMAGE, compute), (1, D::STORAGE_IMAGE, compute)])?;
+                let images = [(0, D::STORAGE_IMAGE, compute), (1, D::STORAGE_IMAGE, compute)];
+                let b = Bindings::with_push_constants(device, name, &images, REGION_PUSH_BYTES)?;
                 b.write_image(0, D::STORAGE_IMAGE, pair[0].raw, general, vk::Sampler::null());
                 b.write_image(1, D::STORAGE_IMAGE, pair[1].raw, general, vk::Sampler::null());
                 Ok(b)
@@ -40,17 +42,21 @@ impl<'g> LevelReduction<'g> {
 
     /// Writes every level of `image` from 1 on from the one above it (level 0 written already).
     pub fn record(&self, rec: &mut Recorder, image: &Image) {
+        self.record_within(rec, image, PixelRect::whole(image.extent));
+    }
+
+    /// As `record`, over the texels that level 0's rectangle `within` covers on each level alone:
+    /// the rest of each level keeps what it holds.
+    pub fn record_within(&self, rec: &mut Recorder, image: &Image, within: PixelRect) {
         let (device, cmd) = (&rec.device.raw, rec.cmd);
         for (i, (bindings, pipeline)) in self.levels.iter().zip(self.pipeline.iter().cycle()).enumerate() {
             let level = i as u32 + 1;
+            let region = within.at_level(level, image.extent);
+            let whole = region == PixelRect::whole(level_extent(image.extent, level));
             rec.tracker.image(image, level - 1, 1, Access::ComputeStorageRead, false);
-            rec.tracker.image(image, level, 1, Access::ComputeStorageWrite, true);
+            rec.tracker.image(image, level, 1, Access::ComputeStorageWrite, whole);
             rec.tracker.flush(device, cmd);
-            let extent = vk::Extent2D {
-                width: (image.extent.width >> level).max(1),
-                height: (image.extent.height >> level).max(1),
-            };
-            dispatch_over(rec, pipeline.raw, bindings, extent);
+            dispatch_within(rec, pipeline.raw, bindings, region);
         }
     }
 }
