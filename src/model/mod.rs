@@ -8,6 +8,7 @@ pub mod floating;
 pub mod fresnel;
 pub mod gltf;
 pub mod masking;
+pub mod packets;
 pub mod placement;
 pub mod scene;
 pub mod sky;

@@ -1,0 +1,212 @@
+//! Wave packets in f64: short trains of one wavelength under a smooth envelope, moving at deep
+//! water's group velocity (Jeschke & Wojtan, "Water Wave Packets", SIGGRAPH 2017), the local waves
+//! beside the trochoid trains. A packet displaces the surface as a trochoid train does, times its
+//! envelope, so the filtering of the three scales carries over with the same closed forms: one
+//! wavelength, one slope amplitude k a E. Sources turn a scene's moving objects and events into
+//! the packets alive at a time t (`kelvin`), as a function of t alone: no history is replayed.
+
+pub mod kelvin;
+
+use crate::model::waves::trochoid_slope_variance;
+use glam::{DVec2, DVec3};
+
+/// Deep water's steepest wave: Stokes' limiting height H / lambda = 0.142 (Michell 1893), so
+/// k a = pi 0.142. A packet's slope amplitude is held to it; the trains' own limit, k h <= 1 (a
+/// trochoid that would loop), is looser.
+pub const STEEPEST_KA: f64 = std::f64::consts::PI * 0.142;
+
+/// Kinematic viscosity of sea water at 20 C (m^2/s): a linear wave's amplitude decays as
+/// exp(-2 nu k^2 t) (Lamb, Hydrodynamics, 1932, section 348).
+pub const VISCOSITY: f64 = 1.05e-6;
+
+/// Envelope tails beyond this many sigmas are left out of a sum (exp(-8) = 3.4e-4).
+pub const ENVELOPE_SIGMAS: f64 = 4.0;
+
+/// One packet at the field's time: a carrier of wavenumber k travelling along `direction`, under a
+/// Gaussian envelope whose axes are `axis` and its perpendicular.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Packet {
+    /// The envelope's centre (m, the trains' horizontal frame).
+    pub centre: DVec2,
+    /// Unit: where the carrier travels, its wave vector's direction.
+    pub direction: DVec2,
+    /// Wavenumber (rad/m).
+    pub k: f64,
+    /// Amplitude at the envelope's centre (m), k a <= STEEPEST_KA.
+    pub amplitude: f64,
+    /// Unit: the envelope's first axis (a wake's chain of packets lies along it).
+    pub axis: DVec2,
+    /// The envelope's standard deviations along `axis` and across it (m).
+    pub sigma: [f64; 2],
+    /// The carrier's phase at the centre (rad): at rest position x it is
+    /// phase - k direction . (x - centre), as a train's omega t - k . x + phase0.
+    pub phase: f64,
+}
+
+/// The surface a packet adds at a rest position: its displacement, and its share of the
+/// tangents d p / d x and d p / d y (as waves::add_tangents adds a train's).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfaceSum {
+    pub displacement: DVec3,
+    pub tx: DVec3,
+    pub ty: DVec3,
+}
+
+impl Packet {
+    pub fn wavelength(&self) -> f64 {
+        std::f64::consts::TAU / self.k
+    }
+
+    /// Its wave energy over rho g (m^4): the phase-averaged 1/2 a^2 E^2 integrated over the
+    /// envelope, 1/2 a^2 pi sigma_1 sigma_2.
+    pub fn energy(&self) -> f64 {
+        0.5 * self.amplitude * self.amplitude * std::f64::consts::PI * self.sigma[0] * self.sigma[1]
+    }
+
+    /// Whether rest position x lies within ENVELOPE_SIGMAS of the centre on both axes.
+    pub fn reaches(&self, x: DVec2) -> bool {
+        let r = x - self.centre;
+        let (u, v) = (r.dot(self.axis), r.perp_dot(self.axis));
+        u.abs() <= ENVELOPE_SIGMAS * self.sigma[0] && v.abs() <= ENVELOPE_SIGMAS * self.sigma[1]
+    }
+
+    /// The envelope at rest position x and its gradient.
+    pub fn envelope(&self, x: DVec2) -> (f64, DVec2) {
+        let r = x - self.centre;
+        let across = self.axis.perp();
+        let (u, v) = (r.dot(self.axis), r.dot(across));
+        let (s0, s1) = (self.sigma[0], self.sigma[1]);
+        let e = (-0.5 * (u * u / (s0 * s0) + v * v / (s1 * s1))).exp();
+        (e, -e * (self.axis * (u / (s0 * s0)) + across * (v / (s1 * s1))))
+    }
+
+    /// Adds this packet's displacement and tangents at rest position x to `sum`: a trochoid's,
+    /// horizontal direction a E sin(theta) and vertical a E cos(theta), with the envelope's own
+    /// gradient in the derivatives.
+    pub fn add_to(&self, x: DVec2, sum: &mut SurfaceSum) {
+        let (e, grad) = self.envelope(x);
+        let theta = self.phase - self.k * self.direction.dot(x - self.centre);
+        let (sin, cos) = theta.sin_cos();
+        let (a, d) = (self.amplitude, self.direction);
+        sum.displacement += DVec3::new(d.x * a * e * sin, d.y * a * e * sin, a * e * cos);
+        // d/dx_j of a E sin(theta) = a (dE/dx_j sin + E cos (-k d_j)), and of a E cos(theta)
+        // = a (dE/dx_j cos + E sin k d_j).
+        let horizontal = |j: f64, g: f64| a * (g * sin - e * cos * self.k * j);
+        let vertical = |j: f64, g: f64| a * (g * cos + e * sin * self.k * j);
+        let (hx, hy) = (horizontal(d.x, grad.x), horizontal(d.y, grad.y));
+        sum.tx += DVec3::new(d.x * hx, d.y * hx, vertical(d.x, grad.x));
+        sum.ty += DVec3::new(d.x * hy, d.y * hy, vertical(d.y, grad.y));
+    }
+
+    /// Its slope variance at rest position x where no scale resolves it (the BRDF's share),
+    /// along and across `wind` (a unit vector): a trochoid's 1 - sqrt(1 - (k a E)^2), split by
+    /// the squared cosine and sine of its direction to the wind, as a train's.
+    pub fn slope_variance(&self, x: DVec2, wind: DVec2) -> [f64; 2] {
+        let (e, _) = self.envelope(x);
+        let v = trochoid_slope_variance((self.k * self.amplitude * e).powi(2));
+        let c = self.direction.dot(wind);
+        [c * c * v, (1.0 - c * c) * v]
+    }
+}
+
+/// The packets alive at one time, within a bound on their number.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PacketField {
+    pub packets: Vec<Packet>,
+    /// The energy (Packet::energy) of those the bound left out, and of all the sources made.
+    pub dropped_energy: f64,
+    pub total_energy: f64,
+}
+
+impl PacketField {
+    /// At most `max` of `candidates`: the weakest (least energy) are left out first, which the
+    /// spreading and damping of every source make its oldest. Ties keep the earlier candidate.
+    pub fn bounded(mut candidates: Vec<Packet>, max: usize) -> Self {
+        let total_energy = candidates.iter().map(Packet::energy).sum();
+        let mut dropped_energy = 0.0;
+        if candidates.len() > max {
+            // Strongest first; a stable sort keeps ties in the sources' order.
+            candidates.sort_by(|a, b| b.energy().total_cmp(&a.energy()));
+            dropped_energy = candidates[max..].iter().map(Packet::energy).sum();
+            candidates.truncate(max);
+        }
+        PacketField { packets: candidates, dropped_energy, total_energy }
+    }
+
+    /// The packets' displacement and tangents at rest position x.
+    pub fn surface(&self, x: DVec2) -> SurfaceSum {
+        let mut sum = SurfaceSum::default();
+        for p in self.packets.iter().filter(|p| p.reaches(x)) {
+            p.add_to(x, &mut sum);
+        }
+        sum
+    }
+
+    /// The packets' height at rest position x (their vertical displacement).
+    pub fn height(&self, x: DVec2) -> f64 {
+        self.surface(x).displacement.z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn packet() -> Packet {
+        Packet {
+            centre: DVec2::new(3.0, -2.0),
+            direction: DVec2::new(0.6, 0.8),
+            k: 2.0,
+            amplitude: 0.1,
+            axis: DVec2::new(1.0, 0.0),
+            sigma: [4.0, 2.5],
+            phase: 0.7,
+        }
+    }
+
+    #[test]
+    fn a_packet_s_tangents_are_the_derivatives_of_its_displacement() {
+        let p = packet();
+        let at = |x: DVec2| {
+            let mut s = SurfaceSum::default();
+            p.add_to(x, &mut s);
+            s
+        };
+        let h = 1e-6;
+        for x in [DVec2::new(3.0, -2.0), DVec2::new(5.5, 0.3), DVec2::new(-1.0, -4.0)] {
+            let s = at(x);
+            let dx = (at(x + DVec2::X * h).displacement - at(x - DVec2::X * h).displacement) / (2.0 * h);
+            let dy = (at(x + DVec2::Y * h).displacement - at(x - DVec2::Y * h).displacement) / (2.0 * h);
+            assert!((s.tx - dx).length() < 1e-8, "{:?} {dx:?}", s.tx);
+            assert!((s.ty - dy).length() < 1e-8, "{:?} {dy:?}", s.ty);
+        }
+    }
+
+    #[test]
+    fn a_packet_s_energy_is_its_envelope_s_integral() {
+        // The phase-averaged 1/2 a^2 E^2 summed over a fine grid.
+        let p = packet();
+        let (step, mut sum) = (0.05, 0.0);
+        for i in -400..=400 {
+            for j in -400..=400 {
+                let x = p.centre + DVec2::new(i as f64, j as f64) * step;
+                let (e, _) = p.envelope(x);
+                sum += 0.5 * (p.amplitude * e).powi(2) * step * step;
+            }
+        }
+        assert!((sum / p.energy() - 1.0).abs() < 1e-6, "{sum} {}", p.energy());
+    }
+
+    #[test]
+    fn the_bound_leaves_out_the_weakest_and_counts_their_energy() {
+        let packets: Vec<Packet> =
+            (1..=10).map(|i| Packet { amplitude: 0.01 * i as f64, ..packet() }).collect();
+        let field = PacketField::bounded(packets.clone(), 4);
+        assert_eq!(field.packets.len(), 4);
+        assert!(field.packets.iter().all(|p| p.amplitude >= 0.07 - 1e-12));
+        let dropped: f64 = packets[..6].iter().map(Packet::energy).sum();
+        assert!((field.dropped_energy - dropped).abs() < 1e-15);
+        assert!((field.total_energy - packets.iter().map(Packet::energy).sum::<f64>()).abs() < 1e-15);
+        assert_eq!(PacketField::bounded(packets, 20).dropped_energy, 0.0);
+    }
+}
