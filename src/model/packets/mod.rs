@@ -6,6 +6,7 @@
 //! the packets alive at a time t (`kelvin`), as a function of t alone: no history is replayed.
 
 pub mod kelvin;
+pub mod splash;
 
 use crate::model::waves::trochoid_slope_variance;
 use glam::{DVec2, DVec3};
