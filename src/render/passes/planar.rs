@@ -69,9 +69,7 @@ impl MirrorView {
         let t = if rise > 0.0 { (-w / rise).clamp(0.0, 1.0) } else { 1.0 };
         eye_image + t * (p - eye_image)
     }
-}
 
-impl MirrorView {
     /// Where camera-relative points, mirrored already (the corners of a box holding a mirrored
     /// object), lie in the mirror's images: their projections' bounding rectangle. Whole where
     /// one lies on or behind the eye's plane (no projection bounds them there) or is not finite.
