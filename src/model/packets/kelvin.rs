@@ -49,7 +49,9 @@ pub struct Wake {
     pub start_s: Option<f64>,
     /// Its waterline length (m).
     pub hull_length_m: f64,
-    /// The wake's amplitude one waterline length behind it, on its brightest ray (m).
+    /// The wake's amplitude scale (m): its brightest component's far field, A ∝ r^(-1/2) along
+    /// its ray, taken back to one waterline length behind. Nearer than a few wavelengths the
+    /// far-field law does not hold, and the drawn waves there are lower.
     pub amplitude_m: f64,
 }
 
@@ -162,7 +164,10 @@ impl Wake {
                 let r = chain.length();
                 let lateral = r * alpha_prime.abs() * d_theta;
                 let caustic = r.powf(1.0 / 3.0) * k.powf(-2.0 / 3.0);
-                let across = (0.5 * lateral).max(0.5 * caustic).max(0.5 * lambda);
+                // Half the band's width, and no less than half the cusp's: narrower than a
+                // wavelength where need be (wider, a packet would overlap components whose phases
+                // have drifted apart). Never zero: an envelope divides by it.
+                let across = (0.5 * lateral).max(0.5 * caustic).max(1e-6 * lambda);
                 let field = if r > 0.0 { (f0 * source(k) / (v * r * spread(alpha_prime, k, r))).sqrt() } else { f64::INFINITY };
                 // The chain's Gaussians spaced one sigma apart sum to sqrt(2 pi) times one; the
                 // neighbouring components' spaced `lateral` apart, to sqrt(2 pi) across / lateral.

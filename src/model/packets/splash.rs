@@ -22,6 +22,11 @@ pub const DEPTH_PER_RADIUS: f64 = 0.25;
 /// k exp(-k^2 R^2 / 2), peaks at k R = 1 and holds 99.97% of itself between these.
 const K_R_RANGE: (f64, f64) = (0.05, 4.0);
 
+/// The largest value of a row of unit Gaussians spaced two sigmas apart, each times its share
+/// 2 / sqrt(2 pi) (their mean is 1): at a centre, (1 + 2 exp(-2) + 2 exp(-8) + ...) 2 / sqrt(2 pi)
+/// = 1.0144. The rings' packets are such rows radially and along the ring.
+const SUM_PEAK: f64 = 1.014_4;
+
 /// A splash: a crater of `radius_m` at `position` at `time_s`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Splash {
@@ -83,7 +88,12 @@ impl Splash {
             // The band's share of the energy, 2 pi (1/2)(1/2 pi)^2 |eta|^2 k dk over the ring,
             // is (A^2 / 2) over its area, 2 pi r times its width.
             let band = 0.5 * spectrum(k).powi(2) * k * dk / TAU;
-            let field = (2.0 * band / (TAU * r.max(radial) * spread)).sqrt();
+            // Near the centre, early (k r small), the stationary phase no longer holds and the
+            // energy would pile into a ring of no width: the field is held to the crater's depth,
+            // the linear solution's own bound (|eta| <= the Hankel integral of |eta(k)| k / 2 pi,
+            // the depth). At a point the bands that meet in phase are the neighbours the shares
+            // below divide the field among.
+            let field = (2.0 * band / (TAU * r.max(radial) * spread)).sqrt().min(self.depth_m() / (SUM_PEAK * SUM_PEAK));
             // Gaussians of sigma s spaced d apart sum, in phase, to sqrt(2 pi) s / d times one:
             // each packet's share of the field, radially (the bands) and along the ring.
             let share = |spacing: f64, sigma: f64| (spacing / (TAU.sqrt() * sigma)).min(1.0);
@@ -146,6 +156,21 @@ mod tests {
             let measured = integral_of_height_squared(&field, s.position, reach);
             let expected = s.energy();
             assert!((measured / expected - 1.0).abs() < 0.05, "age {age}: {measured} against {expected}");
+        }
+    }
+
+    /// Early, before its rings leave the crater, the sea is nowhere deeper or higher than the
+    /// crater was deep: the linear solution's bound, the crater's depth.
+    #[test]
+    fn a_splash_never_rises_above_its_crater_s_depth() {
+        let s = splash();
+        for age in [0.0, 0.02, 0.1, 0.3, 1.0, 3.0] {
+            let field = PacketField::bounded(s.packets(s.time_s + age, &SAMPLING), usize::MAX);
+            let highest = (0..400)
+                .map(|i| s.position + DVec2::new(0.03 * i as f64, 0.011 * i as f64))
+                .map(|x| field.height(x).abs())
+                .fold(0.0, f64::max);
+            assert!(highest <= s.depth_m() * (1.0 + 1e-9), "age {age}: {highest} m against {}", s.depth_m());
         }
     }
 
