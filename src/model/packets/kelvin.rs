@@ -8,8 +8,9 @@
 //! a ray behind the object at alpha(theta) = atan(sin cos / (1 + sin^2)) to the track, at most
 //! arcsin(1/3) = 19.47 deg where tan(theta) = 1 / sqrt(2) (Kelvin 1887; Lighthill, Waves in Fluids,
 //! 1978, section 3.10). Each component is a chain of packets along its ray, one emitted from the
-//! object's path every `interval_s` of a fixed grid of times, so that the packets alive at t are
-//! those emitted before t, wherever the clock started.
+//! object's path at each time of the component's own fixed grid (a few of its wavelengths apart
+//! along the chain), so that the packets alive at t are those emitted before t, wherever the
+//! clock started.
 //!
 //! The amplitude: the energy a component band d theta carries per unit time, F(theta) d theta,
 //! spreads over the band's width r |alpha'| d theta at distance r along its ray while it moves at
@@ -61,8 +62,8 @@ pub struct WakeSampling {
     /// Components on each side of the track.
     pub components: usize,
     /// A component's packets are emitted this many of its wavelengths apart along its chain
-    /// (each as long, one sigma, as the spacing): the time between two emissions is this times
-    /// its wavelength over its speed along the ray.
+    /// (each half as long, one sigma, as the spacing): the time between two emissions is this
+    /// times its wavelength over its speed along the ray.
     pub spacing_wavelengths: f64,
     /// The oldest packet's age (s): the wake's length behind the object is about U times it.
     pub max_age_s: f64,
@@ -169,9 +170,11 @@ impl Wake {
                 // have drifted apart). Never zero: an envelope divides by it.
                 let across = (0.5 * lateral).max(0.5 * caustic).max(1e-6 * lambda);
                 let field = if r > 0.0 { (f0 * source(k) / (v * r * spread(alpha_prime, k, r))).sqrt() } else { f64::INFINITY };
-                // The chain's Gaussians spaced one sigma apart sum to sqrt(2 pi) times one; the
-                // neighbouring components' spaced `lateral` apart, to sqrt(2 pi) across / lateral.
-                let share = lateral.max(1e-12) / (TAU * across);
+                // The chain's Gaussians, two sigmas apart, sum to sqrt(2 pi) / 2 times one (within
+                // 1.4%); the neighbouring components' spaced `lateral` apart, to
+                // sqrt(2 pi) across / lateral. Two sigmas, not one: a packet near the object
+                // reaches half as far ahead of it.
+                let share = 2.0 * lateral.max(1e-12) / (TAU * across);
                 let damping = (-2.0 * VISCOSITY * k * k * age).exp();
                 let amplitude = (field * share * damping * weight).min(STEEPEST_KA / k);
                 // The stationary phase's quarter turn, by the sign of alpha' (held smooth across
@@ -184,7 +187,7 @@ impl Wake {
                     k,
                     amplitude,
                     axis,
-                    sigma: [v * dt, across],
+                    sigma: [0.5 * v * dt, across],
                     phase: -turn - k * direction.dot(centre - here),
                 });
             }
