@@ -415,7 +415,12 @@ fn sorting_the_tiles_by_the_mirror_changes_no_pixel() {
 #[test]
 fn building_the_mirror_within_its_cover_changes_no_pixel() {
     let cover = |on: bool| ocean::embed::ShaderConfig { planar_cover: on, ..Default::default() };
-    planar_variants_agree(256, 256, cover, ["boat, mirror within its cover", "boat, mirror over the whole view"]);
+    let [within, whole] =
+        planar_variants_agree(256, 256, cover, ["boat, mirror within its cover", "boat, mirror over the whole view"]);
+    // The boat's mirror image is a small part of the view, and the pass built only that.
+    let share = within.planar_cover_share.expect("the mirror pass ran");
+    assert!(share > 0.0 && share < 0.25, "the cover is {share} of the images");
+    assert_eq!(whole.planar_cover_share, Some(1.0));
 }
 
 /// The mirror image shows what a mirror below the objects sees, as the exact tracer sees it on a

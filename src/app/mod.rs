@@ -149,6 +149,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         eye_height_m: frame.frame.camera.eye_height,
         omitted,
         pipelines,
+        planar_cover_share: frame.planar_cover_share,
         grid: GridReport {
             columns: frame.frame.grid.columns,
             rows: frame.frame.grid.rows,

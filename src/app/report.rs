@@ -43,6 +43,10 @@ pub struct Report {
     pub omitted: Vec<crate::render::specialize::Omission>,
     /// The pipelines the frame used.
     pub pipelines: Vec<String>,
+    /// The share of the mirror's images its pass built (the objects' mirrored boxes' cover),
+    /// where the frame drew one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub planar_cover_share: Option<f64>,
     pub waves: WaveReport,
 }
 

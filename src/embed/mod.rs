@@ -690,6 +690,13 @@ impl<'g> Ocean<'g> {
         renderer.record_host_planar(cmd, slot, prepared, &view, cover, draw)
     }
 
+    /// The share of the mirror's images (texels) the latest [`Ocean::record_planar`] built: the
+    /// host's [`MirrorCover`], grown by a texel and clamped; 1 for [`MirrorCover::Whole`]. None
+    /// before any.
+    pub fn planar_cover_share(&self) -> Option<f64> {
+        self.renderer.as_ref()?.planar_cover_share()
+    }
+
     /// Records a pass of the host's own (`record`, into its command buffer `cmd`) ahead of
     /// frame `slot`'s [`Ocean::record`], inside the frame's profile: wrapped in a debug label and
     /// a timestamp scope `name`, it is timed with the ocean's passes ([`Ocean::pass_ms`]), and

@@ -55,6 +55,8 @@ pub struct RenderedFrame {
     /// GPU time per pass (ms); empty when the queue has no timestamps.
     pub pass_ms: Vec<(String, f64)>,
     pub frame: FrameData,
+    /// The share of the mirror's images its pass built, where a host drew its objects into them.
+    pub planar_cover_share: Option<f64>,
 }
 
 /// Where a frame ends.
@@ -181,6 +183,8 @@ pub struct Renderer<'g> {
     shadow: Option<ShadowPass<'g>>,
     /// The mirror pass, which only a host records, ahead of its frame.
     planar: Option<PlanarPass<'g>>,
+    /// The share of the mirror's images its latest pass built (the host's cover; 1 without one).
+    planar_cover_share: Option<f64>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
@@ -405,6 +409,7 @@ impl<'g> Renderer<'g> {
             clock: DeviceClock::new(device),
             shadow,
             planar,
+            planar_cover_share: None,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -507,7 +512,7 @@ impl<'g> Renderer<'g> {
         let ldr = readback.ldr.read(4 * pixels)?;
         self.cpu_spans.push("readback", t);
         let pass_ms = self.last_pass_ms.iter().map(|&(n, ms)| (n.to_owned(), ms)).collect();
-        Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data })
+        Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data, planar_cover_share: None })
     }
 
     /// Takes the next frame slot, waiting for the frame that last used it (and only that one), and
@@ -841,8 +846,12 @@ impl<'g> Renderer<'g> {
         s.begin_ahead(&device.raw, cmd);
         s.profiler.begin(device, cmd, PlanarPass::NAME);
         let mut rec = Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame };
-        pass.record_mirrored(&mut rec, &self.resources, view, cover, far, draw);
+        let built = pass.record_mirrored(&mut rec, &self.resources, view, cover, far, draw);
         s.profiler.end(device, cmd);
+        self.planar_cover_share = built.map(|(within, extent)| {
+            let texels = |e: vk::Extent2D| e.width as f64 * e.height as f64;
+            texels(within.extent()) / texels(extent)
+        });
         s.ahead.planar = true;
         Ok(true)
     }
@@ -875,6 +884,12 @@ impl<'g> Renderer<'g> {
     /// Whether the renderer has the mirror pass (a host's planar reflections).
     pub fn has_planar(&self) -> bool {
         self.planar.is_some()
+    }
+
+    /// The share of the mirror's images (texels of level 0) its latest pass built: the host's
+    /// cover's. None before any.
+    pub fn planar_cover_share(&self) -> Option<f64> {
+        self.planar_cover_share
     }
 
     /// The sun's shadow map (SHADER_READ_ONLY_OPTIMAL after `record_host_shadows`) and its

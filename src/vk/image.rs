@@ -274,9 +274,11 @@ pub fn level_extent(base: vk::Extent2D, level: u32) -> vk::Extent2D {
 
 /// Records a linear blit of colour level `level - 1` of `image` (in TRANSFER_SRC_OPTIMAL) onto
 /// the texels `within` (level 0's rectangle) cover of level `level` (in TRANSFER_DST_OPTIMAL): one
-/// step of a mipmap. Each texel takes the 2 x 2 above it, and at an odd level's far edge the
-/// trailing row or column too, as a blit of the whole level does. The format supports linear
-/// blits (checked at device choice, or one the specification requires it of).
+/// step of a mipmap. Each texel samples the middle of the 2 x 2 above it (their mean); where the
+/// region reaches an odd level's far edge, it is scaled to take the trailing row or column in,
+/// as a blit of the whole level is (a linear blit of 3 texels onto 1 reads the middle one). The
+/// format supports linear blits (checked at device choice, or one the specification requires it
+/// of).
 fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level: u32, within: PixelRect) {
     let dst = within.at_level(level, image.extent);
     if dst.is_empty() {

@@ -96,9 +96,15 @@ impl Wake {
     /// The packets alive at time t.
     pub fn packets(&self, t: f64, sampling: &WakeSampling) -> Vec<Packet> {
         let u = self.velocity.length();
-        // Also where a value is NaN: none of the comparisons holds.
-        let moving = u > 0.0 && self.hull_length_m > 0.0 && sampling.components > 0;
-        if !moving {
+        // Also where a value is NaN or infinite: none of the comparisons holds.
+        let moving = u > 0.0 && u.is_finite() && self.hull_length_m > 0.0 && self.hull_length_m.is_finite();
+        let sampled = sampling.components > 0
+            && sampling.spacing_wavelengths > 0.0
+            && sampling.spacing_wavelengths.is_finite()
+            && sampling.max_age_s >= 0.0
+            && sampling.max_age_s.is_finite()
+            && t.is_finite();
+        if !(moving && sampled) {
             return Vec::new();
         }
         let track = self.velocity / u;
@@ -157,7 +163,8 @@ impl Wake {
                 // Faded in over its first interval and out over its last: no packet appears or
                 // vanishes whole as t crosses an emission.
                 let weight = fade(age / dt) * fade((sampling.max_age_s - age) / dt);
-                if weight <= 0.0 {
+                // (A NaN weight is not above zero either.)
+                if weight.is_nan() || weight <= 0.0 {
                     continue;
                 }
                 let centre = self.position(tau) + direction * group * age;

@@ -29,7 +29,8 @@ use glam::{DMat4, DVec2, DVec3, DVec4, Mat4};
 pub const PLANAR_COLOUR_FORMAT: vk::Format = HDR_FORMAT;
 
 /// What a host draws its objects mirrored about the sea with (embed::Ocean::record_planar),
-/// inside the pass's rendering scope (viewport and scissor its frame's): colour
+/// inside the pass's rendering scope (viewport its frame's, scissor its MirrorCover's, which the
+/// host's draws keep; the whole frame's again after the pass): colour
 /// PLANAR_COLOUR_FORMAT, depth PLANAR_DEPTH_FORMAT in the host's own depth convention (cleared to its
 /// far plane), the host's projection. Each object is mirrored about the sea's tangent plane
 /// below it (`plane_below`, `mirror`; the mirror reverses every face's winding on screen, so a
@@ -198,7 +199,8 @@ impl<'g> PlanarPass<'g> {
 
     /// Clears the planar images, has `draw` record the host's mirrored objects into them with
     /// `view` (`far`: the host's far-plane depth) within `cover`, and builds what the shading
-    /// pass reads there.
+    /// pass reads there: the texels of level 0 it built over, and the images' size (None without
+    /// planar images).
     pub fn record_mirrored(
         &self,
         rec: &mut Recorder,
@@ -207,8 +209,8 @@ impl<'g> PlanarPass<'g> {
         cover: MirrorCover,
         far: f32,
         draw: &mut dyn FnMut(vk::CommandBuffer, &MirrorView),
-    ) {
-        let Some(images) = &r.planar else { return };
+    ) -> Option<(PixelRect, vk::Extent2D)> {
+        let images = r.planar.as_ref()?;
         let extent = images.colour.extent;
         let within = if self.honours_cover { cover.pixels(extent) } else { PixelRect::whole(extent) };
         let whole = within == PixelRect::whole(extent);
@@ -225,8 +227,13 @@ impl<'g> PlanarPass<'g> {
         // SAFETY: inside the scope just begun, whose viewport and scissor the host draws with.
         unsafe { device.cmd_set_scissor(cmd, 0, &[scissor]) };
         draw(cmd, view);
-        // SAFETY: the scope begun above, the host's draws recorded inside it.
-        unsafe { device.cmd_end_rendering(cmd) };
+        let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        // SAFETY: the scope begun above, the host's draws recorded inside it; the scissor is
+        // dynamic state of `cmd`, set back for the host's next draws.
+        unsafe {
+            device.cmd_end_rendering(cmd);
+            device.cmd_set_scissor(cmd, 0, &[whole_frame]);
+        }
         if !whole {
             // Outside the cover nothing is built: zero there (no object), on every level.
             rec.tracker.image(&images.inverse_depth, 0, levels, Access::ClearWrite, true);
@@ -247,6 +254,7 @@ impl<'g> PlanarPass<'g> {
         rec.tracker.image(&images.colour, 0, levels, Access::ComputeSampled, false);
         rec.tracker.image(&images.inverse_depth, 0, images.inverse_depth.mip_levels, Access::ComputeSampled, false);
         rec.tracker.flush(device, cmd);
+        Some((within, extent))
     }
 }
 
