@@ -65,6 +65,10 @@ pub struct WakeSampling {
     /// (each half as long, one sigma, as the spacing): the time between two emissions is this
     /// times its wavelength over its speed along the ray.
     pub spacing_wavelengths: f64,
+    /// ...and no less than this far apart (m): a short component's packets many of its
+    /// wavelengths long (a packet may be, its wavenumber is one), fewer of them. Its waves then
+    /// rise over that length behind the object.
+    pub min_spacing_m: f64,
     /// The oldest packet's age (s): the wake's length behind the object is about U times it.
     pub max_age_s: f64,
 }
@@ -101,6 +105,8 @@ impl Wake {
         let sampled = sampling.components > 0
             && sampling.spacing_wavelengths > 0.0
             && sampling.spacing_wavelengths.is_finite()
+            && sampling.min_spacing_m >= 0.0
+            && sampling.min_spacing_m.is_finite()
             && sampling.max_age_s >= 0.0
             && sampling.max_age_s.is_finite()
             && t.is_finite();
@@ -153,7 +159,7 @@ impl Wake {
             let (_, alpha_prime) = ray(theta);
             // Each component's own grid of emission times, n dt for whole n: the packets alive at
             // t are those emitted in (t - max_age, t], since the start, whatever the clock.
-            let dt = sampling.spacing_wavelengths * lambda / v;
+            let dt = (sampling.spacing_wavelengths * lambda).max(sampling.min_spacing_m) / v;
             let oldest = (t - sampling.max_age_s) / dt;
             let first = self.start_s.map_or(oldest, |start| oldest.max(start / dt)).ceil() as i64;
             let newest = (t / dt).floor() as i64;
@@ -209,6 +215,8 @@ mod tests {
     use crate::model::packets::PacketField;
 
     const LENGTH_M: f64 = 20.0;
+    /// A short component's packets at least a hull length apart.
+    const MIN_SPACING_M: f64 = LENGTH_M;
 
     /// An object moving along +x at hull Froude number `froude`, forever.
     fn wake(froude: f64) -> Wake {
@@ -225,7 +233,7 @@ mod tests {
     fn field(wake: &Wake, reach_m: f64) -> PacketField {
         // The slowest ray, the transverse one, moves at U / 2 in the object's frame.
         let max_age = 2.2 * reach_m / wake.velocity.length();
-        let sampling = WakeSampling { components: 64, spacing_wavelengths: 2.0, max_age_s: max_age };
+        let sampling = WakeSampling { components: 64, spacing_wavelengths: 2.0, min_spacing_m: MIN_SPACING_M, max_age_s: max_age };
         PacketField::bounded(wake.packets(0.0, &sampling), usize::MAX)
     }
 
@@ -320,7 +328,7 @@ mod tests {
     #[test]
     fn the_wake_changes_smoothly_with_time_and_begins_where_the_object_started() {
         let w = wake(0.3);
-        let sampling = WakeSampling { components: 32, spacing_wavelengths: 2.0, max_age_s: 40.0 };
+        let sampling = WakeSampling { components: 32, spacing_wavelengths: 2.0, min_spacing_m: MIN_SPACING_M, max_age_s: 40.0 };
         let at = |t: f64, x: DVec2| PacketField::bounded(w.packets(t, &sampling), usize::MAX).height(x);
         let points = [DVec2::new(-15.0, 3.0), DVec2::new(-40.0, 10.0), DVec2::new(-70.0, -20.0)];
         let u = w.velocity.length();
