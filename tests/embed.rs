@@ -9,7 +9,9 @@ mod common;
 use ash::vk;
 use common::host::{Host, COLOUR_FORMAT, DEPTH_FORMAT};
 use glam::{DMat4, DVec3, DVec4};
-use ocean::embed::{FrameInput, Gpu, HostFormats, HostImage, ImageState, MirrorCover, Ocean, OceanDesc, Targets, HOST_PASSES};
+use ocean::embed::{
+    FrameInput, Gpu, HostFormats, HostImage, ImageState, MirrorCover, Ocean, OceanDesc, Targets, HOST_PASSES,
+};
 use ocean::model::scene::Scene;
 
 const W: u32 = 160;
@@ -446,9 +448,13 @@ fn misuse_gets_an_error_not_a_crash() {
     // slot out of range: an error.
     assert!(ocean.mirror_view().is_none());
     let mut called = false;
-    assert_eq!(ocean.record_planar(vk::CommandBuffer::null(), 0, MirrorCover::Whole, &mut |_, _| called = true).ok(), Some(false));
+    assert_eq!(
+        ocean.record_planar(vk::CommandBuffer::null(), 0, MirrorCover::Whole, &mut |_, _| called = true).ok(),
+        Some(false)
+    );
     assert!(!called);
-    let out_of_range = ocean.record_planar(vk::CommandBuffer::null(), 2, MirrorCover::Whole, &mut |_, _| {}).map(|_| ());
+    let out_of_range =
+        ocean.record_planar(vk::CommandBuffer::null(), 2, MirrorCover::Whole, &mut |_, _| {}).map(|_| ());
     assert!(message(out_of_range).contains("frame slot 2 is out of range"));
     let colour = host.image(COLOUR_FORMAT, W, H, vk::ImageUsageFlags::COLOR_ATTACHMENT);
     let depth = host.image(

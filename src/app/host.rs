@@ -191,7 +191,8 @@ impl<'g> OffscreenHost<'g> {
         let frame = self.ocean.last_frame().cloned().expect("a recorded frame");
         // This frame's, where it drew a mirror (the ocean keeps its latest).
         let mirrored = self.objects.as_ref().is_some_and(|(objects, _)| objects.mirrored_in_view(0));
-        let planar_cover_share = self.ocean.planar_cover_share().filter(|_| mirrored && self.ocean.mirror_view().is_some());
+        let planar_cover_share =
+            self.ocean.planar_cover_share().filter(|_| mirrored && self.ocean.mirror_view().is_some());
         Ok(RenderedFrame { width, height, hdr, ldr, pass_ms, frame, planar_cover_share })
     }
 
@@ -210,7 +211,8 @@ impl<'g> OffscreenHost<'g> {
             self.ocean.record_shadows(cmd, 0, &mut |cmd, _| objects.record_casters(cmd, 0))?;
             // Their mirror images, for the sea's planar reflections, where any is in view.
             if objects.mirrored_in_view(0) {
-                self.ocean.record_planar(cmd, 0, objects.mirror_cover(0), &mut |cmd, _| objects.record_mirrored(cmd, 0))?;
+                self.ocean
+                    .record_planar(cmd, 0, objects.mirror_cover(0), &mut |cmd, _| objects.record_mirrored(cmd, 0))?;
             }
             let depth = HostImage::from(depth_image);
             self.tracker.image(&colour, 0, 1, Access::ColorAttachmentWrite, true);

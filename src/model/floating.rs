@@ -111,8 +111,10 @@ impl PlaneFit {
         self.a0 += h * cos_psi * sx * sy + sin_psi * (gu * alpha * l2 * fx * sy + gv * beta * b2 * sx * fy);
         // −(6/L) S′(αL/2) = α F(αL/2), F = −3 S′(x)/x: so a point hull (L → 0) keeps the
         // slope at its centre, h α sin ψ, with no 0/0.
-        self.slope_u += h * sin_psi * alpha * fx * sy + cos_psi * (gu * curvature_factor(x) * sy - gv * alpha * beta * b2 * fx * fy);
-        self.slope_v += h * sin_psi * beta * sx * fy + cos_psi * (gv * sx * curvature_factor(y) - gu * alpha * beta * l2 * fx * fy);
+        self.slope_u += h * sin_psi * alpha * fx * sy
+            + cos_psi * (gu * curvature_factor(x) * sy - gv * alpha * beta * b2 * fx * fy);
+        self.slope_v +=
+            h * sin_psi * beta * sx * fy + cos_psi * (gv * sx * curvature_factor(y) - gu * alpha * beta * l2 * fx * fy);
     }
 
     fn add_packets(&mut self, field: &PacketField) {
@@ -129,7 +131,11 @@ impl PlaneFit {
     }
 
     fn pose(&self, waves: &WaveSet) -> Pose {
-        Pose { heave_m: waves.mean_height_offset + self.a0, pitch_rad: self.slope_u.atan(), roll_rad: self.slope_v.atan() }
+        Pose {
+            heave_m: waves.mean_height_offset + self.a0,
+            pitch_rad: self.slope_u.atan(),
+            roll_rad: self.slope_v.atan(),
+        }
     }
 }
 
@@ -268,7 +274,10 @@ mod tests {
             assert!((ours.roll_rad - brute.roll_rad).abs() < 1e-3, "{ours:?} against {brute:?}");
             assert!(ours.heave_m.abs() + ours.pitch_rad.abs() > 1e-3, "the packet moves it: {ours:?}");
         }
-        assert_eq!(ride_with_packets(&calm, &PacketField::default(), 0.0, [3.0, 4.0], 0.5, plane), ride(&calm, 0.0, [3.0, 4.0], 0.5, plane));
+        assert_eq!(
+            ride_with_packets(&calm, &PacketField::default(), 0.0, [3.0, 4.0], 0.5, plane),
+            ride(&calm, 0.0, [3.0, 4.0], 0.5, plane)
+        );
     }
 
     #[test]

@@ -512,7 +512,15 @@ impl<'g> Renderer<'g> {
         let ldr = readback.ldr.read(4 * pixels)?;
         self.cpu_spans.push("readback", t);
         let pass_ms = self.last_pass_ms.iter().map(|&(n, ms)| (n.to_owned(), ms)).collect();
-        Ok(RenderedFrame { width: self.width, height: self.height, hdr, ldr, pass_ms, frame: data, planar_cover_share: None })
+        Ok(RenderedFrame {
+            width: self.width,
+            height: self.height,
+            hdr,
+            ldr,
+            pass_ms,
+            frame: data,
+            planar_cover_share: None,
+        })
     }
 
     /// Takes the next frame slot, waiting for the frame that last used it (and only that one), and

@@ -332,7 +332,13 @@ pub fn mipmap(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracke
 /// rest of each level keeps what it holds (a caller that clears it leaves it zero). On a level of
 /// odd size a part blits exact 2 x 2 blocks where the whole level's blit scales by
 /// W / floor(W / 2): the two differ there by a fraction of a texel's offset.
-pub fn mipmap_within(device: &ash::Device, cmd: vk::CommandBuffer, tracker: &mut Tracker, image: &Image, within: PixelRect) {
+pub fn mipmap_within(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    tracker: &mut Tracker,
+    image: &Image,
+    within: PixelRect,
+) {
     for level in 1..image.mip_levels {
         let whole = within.at_level(level, image.extent) == PixelRect::whole(level_extent(image.extent, level));
         tracker.image(image, level - 1, 1, Access::TransferRead, false);

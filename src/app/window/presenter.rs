@@ -352,7 +352,9 @@ impl<'g> Presenter<'g> {
             drawing.ocean.record_shadows(cmd, slot, &mut |cmd, _| objects.record_casters(cmd, slot))?;
             // Their mirror images, for the sea's planar reflections, where any is in view.
             if objects.mirrored_in_view(slot) {
-                drawing.ocean.record_planar(cmd, slot, objects.mirror_cover(slot), &mut |cmd, _| objects.record_mirrored(cmd, slot))?;
+                drawing.ocean.record_planar(cmd, slot, objects.mirror_cover(slot), &mut |cmd, _| {
+                    objects.record_mirrored(cmd, slot)
+                })?;
             }
             // The objects come next: their writes wait for the frame before's reads of the
             // colour, and of the depth for its tests (the frames in flight share both).

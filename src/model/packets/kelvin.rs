@@ -94,7 +94,11 @@ impl Wake {
         let b = 0.5 * self.hull_length_m;
         let k_max = (SOURCE_K_B_MAX / b).min(TAU / SHORTEST_WAVELENGTH_M);
         let ratio = k0 / k_max;
-        if ratio >= 1.0 { 0.0 } else { ratio.sqrt().acos() }
+        if ratio >= 1.0 {
+            0.0
+        } else {
+            ratio.sqrt().acos()
+        }
     }
 
     /// The packets alive at time t.
@@ -135,9 +139,7 @@ impl Wake {
             source(k) / (speed(theta) * r * spread(ray(theta).1, k, r))
         };
         let l = self.hull_length_m;
-        let brightest = (0..2 * m)
-            .map(|i| field2((i as f64 + 0.5) * d_theta - theta_max, l))
-            .fold(0.0, f64::max);
+        let brightest = (0..2 * m).map(|i| field2((i as f64 + 0.5) * d_theta - theta_max, l)).fold(0.0, f64::max);
         if brightest.is_nan() || brightest <= 0.0 {
             return Vec::new();
         }
@@ -182,7 +184,8 @@ impl Wake {
                 // wavelength where need be (wider, a packet would overlap components whose phases
                 // have drifted apart). Never zero: an envelope divides by it.
                 let across = (0.5 * lateral).max(0.5 * caustic).max(1e-6 * lambda);
-                let field = if r > 0.0 { (f0 * source(k) / (v * r * spread(alpha_prime, k, r))).sqrt() } else { f64::INFINITY };
+                let field =
+                    if r > 0.0 { (f0 * source(k) / (v * r * spread(alpha_prime, k, r))).sqrt() } else { f64::INFINITY };
                 // The chain's Gaussians, two sigmas apart, sum to sqrt(2 pi) / 2 times one (within
                 // 1.4%); the neighbouring components' spaced `lateral` apart, to
                 // sqrt(2 pi) across / lateral. Two sigmas, not one: a packet near the object
@@ -233,7 +236,8 @@ mod tests {
     fn field(wake: &Wake, reach_m: f64) -> PacketField {
         // The slowest ray, the transverse one, moves at U / 2 in the object's frame.
         let max_age = 2.2 * reach_m / wake.velocity.length();
-        let sampling = WakeSampling { components: 64, spacing_wavelengths: 2.0, min_spacing_m: MIN_SPACING_M, max_age_s: max_age };
+        let sampling =
+            WakeSampling { components: 64, spacing_wavelengths: 2.0, min_spacing_m: MIN_SPACING_M, max_age_s: max_age };
         PacketField::bounded(wake.packets(0.0, &sampling), usize::MAX)
     }
 
@@ -242,9 +246,7 @@ mod tests {
     fn rms_on_ray(field: &PacketField, angle_deg: f64, r0: f64, r1: f64) -> f64 {
         let dir = DVec2::new(-angle_deg.to_radians().cos(), angle_deg.to_radians().sin());
         let n = 400;
-        let sum: f64 = (0..n)
-            .map(|i| field.height(dir * (r0 + (r1 - r0) * (i as f64 + 0.5) / n as f64)).powi(2))
-            .sum();
+        let sum: f64 = (0..n).map(|i| field.height(dir * (r0 + (r1 - r0) * (i as f64 + 0.5) / n as f64)).powi(2)).sum();
         (sum / n as f64).sqrt()
     }
 
@@ -292,7 +294,8 @@ mod tests {
             .collect();
         let power = |lambda: f64| {
             let k = TAU / lambda;
-            let (c, s) = heights.iter().fold((0.0, 0.0), |(c, s), &(x, h)| (c + h * (k * x).cos(), s + h * (k * x).sin()));
+            let (c, s) =
+                heights.iter().fold((0.0, 0.0), |(c, s), &(x, h)| (c + h * (k * x).cos(), s + h * (k * x).sin()));
             c * c + s * s
         };
         let measured = (0..=400)
@@ -328,7 +331,8 @@ mod tests {
     #[test]
     fn the_wake_changes_smoothly_with_time_and_begins_where_the_object_started() {
         let w = wake(0.3);
-        let sampling = WakeSampling { components: 32, spacing_wavelengths: 2.0, min_spacing_m: MIN_SPACING_M, max_age_s: 40.0 };
+        let sampling =
+            WakeSampling { components: 32, spacing_wavelengths: 2.0, min_spacing_m: MIN_SPACING_M, max_age_s: 40.0 };
         let at = |t: f64, x: DVec2| PacketField::bounded(w.packets(t, &sampling), usize::MAX).height(x);
         let points = [DVec2::new(-15.0, 3.0), DVec2::new(-40.0, 10.0), DVec2::new(-70.0, -20.0)];
         let u = w.velocity.length();

@@ -200,8 +200,7 @@ mod tests {
 
     #[test]
     fn the_bound_leaves_out_the_weakest_and_counts_their_energy() {
-        let packets: Vec<Packet> =
-            (1..=10).map(|i| Packet { amplitude: 0.01 * i as f64, ..packet() }).collect();
+        let packets: Vec<Packet> = (1..=10).map(|i| Packet { amplitude: 0.01 * i as f64, ..packet() }).collect();
         let field = PacketField::bounded(packets.clone(), 4);
         assert_eq!(field.packets.len(), 4);
         assert!(field.packets.iter().all(|p| p.amplitude >= 0.07 - 1e-12));

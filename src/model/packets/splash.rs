@@ -71,7 +71,8 @@ impl Splash {
         let d_phi = TAU / n_phi as f64;
         let mut packets = Vec::with_capacity(n_k * n_phi);
         for j in 0..n_k {
-            let (k_lo, k_hi) = ((lo + (hi - lo) * j as f64 / n_k as f64).exp(), (lo + (hi - lo) * (j + 1) as f64 / n_k as f64).exp());
+            let (k_lo, k_hi) =
+                ((lo + (hi - lo) * j as f64 / n_k as f64).exp(), (lo + (hi - lo) * (j + 1) as f64 / n_k as f64).exp());
             let k = (k_lo * k_hi).sqrt();
             let dk = k_hi - k_lo;
             let group = |k: f64| 0.5 * (G / k).sqrt();
@@ -95,7 +96,8 @@ impl Splash {
             // the linear solution's own bound (|eta| <= the Hankel integral of |eta(k)| k / 2 pi,
             // the depth). At a point the bands that meet in phase are the neighbours the shares
             // below divide the field among.
-            let field = (2.0 * band / (TAU * r.max(radial) * spread)).sqrt().min(self.depth_m() / (SUM_PEAK * SUM_PEAK));
+            let field =
+                (2.0 * band / (TAU * r.max(radial) * spread)).sqrt().min(self.depth_m() / (SUM_PEAK * SUM_PEAK));
             // Gaussians of sigma s spaced d apart sum, in phase, to sqrt(2 pi) s / d times one:
             // each packet's share of the field, radially (the bands) and along the ring.
             let share = |spacing: f64, sigma: f64| (spacing / (TAU.sqrt() * sigma)).min(1.0);
@@ -142,7 +144,9 @@ mod tests {
         let rays = [DVec2::X, DVec2::Y, DVec2::new(-0.6, -0.8)];
         (0..n)
             .map(|i| (i as f64 + 0.5) * step)
-            .map(|rho| rays.iter().map(|d| field.height(centre + *d * rho).powi(2)).sum::<f64>() / 3.0 * TAU * rho * step)
+            .map(|rho| {
+                rays.iter().map(|d| field.height(centre + *d * rho).powi(2)).sum::<f64>() / 3.0 * TAU * rho * step
+            })
             .sum()
     }
 
@@ -192,8 +196,9 @@ mod tests {
             let expected = TAU / (G * age * age / (4.0 * radius * radius));
             let (from, to) = (radius - 1.5 * expected, radius + 1.5 * expected);
             let n = 2000;
-            let heights: Vec<f64> =
-                (0..=n).map(|i| field.height(s.position + direction * (from + (to - from) * i as f64 / n as f64))).collect();
+            let heights: Vec<f64> = (0..=n)
+                .map(|i| field.height(s.position + direction * (from + (to - from) * i as f64 / n as f64)))
+                .collect();
             let crossings: Vec<f64> = heights
                 .windows(2)
                 .enumerate()

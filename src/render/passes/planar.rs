@@ -109,10 +109,12 @@ impl MirrorCover {
     /// Where either may lie.
     pub fn union(self, other: MirrorCover) -> MirrorCover {
         match (self, other) {
-            (MirrorCover::Within { min: a0, max: a1 }, MirrorCover::Within { min: b0, max: b1 }) => MirrorCover::Within {
-                min: DVec2::from(a0).min(DVec2::from(b0)).to_array(),
-                max: DVec2::from(a1).max(DVec2::from(b1)).to_array(),
-            },
+            (MirrorCover::Within { min: a0, max: a1 }, MirrorCover::Within { min: b0, max: b1 }) => {
+                MirrorCover::Within {
+                    min: DVec2::from(a0).min(DVec2::from(b0)).to_array(),
+                    max: DVec2::from(a1).max(DVec2::from(b1)).to_array(),
+                }
+            }
             _ => MirrorCover::Whole,
         }
     }
@@ -220,10 +222,8 @@ impl<'g> PlanarPass<'g> {
         rec.tracker.image(&images.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
         rec.tracker.flush(device, cmd);
         begin_cleared_rendering(device, cmd, &HostImage::from(&images.colour), &HostImage::from(&images.depth), far);
-        let scissor = vk::Rect2D {
-            offset: vk::Offset2D { x: within.x0 as i32, y: within.y0 as i32 },
-            extent: within.extent(),
-        };
+        let scissor =
+            vk::Rect2D { offset: vk::Offset2D { x: within.x0 as i32, y: within.y0 as i32 }, extent: within.extent() };
         // SAFETY: inside the scope just begun, whose viewport and scissor the host draws with.
         unsafe { device.cmd_set_scissor(cmd, 0, &[scissor]) };
         draw(cmd, view);
@@ -287,7 +287,8 @@ mod tests {
         };
         let extent = vk::Extent2D { width: 400, height: 300 };
         // A box 20 m ahead: its corners' texels, grown by one, inside the image.
-        let corners = (0..8).map(|i| DVec3::new(20.0 + (i & 1) as f64, -1.0 + (i >> 1 & 1) as f64, -4.0 + (i >> 2) as f64));
+        let corners =
+            (0..8).map(|i| DVec3::new(20.0 + (i & 1) as f64, -1.0 + (i >> 1 & 1) as f64, -4.0 + (i >> 2) as f64));
         let cover = view.cover_of(corners.clone());
         let rect = cover.pixels(extent);
         assert!(!rect.is_empty() && rect != PixelRect::whole(extent), "{rect:?}");
