@@ -189,10 +189,7 @@ impl<'g> OffscreenHost<'g> {
             frame
         });
         let frame = self.ocean.last_frame().cloned().expect("a recorded frame");
-        // This frame's, where it drew a mirror (the ocean keeps its latest).
-        let mirrored = self.objects.as_ref().is_some_and(|(objects, _)| objects.mirrored_in_view(0));
-        let planar_cover_share =
-            self.ocean.planar_cover_share().filter(|_| mirrored && self.ocean.mirror_view().is_some());
+        let planar_cover_share = self.ocean.planar_cover_share();
         Ok(RenderedFrame { width, height, hdr, ldr, pass_ms, frame, planar_cover_share })
     }
 

@@ -690,9 +690,9 @@ impl<'g> Ocean<'g> {
         renderer.record_host_planar(cmd, slot, prepared, &view, cover, draw)
     }
 
-    /// The share of the mirror's images (texels) the latest [`Ocean::record_planar`] built: the
-    /// host's [`MirrorCover`], grown by a texel and clamped; 1 for [`MirrorCover::Whole`]. None
-    /// before any.
+    /// The share of the mirror's images (texels) that the latest recorded frame's
+    /// [`Ocean::record_planar`] built: the host's [`MirrorCover`], grown by a texel and clamped; 1
+    /// for [`MirrorCover::Whole`]. None where that frame drew no mirror.
     pub fn planar_cover_share(&self) -> Option<f64> {
         self.renderer.as_ref()?.planar_cover_share()
     }

@@ -86,8 +86,8 @@ pub struct RecordedAhead {
     pub profile_begun: bool,
     /// The sun's shadow map, with the host's casters.
     pub shadows: bool,
-    /// The mirror pass, with the host's mirrored objects.
-    pub planar: bool,
+    /// The mirror pass, with the host's mirrored objects: the share of its images it built.
+    pub planar: Option<f64>,
     /// The host's own passes.
     pub host_passes: usize,
 }

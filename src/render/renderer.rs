@@ -183,7 +183,8 @@ pub struct Renderer<'g> {
     shadow: Option<ShadowPass<'g>>,
     /// The mirror pass, which only a host records, ahead of its frame.
     planar: Option<PlanarPass<'g>>,
-    /// The share of the mirror's images its latest pass built (the host's cover; 1 without one).
+    /// The share of the mirror's images the latest recorded frame's mirror pass built (the host's
+    /// cover; 1 without one); None where that frame drew no mirror.
     planar_cover_share: Option<f64>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
@@ -755,7 +756,8 @@ impl<'g> Renderer<'g> {
         self.eye_built = Some(eye);
         self.sky_in_map = Some(sky);
         let ahead = std::mem::take(&mut self.slots[slot].ahead);
-        let frame = Frame { planar_drawn: ahead.planar, ..self.frame(slot, &data, host) };
+        let frame = Frame { planar_drawn: ahead.planar.is_some(), ..self.frame(slot, &data, host) };
+        self.planar_cover_share = ahead.planar;
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
         // A host that recorded a pass ahead began the slot's profile with it.
@@ -856,11 +858,8 @@ impl<'g> Renderer<'g> {
         let mut rec = Recorder { device, cmd, tracker: &mut self.tracker, frame: &frame };
         let built = pass.record_mirrored(&mut rec, &self.resources, view, cover, far, draw);
         s.profiler.end(device, cmd);
-        self.planar_cover_share = built.map(|(within, extent)| {
-            let texels = |e: vk::Extent2D| e.width as f64 * e.height as f64;
-            texels(within.extent()) / texels(extent)
-        });
-        s.ahead.planar = true;
+        let texels = |e: vk::Extent2D| e.width as f64 * e.height as f64;
+        s.ahead.planar = Some(built.map_or(0.0, |(within, extent)| texels(within.extent()) / texels(extent)));
         Ok(true)
     }
 
@@ -894,8 +893,8 @@ impl<'g> Renderer<'g> {
         self.planar.is_some()
     }
 
-    /// The share of the mirror's images (texels of level 0) its latest pass built: the host's
-    /// cover's. None before any.
+    /// The share of the mirror's images (texels of level 0) the latest recorded frame's mirror
+    /// pass built: the host's cover's. None where that frame drew no mirror.
     pub fn planar_cover_share(&self) -> Option<f64> {
         self.planar_cover_share
     }

@@ -235,6 +235,9 @@ pub struct PixelRect {
 }
 
 impl PixelRect {
+    /// No texel.
+    pub const EMPTY: PixelRect = PixelRect { x0: 0, y0: 0, x1: 0, y1: 0 };
+
     /// The whole of an `extent` level.
     pub fn whole(extent: vk::Extent2D) -> Self {
         PixelRect { x0: 0, y0: 0, x1: extent.width, y1: extent.height }
@@ -254,7 +257,7 @@ impl PixelRect {
     /// min(x >> l, size - 1).
     pub fn at_level(&self, level: u32, base: vk::Extent2D) -> Self {
         if self.is_empty() {
-            return PixelRect { x0: 0, y0: 0, x1: 0, y1: 0 };
+            return PixelRect::EMPTY;
         }
         let size = level_extent(base, level);
         let texel = |v: u32, size: u32| (v >> level).min(size - 1);
@@ -273,14 +276,13 @@ pub fn level_extent(base: vk::Extent2D, level: u32) -> vk::Extent2D {
 }
 
 /// Records a linear blit of colour level `level - 1` of `image` (in TRANSFER_SRC_OPTIMAL) onto
-/// the texels `within` (level 0's rectangle) cover of level `level` (in TRANSFER_DST_OPTIMAL): one
+/// the texels `dst` of level `level` (in TRANSFER_DST_OPTIMAL; PixelRect::at_level's): one
 /// step of a mipmap. Each texel samples the middle of the 2 x 2 above it (their mean); where the
 /// region reaches an odd level's far edge, it is scaled to take the trailing row or column in,
 /// as a blit of the whole level is (a linear blit of 3 texels onto 1 reads the middle one). The
 /// format supports linear blits (checked at device choice, or one the specification requires it
 /// of).
-fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level: u32, within: PixelRect) {
-    let dst = within.at_level(level, image.extent);
+fn blit_level(device: &ash::Device, cmd: vk::CommandBuffer, image: &Image, level: u32, dst: PixelRect) {
     if dst.is_empty() {
         return;
     }
@@ -340,11 +342,12 @@ pub fn mipmap_within(
     within: PixelRect,
 ) {
     for level in 1..image.mip_levels {
-        let whole = within.at_level(level, image.extent) == PixelRect::whole(level_extent(image.extent, level));
+        let region = within.at_level(level, image.extent);
+        let whole = region == PixelRect::whole(level_extent(image.extent, level));
         tracker.image(image, level - 1, 1, Access::TransferRead, false);
         tracker.image(image, level, 1, Access::TransferWrite, whole);
         tracker.flush(device, cmd);
-        blit_level(device, cmd, image, level, within);
+        blit_level(device, cmd, image, level, region);
     }
 }
 

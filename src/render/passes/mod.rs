@@ -109,13 +109,8 @@ pub fn write_frame_uniforms(bindings: &Bindings, r: &Resources, waves: bool) {
 /// Records a compute pass over an image: binds the pipeline and its set and dispatches one
 /// invocation per texel in the shaders' 8 x 8 groups.
 pub fn dispatch_over(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings, extent: vk::Extent2D) {
-    let (device, cmd) = (&rec.device.raw, rec.cmd);
-    // SAFETY: `cmd` is recording outside a rendering scope; the set was made for this pipeline's
-    // layout and its resources were declared (and so transitioned) by the calling pass.
-    unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
-    bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-    // SAFETY: as above.
-    unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
+    bind_compute(rec, pipeline, bindings);
+    dispatch_texels(rec, extent);
 }
 
 /// The push constants of a compute pass over a rectangle of texels (dispatch_within): its origin
@@ -130,14 +125,22 @@ pub fn dispatch_within(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindin
     if region.is_empty() {
         return;
     }
-    let (device, cmd) = (&rec.device.raw, rec.cmd);
-    // SAFETY: as dispatch_over's.
-    unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
-    bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-    bindings.push_compute_words(cmd, &[region.x0, region.y0, region.x1, region.y1]);
-    let extent = region.extent();
-    // SAFETY: as dispatch_over's.
-    unsafe { device.cmd_dispatch(cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
+    bind_compute(rec, pipeline, bindings);
+    bindings.push_compute_words(rec.cmd, &[region.x0, region.y0, region.x1, region.y1]);
+    dispatch_texels(rec, region.extent());
+}
+
+fn bind_compute(rec: &Recorder, pipeline: vk::Pipeline, bindings: &Bindings) {
+    // SAFETY: `cmd` is recording outside a rendering scope; the set was made for this pipeline's
+    // layout and its resources were declared (and so transitioned) by the calling pass.
+    unsafe { rec.device.raw.cmd_bind_pipeline(rec.cmd, vk::PipelineBindPoint::COMPUTE, pipeline) };
+    bindings.bind(rec.cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
+}
+
+/// One invocation per texel of `extent`, in 8 x 8 groups, with a compute pipeline bound.
+fn dispatch_texels(rec: &Recorder, extent: vk::Extent2D) {
+    // SAFETY: as bind_compute's, the pipeline and its set bound by it.
+    unsafe { rec.device.raw.cmd_dispatch(rec.cmd, extent.width.div_ceil(8), extent.height.div_ceil(8), 1) };
 }
 
 /// A full-screen pipeline writing one colour attachment of `format`, no depth (the tone mappings

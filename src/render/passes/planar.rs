@@ -125,7 +125,7 @@ impl MirrorCover {
     pub fn pixels(self, extent: vk::Extent2D) -> PixelRect {
         let MirrorCover::Within { min, max } = self else { return PixelRect::whole(extent) };
         if min[0] > max[0] || min[1] > max[1] {
-            return PixelRect { x0: 0, y0: 0, x1: 0, y1: 0 };
+            return PixelRect::EMPTY;
         }
         if !(min.iter().chain(&max).all(|v| v.is_finite())) {
             return PixelRect::whole(extent);

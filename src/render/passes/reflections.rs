@@ -18,7 +18,7 @@ use crate::vk::barrier::{Access, Tracker};
 use crate::vk::device::Device;
 use crate::vk::external::HostImage;
 use crate::vk::gpu::Gpu;
-use crate::vk::image::host_depth_view;
+use crate::vk::image::{host_depth_view, level_extent};
 use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, specialized_compute_pipeline, Bindings, Specialization};
 use ash::vk;
@@ -98,7 +98,10 @@ impl<'g> ReflectionsPass<'g> {
         // workgroup, cells of 16 pixels at 1024 x 768 and 32 at 1920 x 1080.
         let extent = images.depth.extent;
         let bounds_level = (0..images.depth.mip_levels)
-            .find(|&l| ((extent.width >> l).max(1) * (extent.height >> l).max(1)) <= BOUNDS_CELLS)
+            .find(|&l| {
+                let cells = level_extent(extent, l);
+                cells.width * cells.height <= BOUNDS_CELLS
+            })
             .unwrap_or(images.depth.mip_levels - 1);
         let bounds = Bindings::new(
             device,
