@@ -27,7 +27,7 @@
 //! (Rabaud & Moisy, Phys. Rev. Lett. 110, 2013; Darmon, Benzaquen & Raphael, J. Fluid Mech. 738,
 //! 2014, with a Gaussian patch).
 
-use super::{Packet, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, Packet, STEEPEST_KA, VISCOSITY};
 use crate::model::waves::G;
 use glam::DVec2;
 use std::f64::consts::{FRAC_PI_4, TAU};
@@ -73,13 +73,23 @@ pub struct WakeSampling {
     pub max_age_s: f64,
 }
 
-/// One component's ray: its angle to the track and that angle's derivative in theta.
-fn ray(theta: f64) -> (f64, f64) {
+/// One component of a wake: its wavenumber, the direction it travels, its speed along its ray
+/// in the object's frame, |v(theta)|, and the ray angle's derivative alpha'(theta).
+struct Component {
+    k: f64,
+    direction: DVec2,
+    speed: f64,
+    alpha_prime: f64,
+}
+
+/// alpha'(theta): how fast a component's ray turns with theta, its angle to the track being
+/// alpha = atan(f), f = sin cos / (1 + sin^2).
+fn ray_turn(theta: f64) -> f64 {
     let (s, c) = theta.sin_cos();
     let f = s * c / (1.0 + s * s);
     // d/dtheta of sin cos / (1 + sin^2): (cos 2theta (1 + sin^2) - sin^2 2theta / 2) / (1 + sin^2)^2.
     let df = ((2.0 * theta).cos() * (1.0 + s * s) - 0.5 * (2.0 * theta).sin().powi(2)) / (1.0 + s * s).powi(2);
-    (f.atan(), df / (1.0 + f * f))
+    df / (1.0 + f * f)
 }
 
 impl Wake {
@@ -129,17 +139,22 @@ impl Wake {
         let source = |k: f64| (k * b).powi(4) / (1.0 + (k * b).powi(2)).powi(3);
         // |alpha'| no less than the caustic's (k r)^(-1/3).
         let spread = |alpha_prime: f64, k: f64, r: f64| alpha_prime.hypot((k * r).powf(-1.0 / 3.0));
-        let speed = |theta: f64| {
-            let c = theta.cos();
-            u * DVec2::new(0.5 * c * c - 1.0, 0.5 * c * theta.sin()).length()
-        };
+        // A component's field squared at r along its ray, over F's scale.
+        let field2 = |c: &Component, r: f64| source(c.k) / (c.speed * r * spread(c.alpha_prime, c.k, r));
+        let components: Vec<Component> = (0..2 * m)
+            .map(|i| {
+                let theta = (i as f64 + 0.5) * d_theta - theta_max;
+                let (sin, cos) = theta.sin_cos();
+                Component {
+                    k: k0 / (cos * cos),
+                    direction: DVec2::new(track.x * cos - track.y * sin, track.x * sin + track.y * cos),
+                    speed: u * DVec2::new(0.5 * cos * cos - 1.0, 0.5 * cos * sin).length(),
+                    alpha_prime: ray_turn(theta),
+                }
+            })
+            .collect();
         // F's scale: the brightest component's field one waterline length behind is amplitude_m.
-        let field2 = |theta: f64, r: f64| {
-            let k = k0 / theta.cos().powi(2);
-            source(k) / (speed(theta) * r * spread(ray(theta).1, k, r))
-        };
-        let l = self.hull_length_m;
-        let brightest = (0..2 * m).map(|i| field2((i as f64 + 0.5) * d_theta - theta_max, l)).fold(0.0, f64::max);
+        let brightest = components.iter().map(|c| field2(c, self.hull_length_m)).fold(0.0, f64::max);
         if brightest.is_nan() || brightest <= 0.0 {
             return Vec::new();
         }
@@ -150,15 +165,10 @@ impl Wake {
         };
         let here = self.position(t);
         let mut packets = Vec::new();
-        for i in 0..2 * m {
-            let theta = (i as f64 + 0.5) * d_theta - theta_max;
-            let (sin, cos) = theta.sin_cos();
-            let k = k0 / (cos * cos);
+        for c in &components {
+            let (k, direction, v, alpha_prime) = (c.k, c.direction, c.speed, c.alpha_prime);
             let lambda = TAU / k;
-            let direction = DVec2::new(track.x * cos - track.y * sin, track.x * sin + track.y * cos);
             let group = 0.5 * (G / k).sqrt();
-            let v = speed(theta);
-            let (_, alpha_prime) = ray(theta);
             // Each component's own grid of emission times, n dt for whole n: the packets alive at
             // t are those emitted in (t - max_age, t], since the start, whatever the clock.
             let dt = (sampling.spacing_wavelengths * lambda).max(sampling.min_spacing_m) / v;
@@ -184,13 +194,12 @@ impl Wake {
                 // wavelength where need be (wider, a packet would overlap components whose phases
                 // have drifted apart). Never zero: an envelope divides by it.
                 let across = (0.5 * lateral).max(0.5 * caustic).max(1e-6 * lambda);
-                let field =
-                    if r > 0.0 { (f0 * source(k) / (v * r * spread(alpha_prime, k, r))).sqrt() } else { f64::INFINITY };
-                // The chain's Gaussians, two sigmas apart, sum to sqrt(2 pi) / 2 times one (within
-                // 1.4%); the neighbouring components' spaced `lateral` apart, to
-                // sqrt(2 pi) across / lateral. Two sigmas, not one: a packet near the object
+                let field = if r > 0.0 { (f0 * field2(c, r)).sqrt() } else { f64::INFINITY };
+                // The chain's Gaussians, two sigmas apart (flat within 1.4%), and the neighbouring
+                // components' `lateral` apart. Two sigmas, not one: a packet near the object
                 // reaches half as far ahead of it.
-                let share = 2.0 * lateral.max(1e-12) / (TAU * across);
+                let along = 0.5 * v * dt;
+                let share = comb_share(v * dt, along) * comb_share(lateral.max(1e-12), across);
                 let damping = (-2.0 * VISCOSITY * k * k * age).exp();
                 let amplitude = (field * share * damping * weight).min(STEEPEST_KA / k);
                 // The stationary phase's quarter turn, by the sign of alpha' (held smooth across
@@ -203,7 +212,7 @@ impl Wake {
                     k,
                     amplitude,
                     axis,
-                    sigma: [0.5 * v * dt, across],
+                    sigma: [along, across],
                     phase: -turn - k * direction.dot(centre - here),
                 });
             }

@@ -23,6 +23,12 @@ pub const VISCOSITY: f64 = 1.05e-6;
 /// Envelope tails beyond this many sigmas are left out of a sum (exp(-8) = 3.4e-4).
 pub const ENVELOPE_SIGMAS: f64 = 4.0;
 
+/// A packet's share of the field its row makes: Gaussians of sigma `sigma`, `spacing` apart and
+/// in phase, sum to sqrt(2 pi) sigma / spacing times one; at most the whole (a packet alone).
+pub fn comb_share(spacing: f64, sigma: f64) -> f64 {
+    (spacing / ((2.0 * std::f64::consts::PI).sqrt() * sigma)).min(1.0)
+}
+
 /// One packet at the field's time: a carrier of wavenumber k travelling along `direction`, under a
 /// Gaussian envelope whose axes are `axis` and its perpendicular.
 #[derive(Clone, Copy, Debug, PartialEq)]

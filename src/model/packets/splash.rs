@@ -10,7 +10,7 @@
 //! its arc of the ring. Neighbouring directions share a wavenumber and a phase: their packets
 //! overlap along the ring into one wave front.
 
-use super::{Packet, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, Packet, STEEPEST_KA, VISCOSITY};
 use crate::model::waves::G;
 use glam::DVec2;
 use std::f64::consts::{PI, TAU};
@@ -69,13 +69,14 @@ impl Splash {
         let spectrum = |k: f64| self.depth_m() * PI * r_crater * r_crater * (-0.25 * (k * r_crater).powi(2)).exp();
         let (lo, hi) = ((K_R_RANGE.0 / r_crater).ln(), (K_R_RANGE.1 / r_crater).ln());
         let d_phi = TAU / n_phi as f64;
+        // Band j's edges, evenly spaced in log k.
+        let edge = |j: usize| (lo + (hi - lo) * j as f64 / n_k as f64).exp();
+        let group = |k: f64| 0.5 * (G / k).sqrt();
         let mut packets = Vec::with_capacity(n_k * n_phi);
         for j in 0..n_k {
-            let (k_lo, k_hi) =
-                ((lo + (hi - lo) * j as f64 / n_k as f64).exp(), (lo + (hi - lo) * (j + 1) as f64 / n_k as f64).exp());
+            let (k_lo, k_hi) = (edge(j), edge(j + 1));
             let k = (k_lo * k_hi).sqrt();
             let dk = k_hi - k_lo;
-            let group = |k: f64| 0.5 * (G / k).sqrt();
             let r = group(k) * age;
             let lambda = TAU / k;
             // Where the band lies: its group velocities' spread times the age, which the
@@ -98,10 +99,8 @@ impl Splash {
             // below divide the field among.
             let field =
                 (2.0 * band / (TAU * r.max(radial) * spread)).sqrt().min(self.depth_m() / (SUM_PEAK * SUM_PEAK));
-            // Gaussians of sigma s spaced d apart sum, in phase, to sqrt(2 pi) s / d times one:
-            // each packet's share of the field, radially (the bands) and along the ring.
-            let share = |spacing: f64, sigma: f64| (spacing / (TAU.sqrt() * sigma)).min(1.0);
-            let amplitude_share = share(spread, radial) * share(r * d_phi, arc);
+            // Each packet's share of the field, radially (the bands) and along the ring.
+            let amplitude_share = comb_share(spread, radial) * comb_share(r * d_phi, arc);
             let damping = (-2.0 * VISCOSITY * k * k * age).exp();
             let amplitude = (field * amplitude_share * damping).min(STEEPEST_KA / k);
             for m in 0..n_phi {
