@@ -95,6 +95,9 @@ mod tests {
             scale: 1.0,
             motion: Motion::Fixed,
             velocity_mps: [0.0, 0.0],
+            start_s: None,
+            hull_length_m: None,
+            wake_amplitude_m: None,
         }
     }
 

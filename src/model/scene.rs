@@ -4,6 +4,7 @@
 //! (-180, 180]. Elevations and pitches are limited to [-90, 90], where they mean something.
 
 use crate::error::{Error, Result};
+use crate::model::packets::sources::{PacketBudget, SplashEvent};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -221,6 +222,11 @@ pub struct Scene {
     /// Objects on the sea (`[[object]]`), drawn by the commands as a host draws its own.
     #[serde(rename = "object", skip_serializing_if = "Vec::is_empty")]
     pub objects: Vec<Object>,
+    /// Scripted splashes (`[[splash]]`), whose rings are drawn as wave packets.
+    #[serde(rename = "splash", skip_serializing_if = "Vec::is_empty")]
+    pub splashes: Vec<SplashEvent>,
+    /// The budget of wave packets alive at once (wakes and rings).
+    pub packets: PacketBudget,
 }
 
 /// An object on the sea (`[[object]]`): a glTF model placed in the world.
@@ -247,9 +253,22 @@ pub struct Object {
     pub scale: f64,
     #[serde(default)]
     pub motion: Motion,
-    /// At time t the object is at position_m + velocity_mps t.
+    /// At time t the object is at position_m + velocity_mps t (from start_s on): a moving
+    /// object sheds a Kelvin wake (model::packets::kelvin).
     #[serde(default)]
     pub velocity_mps: [f64; 2],
+    /// Since when it has moved (s); before, it stood at position_m + velocity_mps start_s.
+    /// Without it, it has always moved: its wake is steady.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_s: Option<f64>,
+    /// Its waterline length, the wake's scale (m); Scene::load takes its model's length along
+    /// its bow (x), times scale, where it is not given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hull_length_m: Option<f64>,
+    /// Its wake's amplitude scale (m, kelvin::Wake::amplitude_m); by default
+    /// sources::WAKE_AMPLITUDE_PER_HULL_M times the hull's length.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wake_amplitude_m: Option<f64>,
 }
 
 fn unit_scale() -> f64 {
@@ -439,7 +458,30 @@ impl Scene {
                 object.file = dir.join(&object.file);
             }
         }
+        scene.resolve_hull_lengths()?;
         Ok(scene)
+    }
+
+    /// Gives each moving object without hull_length_m its model's length along its bow (the
+    /// model's x extent, times scale: placement::waterplane's length).
+    pub fn resolve_hull_lengths(&mut self) -> Result<()> {
+        for (i, object) in self.objects.iter_mut().enumerate() {
+            if object.hull_length_m.is_none() && object.velocity_mps != [0.0, 0.0] {
+                let model = crate::model::gltf::load(&object.file)?;
+                let length = crate::model::placement::waterplane(model.bounds, object.scale).length_m;
+                if !(length > 0.0 && length <= 1e4) {
+                    return Err(Error::Scene {
+                        file: object.file.display().to_string(),
+                        message: format!(
+                            "object {} moves and its model is {length} m long along its bow (x), outside a hull's (0, 10000] m: set hull_length_m",
+                            i + 1
+                        ),
+                    });
+                }
+                object.hull_length_m = Some(length);
+            }
+        }
+        Ok(())
     }
 
     /// Parses and validates; `file` names the source in errors.
@@ -560,7 +602,10 @@ impl Scene {
         for (i, object) in self.objects.iter().enumerate() {
             object.validate().map_err(|e| format!("object {} ({}): {e}", i + 1, object.file.display()))?;
         }
-        Ok(())
+        for (i, splash) in self.splashes.iter().enumerate() {
+            splash.validate().map_err(|e| format!("splash {}: {e}", i + 1))?;
+        }
+        self.packets.validate()
     }
 }
 
@@ -596,12 +641,13 @@ impl Object {
         for (axis, &v) in ["x", "y"].iter().zip(&self.velocity_mps) {
             in_range(&format!("velocity_mps.{axis}"), v, Bound::Closed(-150.0), Bound::Closed(150.0))?;
         }
-        Ok(())
+        crate::model::packets::sources::validate_wake(self)
     }
 
     /// Where the object's origin stands at time `t` (world frame, before the planet's curvature).
     pub fn position_at(&self, t: f64) -> [f64; 3] {
         let [x, y, z] = self.position_m;
+        let t = self.start_s.map_or(t, |start| t.max(start));
         [x + self.velocity_mps[0] * t, y + self.velocity_mps[1] * t, z]
     }
 }

@@ -36,6 +36,9 @@ use std::f64::consts::{FRAC_PI_4, TAU};
 /// peak's, and the wavelength 2 pi b / 30, a fifth of the patch's half-width.
 const SOURCE_K_B_MAX: f64 = 30.0;
 
+/// The source's largest value, (k b)^4 / (1 + (k b)^2)^3 at k b = sqrt(2).
+const SOURCE_PEAK: f64 = 4.0 / 27.0;
+
 /// The shortest wavelength a component may have (m): the trains' shortest (waves::generate).
 const SHORTEST_WAVELENGTH_M: f64 = 0.02;
 
@@ -51,7 +54,9 @@ pub struct Wake {
     /// Its waterline length (m).
     pub hull_length_m: f64,
     /// The wake's amplitude scale (m): its brightest component's far field, A ∝ r^(-1/2) along
-    /// its ray, taken back to one waterline length behind. Nearer than a few wavelengths the
+    /// its ray, taken back to one waterline length behind, where that component is at the hull's
+    /// source's peak (Fr >= 0.59); a slower hull's is lower by the square root of its source's
+    /// share of the peak, which falls as Fr^2. Nearer than a few wavelengths the
     /// far-field law does not hold, and the drawn waves there are lower.
     pub amplitude_m: f64,
 }
@@ -153,12 +158,17 @@ impl Wake {
                 }
             })
             .collect();
-        // F's scale: the brightest component's field one waterline length behind is amplitude_m.
-        let brightest = components.iter().map(|c| field2(c, self.hull_length_m)).fold(0.0, f64::max);
+        // F's scale: the brightest component's field one waterline length behind is amplitude_m
+        // times the square root of its source over the source's peak (4/27 at k b = sqrt(2)): a
+        // hull whose brightest component is off the peak (slow, below Fr 0.59) radiates less.
+        let (brightest, its_source) = components
+            .iter()
+            .map(|c| (field2(c, self.hull_length_m), source(c.k)))
+            .fold((0.0, 0.0), |best, f| if f.0 > best.0 { f } else { best });
         if brightest.is_nan() || brightest <= 0.0 {
             return Vec::new();
         }
-        let f0 = self.amplitude_m * self.amplitude_m / brightest;
+        let f0 = self.amplitude_m * self.amplitude_m / brightest * (its_source / SOURCE_PEAK).min(1.0);
         let fade = |x: f64| {
             let x = x.clamp(0.0, 1.0);
             x * x * (3.0 - 2.0 * x)

@@ -5,7 +5,9 @@
 //! wavelength, one slope amplitude k a E. Sources turn a scene's moving objects and events into
 //! the packets alive at a time t (`kelvin`), as a function of t alone: no history is replayed.
 
+pub mod grid;
 pub mod kelvin;
+pub mod sources;
 pub mod splash;
 
 use crate::model::waves::trochoid_slope_variance;
@@ -138,6 +140,18 @@ impl PacketField {
             candidates.truncate(max);
         }
         PacketField { packets: candidates, dropped_energy, total_energy }
+    }
+
+    /// The same packets with `eye` as the frame's origin (the trains' and the shaders' frame:
+    /// rest positions count from the point below the eye).
+    pub fn relative_to(&self, eye: DVec2) -> PacketField {
+        let packets = self.packets.iter().map(|p| Packet { centre: p.centre - eye, ..*p }).collect();
+        PacketField { packets, ..*self }
+    }
+
+    /// The longest packet's wavelength (m); 0 without packets.
+    pub fn longest_wavelength(&self) -> f64 {
+        self.packets.iter().map(Packet::wavelength).fold(0.0, f64::max)
     }
 
     /// The packets' displacement and tangents at rest position x.

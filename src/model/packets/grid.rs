@@ -1,0 +1,189 @@
+//! The cells a frame's packets are binned into: a grid of square cells over the rest plane
+//! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope
+//! box (ENVELOPE_SIGMAS on both axes) overlaps it, so that a pixel or a grid vertex reads only
+//! the packets that reach it. The GPU bins them itself (glsl/packet_bins.comp) from the ranges of
+//! cells computed here; `lists` is the same binning on the CPU, for the ground truth and the tests.
+
+use super::{Packet, ENVELOPE_SIGMAS};
+use glam::DVec2;
+
+/// Cells per side at most: 16 384 cells, whose starts the GPU's one-workgroup scan covers.
+pub const MAX_CELLS_PER_SIDE: u32 = 128;
+pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
+
+/// The grid of one frame's packets.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PacketGrid {
+    /// The corner of cell (0, 0) (m, in the packets' frame).
+    pub origin: DVec2,
+    /// Side of a cell (m).
+    pub cell_m: f64,
+    pub cols: u32,
+    pub rows: u32,
+    /// Each packet's cells, inclusive: first column, first row, last column, last row.
+    pub ranges: Vec<[u32; 4]>,
+    /// The number of (cell, packet) pairs: the lists' total length.
+    pub entries: usize,
+    /// The largest sum of the amplitudes of the packets that overlap one cell (m): no packet
+    /// crest rises higher over the rest plane, nor a trough sinks lower.
+    pub crest_m: f64,
+}
+
+/// The half-extents along x and y of a packet's envelope box.
+fn half_extent(p: &Packet) -> DVec2 {
+    let (a, [s0, s1]) = (p.axis, p.sigma);
+    ENVELOPE_SIGMAS * DVec2::new(a.x.abs() * s0 + a.y.abs() * s1, a.y.abs() * s0 + a.x.abs() * s1)
+}
+
+impl PacketGrid {
+    /// The grid over `packets`, the finest of square cells at most MAX_CELLS_PER_SIDE to a side
+    /// whose lists hold at most `max_entries` pairs (coarser cells, fewer pairs: each cell side
+    /// doubled until they fit). Empty without packets.
+    pub fn new(packets: &[Packet], max_entries: usize) -> PacketGrid {
+        let Some(first) = packets.first() else { return PacketGrid::default() };
+        let (mut lo, mut hi) = (first.centre, first.centre);
+        for p in packets {
+            let h = half_extent(p);
+            lo = lo.min(p.centre - h);
+            hi = hi.max(p.centre + h);
+        }
+        let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
+        let mut cell_m = size.max_element() / MAX_CELLS_PER_SIDE as f64;
+        loop {
+            let grid = Self::with_cells(packets, lo, size, cell_m);
+            if grid.entries <= max_entries || grid.cols * grid.rows == 1 {
+                return grid;
+            }
+            cell_m *= 2.0;
+        }
+    }
+
+    fn with_cells(packets: &[Packet], origin: DVec2, size: DVec2, cell_m: f64) -> PacketGrid {
+        let count = |extent: f64| ((extent / cell_m).ceil() as u32).clamp(1, MAX_CELLS_PER_SIDE);
+        let (cols, rows) = (count(size.x), count(size.y));
+        let cell_of = |x: f64, n: u32| ((x / cell_m).floor().max(0.0) as u32).min(n - 1);
+        let mut sums = vec![0.0f64; (cols * rows) as usize];
+        let mut entries = 0;
+        let ranges: Vec<[u32; 4]> = packets
+            .iter()
+            .map(|p| {
+                let h = half_extent(p);
+                let (a, b) = (p.centre - h - origin, p.centre + h - origin);
+                let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
+                for y in r[1]..=r[3] {
+                    for x in r[0]..=r[2] {
+                        sums[(y * cols + x) as usize] += p.amplitude;
+                    }
+                }
+                entries += ((r[2] - r[0] + 1) * (r[3] - r[1] + 1)) as usize;
+                r
+            })
+            .collect();
+        let crest_m = sums.iter().copied().fold(0.0, f64::max);
+        PacketGrid { origin, cell_m, cols, rows, ranges, entries, crest_m }
+    }
+
+    /// The cell holding rest position x, if the grid covers it.
+    pub fn cell(&self, x: DVec2) -> Option<u32> {
+        let c = (x - self.origin) / self.cell_m;
+        let inside = c.x >= 0.0 && c.y >= 0.0 && c.x < self.cols as f64 && c.y < self.rows as f64;
+        inside.then(|| c.y as u32 * self.cols + c.x as u32)
+    }
+
+    /// Every cell's list, on the CPU: the start of each cell's run in `entries` (one more start
+    /// than cells, the last the total), and the packets' indices, in packet order within a cell.
+    pub fn lists(&self) -> (Vec<u32>, Vec<u32>) {
+        let cells = (self.cols * self.rows) as usize;
+        let mut starts = vec![0u32; cells + 1];
+        for r in &self.ranges {
+            for y in r[1]..=r[3] {
+                for x in r[0]..=r[2] {
+                    starts[(y * self.cols + x) as usize + 1] += 1;
+                }
+            }
+        }
+        for i in 0..cells {
+            starts[i + 1] += starts[i];
+        }
+        let mut cursor = starts.clone();
+        let mut entries = vec![0u32; self.entries];
+        for (i, r) in self.ranges.iter().enumerate() {
+            for y in r[1]..=r[3] {
+                for x in r[0]..=r[2] {
+                    let c = (y * self.cols + x) as usize;
+                    entries[cursor[c] as usize] = i as u32;
+                    cursor[c] += 1;
+                }
+            }
+        }
+        (starts, entries)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn packet(centre: DVec2, sigma: [f64; 2], amplitude: f64) -> Packet {
+        Packet { centre, direction: DVec2::X, k: 1.0, amplitude, axis: DVec2::new(0.6, 0.8), sigma, phase: 0.0 }
+    }
+
+    fn packets() -> Vec<Packet> {
+        (0..200)
+            .map(|i| {
+                let t = i as f64;
+                packet(
+                    DVec2::new(37.0 * (t * 0.7).sin(), 23.0 * (t * 1.3).cos()),
+                    [1.0 + t % 5.0, 0.5 + t % 3.0],
+                    0.01 * t,
+                )
+            })
+            .collect()
+    }
+
+    /// Every point a packet's envelope box reaches lies in a cell that lists it.
+    #[test]
+    fn every_packet_is_listed_wherever_it_reaches() {
+        let ps = packets();
+        let grid = PacketGrid::new(&ps, usize::MAX);
+        let (starts, entries) = grid.lists();
+        assert_eq!(entries.len(), grid.entries);
+        let mut checked = 0;
+        for i in -100..=100 {
+            for j in -70..=70 {
+                let x = DVec2::new(i as f64 * 0.55, j as f64 * 0.6);
+                for (n, _) in ps.iter().enumerate().filter(|(_, p)| p.reaches(x)) {
+                    let c = grid.cell(x).expect("inside the grid") as usize;
+                    assert!(entries[starts[c] as usize..starts[c + 1] as usize].contains(&(n as u32)), "{x} {n}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 10_000, "{checked}");
+    }
+
+    /// Coarser cells where the lists would not fit, and the crest bound is a real bound.
+    #[test]
+    fn cells_coarsen_to_fit_and_the_crest_bounds_every_height() {
+        let ps = packets();
+        let fine = PacketGrid::new(&ps, usize::MAX);
+        let coarse = PacketGrid::new(&ps, fine.entries / 3);
+        assert!(
+            coarse.entries <= fine.entries / 3 && coarse.cell_m >= 2.0 * fine.cell_m,
+            "{} {}",
+            coarse.entries,
+            fine.entries
+        );
+        let field = super::super::PacketField { packets: ps.clone(), ..Default::default() };
+        let highest = (0..4000)
+            .map(|i| DVec2::new(-40.0 + 0.02 * i as f64, 20.0 * (i as f64 * 0.01).sin()))
+            .map(|x| field.height(x).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            highest > 0.0 && highest <= fine.crest_m && fine.crest_m <= coarse.crest_m,
+            "{highest} {} {}",
+            fine.crest_m,
+            coarse.crest_m
+        );
+    }
+}

@@ -1,0 +1,207 @@
+//! A scene's local waves: its `[[splash]]` events and its moving objects' wakes, and the budget
+//! of packets alive at once (`[packets]`). `Sources::field` is the packet field at a time, a
+//! function of the scene and the time alone.
+
+use super::kelvin::{Wake, WakeSampling};
+use super::splash::{Splash, SplashSampling};
+use super::PacketField;
+use crate::model::scene::{Object, Scene};
+use crate::model::waves::G;
+use glam::DVec2;
+use serde::Deserialize;
+use std::f64::consts::TAU;
+
+/// The most packets a scene may keep alive at once (`packets.max_alive`): 6 MiB of packets on
+/// the GPU, and a wake of every preset object many times over.
+pub const MAX_PACKETS: u32 = 1 << 17;
+
+/// The wavelengths a local wave may have (m): the trains' own band (`waves.lambda_min_m`,
+/// `waves.lambda_max_m`).
+pub const WAVELENGTH_BAND_M: (f64, f64) = (1e-3, 1e4);
+
+/// A splash's wavenumbers span k R in [0.05, 4] (splash::K_R_RANGE): its wavelengths are
+/// 2 pi R / 4 to 2 pi R / 0.05.
+const SPLASH_WAVELENGTHS_PER_RADIUS: (f64, f64) = (TAU / 4.0, TAU / 0.05);
+
+/// A wake's amplitude scale (Wake::amplitude_m) per metre of hull, where the scene gives none:
+/// ours, 2 cm per metre (a 10 m launch's waves 0.2 m high one hull length behind, a 100 m
+/// ship's 2 m, before the slow hull's weakening, Wake's).
+pub const WAKE_AMPLITUDE_PER_HULL_M: f64 = 0.02;
+
+/// How far behind its object a wake is drawn, in hull lengths along its slowest ray (the
+/// transverse waves', which leave at half the object's speed)...
+const WAKE_LENGTH_HULLS: f64 = 40.0;
+/// ...and no older than this (s): a slow object's wake is otherwise minutes of packets.
+const WAKE_MAX_AGE_S: f64 = 600.0;
+
+/// A wake's components per side of its track and its packets' spacing along their chains: each
+/// component's waves are two of its wavelengths per packet, and a short one's packets at least a
+/// hull length apart (kelvin::WakeSampling).
+const WAKE_COMPONENTS: usize = 24;
+const WAKE_SPACING_WAVELENGTHS: f64 = 2.0;
+
+/// A splash's wavenumber bands and directions: 1 536 packets a splash.
+const SPLASH_SAMPLING: SplashSampling = SplashSampling { bands: 24, directions: 64 };
+
+/// A scripted splash (`[[splash]]`): a crater of `radius_m` at `position_m` at `time_s`, whose
+/// rings spread from then on (packets::splash).
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SplashEvent {
+    /// x, y in the world's horizontal frame (like camera.x_m, y_m).
+    pub position_m: [f64; 2],
+    pub time_s: f64,
+    pub radius_m: f64,
+}
+
+/// The budget of packets alive at once (`[packets]`).
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PacketBudget {
+    /// Past it, the weakest packets (the oldest, by the sources' spreading and damping) are left
+    /// out and their energy reported.
+    pub max_alive: u32,
+}
+
+impl Default for PacketBudget {
+    fn default() -> Self {
+        PacketBudget { max_alive: 16_384 }
+    }
+}
+
+impl PacketBudget {
+    pub fn validate(&self) -> Result<(), String> {
+        if !(1..=MAX_PACKETS).contains(&self.max_alive) {
+            return Err(format!("packets.max_alive = {} is out of range [1, {MAX_PACKETS}]", self.max_alive));
+        }
+        Ok(())
+    }
+}
+
+fn in_band(what: &str, shortest: f64, longest: f64) -> Result<(), String> {
+    let (lo, hi) = WAVELENGTH_BAND_M;
+    if shortest >= lo && longest <= hi {
+        Ok(())
+    } else {
+        Err(format!("{what} makes waves {shortest:.4} to {longest:.4} m long, outside the model's band [{lo}, {hi}] m"))
+    }
+}
+
+impl SplashEvent {
+    pub fn validate(&self) -> Result<(), String> {
+        for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
+            if !(v.abs() <= 1e7) {
+                return Err(format!("position_m.{axis} = {v} is out of range [-1e7, 1e7]"));
+            }
+        }
+        if !(self.time_s >= 0.0 && self.time_s <= 1e9) {
+            return Err(format!("time_s = {} is out of range [0, 1e9] (a splash's clock starts at 0)", self.time_s));
+        }
+        if !(self.radius_m > 0.0 && self.radius_m.is_finite()) {
+            return Err(format!("radius_m = {} must be a positive length", self.radius_m));
+        }
+        let (short, long) = SPLASH_WAVELENGTHS_PER_RADIUS;
+        in_band(&format!("radius_m = {}", self.radius_m), short * self.radius_m, long * self.radius_m)
+    }
+
+    fn splash(&self) -> Splash {
+        Splash { position: DVec2::from(self.position_m), time_s: self.time_s, radius_m: self.radius_m }
+    }
+}
+
+/// The checks on an object's wake keys (called from Object::validate).
+pub fn validate_wake(object: &Object) -> Result<(), String> {
+    if let Some(start) = object.start_s {
+        if !(start.abs() <= 1e9) {
+            return Err(format!("start_s = {start} is out of range [-1e9, 1e9]"));
+        }
+    }
+    if let Some(length) = object.hull_length_m {
+        if !(length > 0.0 && length <= 1e4) {
+            return Err(format!("hull_length_m = {length} is out of range (0, 10000]"));
+        }
+    }
+    if let Some(a) = object.wake_amplitude_m {
+        if !(a >= 0.0 && a <= 100.0) {
+            return Err(format!("wake_amplitude_m = {a} is out of range [0, 100]"));
+        }
+    }
+    let speed = DVec2::from(object.velocity_mps).length();
+    if speed > 0.0 {
+        // The transverse waves, the wake's longest, are 2 pi U^2 / g long.
+        let longest = TAU * speed * speed / G;
+        let [x, y] = object.velocity_mps;
+        in_band(&format!("velocity_mps = [{x}, {y}] ({speed:.1} m/s)"), WAVELENGTH_BAND_M.0, longest)?;
+    }
+    Ok(())
+}
+
+/// What a scene's local waves come from.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Sources {
+    pub wakes: Vec<(Wake, WakeSampling)>,
+    pub splashes: Vec<Splash>,
+    pub max_alive: usize,
+}
+
+impl Sources {
+    /// The scene's splashes and the wakes of its moving objects. Err names a moving object whose
+    /// hull length is unknown (Scene::load takes it from the model; a scene built in code sets
+    /// hull_length_m).
+    pub fn of_scene(scene: &Scene) -> Result<Sources, String> {
+        let mut wakes = Vec::new();
+        for (i, object) in scene.objects.iter().enumerate() {
+            let velocity = DVec2::from(object.velocity_mps);
+            let speed = velocity.length();
+            if speed == 0.0 {
+                continue;
+            }
+            let Some(hull) = object.hull_length_m else {
+                return Err(format!(
+                    "object {} ({}) moves (velocity_mps) and its hull length is unknown: set hull_length_m",
+                    i + 1,
+                    object.file.display()
+                ));
+            };
+            let wake = Wake {
+                origin: DVec2::new(object.position_m[0], object.position_m[1]),
+                velocity,
+                start_s: object.start_s,
+                hull_length_m: hull,
+                amplitude_m: object.wake_amplitude_m.unwrap_or(WAKE_AMPLITUDE_PER_HULL_M * hull),
+            };
+            let sampling = WakeSampling {
+                components: WAKE_COMPONENTS,
+                spacing_wavelengths: WAKE_SPACING_WAVELENGTHS,
+                min_spacing_m: hull,
+                max_age_s: (2.0 * WAKE_LENGTH_HULLS * hull / speed).min(WAKE_MAX_AGE_S),
+            };
+            wakes.push((wake, sampling));
+        }
+        Ok(Sources {
+            wakes,
+            splashes: scene.splashes.iter().map(SplashEvent::splash).collect(),
+            max_alive: scene.packets.max_alive as usize,
+        })
+    }
+
+    /// Whether the scene has any local wave source (else the packet passes and terms are left
+    /// out).
+    pub fn is_empty(&self) -> bool {
+        self.wakes.is_empty() && self.splashes.is_empty()
+    }
+
+    /// The packets alive at time t, within the budget.
+    pub fn field(&self, t: f64) -> PacketField {
+        let mut candidates = Vec::new();
+        for (wake, sampling) in &self.wakes {
+            candidates.extend(wake.packets(t, sampling));
+        }
+        for splash in &self.splashes {
+            candidates.extend(splash.packets(t, &SPLASH_SAMPLING));
+        }
+        // No packet without amplitude takes a place in the budget.
+        candidates.retain(|p| p.amplitude > 0.0);
+        PacketField::bounded(candidates, self.max_alive)
+    }
+}
