@@ -7,6 +7,7 @@
 #include "common.glsl"
 WAVES_BLOCK;
 #include "waves.glsl"
+#include "packets.glsl"
 
 // Whether any train can be resolved by the grid in this view (specialization constant 4).
 layout(constant_id = 4) const bool GEOMETRY = true;
@@ -32,7 +33,7 @@ void main() {
     vec3 d = vec3(0.0);
     SampleScale cell = sample_scale(ray, cell_px, frame.filter_steps.xy);
     bool displaced = GEOMETRY && cell.any;
-    if (displaced) d = displacement(rest.xy, cell, frame.filter_steps.xy);
+    if (displaced) d = displacement(rest.xy, cell, frame.filter_steps.xy) + packets_displacement(rest.xy, cell, frame.filter_steps.xy);
     gl_Position = (SUN_VIEW ? frame.sun_view_proj : frame.view_proj) * vec4(rest + d, 1.0);
     out_rest = vec3(rest.xy, displaced ? 1.0 : 0.0);
 }

@@ -31,6 +31,7 @@ layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixe
 #ifdef TRAIN_BLOCKS
 #include "train_blocks.glsl"
 #endif
+#include "packets.glsl"
 #include "sky.glsl"
 // The sea's reflections of the host's objects in screen space (constant 15; passes/reflections.rs
 // builds what local_reflection reads) and through their mirror images (constant 16;
@@ -479,9 +480,13 @@ void main() {
 #else
     SurfaceSample s = resolves ? surface_sample(at, pixel, frame.filter_steps.zw) : flat_surface();
 #endif
+    // The wave packets where the pixel sees the sea: in its normal as far as it resolves them
+    // (not at all where it resolves no train), the rest of their slopes in the BRDF.
+    if (PACKETS && is_sea && all(lessThan(abs(x), vec2(FAR_LIMIT)))) add_packets(s, x, pixel, resolves);
     vec3 n = up;
-    // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror).
-    vec2 sigma2 = METHOD == METHOD_NO_FILTER ? vec2(0.0) : frame.wind.zw;
+    // Nothing resolved: all slopes in the BRDF (none for the unfiltered mirror), the trains' and
+    // the packets' at this point.
+    vec2 sigma2 = METHOD == METHOD_NO_FILTER ? vec2(0.0) : frame.wind.zw + s.sigma2;
     if (resolves) {
         // A fully steep train (k h = 1) has a cusp at its crest, where the tangents are parallel:
         // the two sides' normals average to the vertical there. The waves' normal is in the
@@ -495,7 +500,7 @@ void main() {
     if (METHOD == METHOD_CONSTANT_BRDF) sigma2 = frame.baseline_sigma2.xy;
     // The glints' site: without resolved trains every train's curvature is unresolved.
     int trains = int(frame.grid_dims.z);
-    float curvature = resolves ? s.curvature : (trains > 0 ? wave_prefix[trains - 1].z : 0.0);
+    float curvature = resolves ? s.curvature : (trains > 0 ? wave_prefix[trains - 1].z : 0.0) + s.curvature;
     GlintSite glint = GlintSite(x, u.xy, pixel.a_u_w, pixel.a_v_w, pixel.w, v_up, curvature, sigma2);
     // The point the pixel sees, for its local reflections: on the displaced surface where the
     // grid drew it (reversed Z: ray near / depth), else on the mean sea.

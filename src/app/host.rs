@@ -190,7 +190,8 @@ impl<'g> OffscreenHost<'g> {
         });
         let frame = self.ocean.last_frame().cloned().expect("a recorded frame");
         let planar_cover_share = self.ocean.planar_cover_share();
-        Ok(RenderedFrame { width, height, hdr, ldr, pass_ms, frame, planar_cover_share })
+        let packets = self.ocean.packet_stats();
+        Ok(RenderedFrame { width, height, hdr, ldr, pass_ms, frame, planar_cover_share, packets })
     }
 
     /// Records the ocean into the host's images, then the host's readback of both.

@@ -150,6 +150,7 @@ pub fn render_on(gpu: &Gpu, request: &RenderRequest) -> Result<(Report, Rendered
         omitted,
         pipelines,
         planar_cover_share: frame.planar_cover_share,
+        packets: frame.packets,
         grid: GridReport {
             columns: frame.frame.grid.columns,
             rows: frame.frame.grid.rows,

@@ -47,6 +47,10 @@ pub struct Report {
     /// where the frame drew one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub planar_cover_share: Option<f64>,
+    /// The frame's wave packets (local waves), where the scene has any: how many were drawn, in
+    /// how many cells, the share of their sources' energy the budget left out, their crest.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packets: Option<crate::render::renderer::PacketStats>,
     pub waves: WaveReport,
 }
 

@@ -12,11 +12,12 @@
 pub mod camera;
 
 use crate::error::{Error, Result};
+use crate::model::packets::sources::Sources;
 use crate::model::scene::Scene;
 use crate::model::waves;
 use crate::render::frame::FrameData;
 use crate::render::passes::HostTargets;
-use crate::render::renderer::{HostOutput, Options, Output, Prepared, Renderer};
+use crate::render::renderer::{HostOutput, Options, Output, PacketStats, Prepared, Renderer};
 use crate::render::specialize::{self, Omission};
 use crate::render::sun_shadow::CasterBox;
 use crate::vk::device::{HDR_BITS_FORMAT, HDR_FORMAT};
@@ -245,6 +246,9 @@ pub struct Ocean<'g> {
     /// What the host's objects are mirrored with in the last update's frame
     /// ([`Ocean::record_planar`]).
     mirror: Option<MirrorView>,
+    /// The scene's local waves: its splashes and its moving objects' wakes (the objects are the
+    /// host's to draw; their wakes are the sea's).
+    sources: Sources,
 }
 
 /// The sun's shadow map, for a host's fragment shaders to shadow its objects by the waves and by
@@ -272,12 +276,19 @@ pub use crate::render::resources::PLANAR_DEPTH_FORMAT;
 /// The sun's shadow map's format, for a host's caster pipeline.
 pub const SHADOW_FORMAT: vk::Format = crate::vk::device::DEPTH_FORMAT;
 
+/// A scene's local waves (its splashes and its moving objects' wakes), or the line that says why
+/// not.
+fn local_waves(scene: &Scene) -> Result<Sources> {
+    Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(host scene)".into(), message })
+}
+
 impl<'g> Ocean<'g> {
     /// Makes the ocean's pipelines and resources on the host's device. Fails naming a format the
     /// ocean cannot write or test against, a frame count or size out of range, or what the
     /// device lacks.
     pub fn new(gpu: &'g Gpu, mut desc: OceanDesc) -> Result<Ocean<'g>> {
         check_desc(gpu, &desc)?;
+        let sources = local_waves(&desc.scene)?;
         // A scene's objects are its host's to draw.
         desc.scene.objects.clear();
         let mut ocean = Ocean {
@@ -293,6 +304,7 @@ impl<'g> Ocean<'g> {
             casters: None,
             sun_view: None,
             mirror: None,
+            sources,
             desc,
         };
         ocean.build()?;
@@ -305,6 +317,7 @@ impl<'g> Ocean<'g> {
         // The shading's own `background` stays: the sea's aerial perspective goes with it, which
         // a host with its own sky keeps; the composite leaves that host's sky alone.
         let mut shader = desc.shading.shader;
+        shader.packets = !self.sources.is_empty();
         // Local reflections need the host's depth (its objects) and the sky term they replace.
         let mut omitted = Vec::new();
         if shader.reflections != Reflections::None && (desc.formats.depth.is_none() || !shader.terms.sky) {
@@ -352,7 +365,9 @@ impl<'g> Ocean<'g> {
         if self.desc.width == 0 || self.desc.height == 0 {
             return Ok(());
         }
-        match Renderer::new(self.gpu, &self.desc.scene, self.desc.width, self.desc.height, self.options) {
+        let (width, height) = (self.desc.width, self.desc.height);
+        match Renderer::with_local_waves(self.gpu, &self.desc.scene, self.sources.clone(), width, height, self.options)
+        {
             Ok(renderer) => {
                 self.renderer = Some(renderer);
                 Ok(())
@@ -407,11 +422,16 @@ impl<'g> Ocean<'g> {
     /// model, the tone, the shadow map, what a scene specialized for its camera leaves out) they
     /// are rebuilt: the host has then waited for every frame in flight.
     pub fn set_scene(&mut self, mut scene: Scene) -> Result<()> {
-        scene.objects.clear();
         scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
+        let sources = local_waves(&scene)?;
+        scene.objects.clear();
         // The scene is kept even if the rebuild fails: the next resize or scene change retries.
         self.desc.scene = scene;
-        let fits = self.renderer.as_ref().is_some_and(|r| r.fits(&self.desc.scene));
+        let fits = self.renderer.as_ref().is_some_and(|r| r.fits(&self.desc.scene) && r.fits_local_waves(&sources));
+        if let (true, Some(renderer)) = (fits, self.renderer.as_mut()) {
+            renderer.set_local_waves(sources.clone());
+        }
+        self.sources = sources;
         let rebuild = self.broken.is_some()
             || !fits && self.renderer.is_some()
             || self.desc.shading.specialize_for_scene_camera && self.plan().0 != self.options;
@@ -695,6 +715,13 @@ impl<'g> Ocean<'g> {
     /// for [`MirrorCover::Whole`]. None where that frame drew no mirror.
     pub fn planar_cover_share(&self) -> Option<f64> {
         self.renderer.as_ref()?.planar_cover_share()
+    }
+
+    /// The last updated frame's wave packets: how many it drew, in how many cells, and the share
+    /// of their sources' energy the budget (`packets.max_alive`) left out. None without local
+    /// waves.
+    pub fn packet_stats(&self) -> Option<PacketStats> {
+        self.renderer.as_ref()?.packet_stats()
     }
 
     /// Records a pass of the host's own (`record`, into its command buffer `cmd`) ahead of

@@ -72,6 +72,9 @@ pub struct WaveSet {
     pub sigma2: [f64; 2],
     /// Mean height of the trochoid surface below the rest plane: sum k h^2 / 2.
     pub mean_height_offset: f64,
+    /// The highest crest the frame's wave packets add at any one place (m; 0 without them, as
+    /// `generate` leaves it): render::packets sets it for a frame.
+    pub packet_crest_m: f64,
 }
 
 /// Pierson-Moskowitz spectrum S(omega) for wind speed u (m^2 s).
@@ -203,7 +206,7 @@ pub fn generate(scene: &Scene) -> WaveSet {
         [acc[0] + v[0], acc[1] + v[1]]
     });
     let mean_height_offset = trains.iter().map(|t| t.k * t.amplitude * t.amplitude / 2.0).sum();
-    WaveSet { trains, wind_direction, sigma2, mean_height_offset }
+    WaveSet { trains, wind_direction, sigma2, mean_height_offset, packet_crest_m: 0.0 }
 }
 
 /// Cox & Munk (1954), clean sea: total slope variance 0.003 + 5.12e-3 U (U in m/s at 12.5 m).
@@ -230,10 +233,10 @@ impl WaveSet {
         }
     }
 
-    /// The summed amplitude: no point of the surface rises higher above its rest plane (or sinks
-    /// lower below it), whatever the phases.
+    /// The summed amplitude, with the packets' crest: no point of the surface rises higher above
+    /// its rest plane (or sinks lower below it), whatever the phases.
     pub fn highest_crest(&self) -> f64 {
-        self.trains.iter().map(|t| t.amplitude).sum()
+        self.trains.iter().map(|t| t.amplitude).sum::<f64>() + self.packet_crest_m
     }
 
     /// Height above mean sea level of the water directly below the origin (the eye) at time t.

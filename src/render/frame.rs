@@ -83,6 +83,10 @@ pub struct FrameUniforms {
     /// format's largest value and far-plane depth (embed::Ocean; zero outside a host's frame).
     pub host_clip: [[f32; 4]; 4],
     pub host: [f32; 4],
+    /// The wave packets' cells: the corner of cell (0, 0) (camera-relative) and 1 / the cell's
+    /// side; their columns, rows and the packets' count (render::packets).
+    pub packet_grid: [f32; 4],
+    pub packet_dims: [u32; 4],
 }
 
 /// vec4s of the glint's masking table in the `Waves` block (glsl/masking.glsl).
@@ -581,6 +585,8 @@ pub fn build_with_casters(
         ],
         host_clip: [[0.0; 4]; 4],
         host: [0.0; 4],
+        packet_grid: [0.0; 4],
+        packet_dims: [0; 4],
     };
     // No grid row: no sea anywhere in view.
     let sky_rows = if grid.rows == 0 { height } else { sky_only_rows(&camera, waves, height) };

@@ -90,6 +90,8 @@ pub struct RecordedAhead {
     pub planar: Option<f64>,
     /// The host's own passes.
     pub host_passes: usize,
+    /// The wave packets' binning (recorded with the sun's view ahead of the frame).
+    pub packets_binned: bool,
 }
 
 impl<'g> FrameSlot<'g> {

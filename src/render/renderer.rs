@@ -6,10 +6,12 @@
 
 use crate::error::{Error, Result};
 use crate::model::masking::{GlintMaskingTable, VisibleFacetTable};
+use crate::model::packets::sources::Sources;
 use crate::model::scene::{Planet, Reflections, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::{FrameSlot, RecordedAhead};
+use crate::render::packets::FramePackets;
 use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
 use crate::render::passes::composite::{CompositePass, HostFormats};
@@ -18,6 +20,7 @@ use crate::render::passes::eye_sky::EyeSkyPass;
 use crate::render::passes::host_copy::HostCopyPass;
 use crate::render::passes::host_tonemap::HostTonemapPass;
 use crate::render::passes::ocean::{Method, OceanPass, ShaderConfig};
+use crate::render::passes::packets::PacketBinsPass;
 use crate::render::passes::placeholders::PlaceholdersPass;
 use crate::render::passes::planar::{MirrorCover, MirrorView, PlanarPass};
 use crate::render::passes::planar_tiles::PlanarTilesPass;
@@ -57,6 +60,8 @@ pub struct RenderedFrame {
     pub frame: FrameData,
     /// The share of the mirror's images its pass built, where a host drew its objects into them.
     pub planar_cover_share: Option<f64>,
+    /// The frame's wave packets, where the scene has local waves.
+    pub packets: Option<PacketStats>,
 }
 
 /// Where a frame ends.
@@ -136,6 +141,21 @@ impl Default for Options {
     }
 }
 
+/// One frame's wave packets, for the report.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PacketStats {
+    /// Packets drawn.
+    pub alive: usize,
+    /// Their cells and the lists' length.
+    pub cells: u32,
+    pub entries: usize,
+    /// The energy of the packets the budget (packets.max_alive) left out, over all the sources
+    /// made (Packet::energy, m^4).
+    pub dropped_energy_share: f64,
+    /// The highest crest they add at one place (m).
+    pub crest_m: f64,
+}
+
 /// A frame's host-side work, done: see `Renderer::prepare`.
 pub struct Prepared {
     data: FrameData,
@@ -186,6 +206,12 @@ pub struct Renderer<'g> {
     /// The share of the mirror's images the latest recorded frame's mirror pass built (the host's
     /// cover; 1 without one); None where that frame drew no mirror.
     planar_cover_share: Option<f64>,
+    /// The wave packets' binning, first in a frame (or ahead of it, with the sun's view).
+    packet_bins: Option<PacketBinsPass<'g>>,
+    /// The local waves the frames' packets come from.
+    sources: Sources,
+    /// The last prepared frame's packets: how many, and the energy the budget left out.
+    last_packets: Option<PacketStats>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
@@ -266,14 +292,31 @@ impl TrainCounts {
 
 impl<'g> Renderer<'g> {
     /// A renderer for `width` x `height` images of scenes with `scene`'s sky-map anisotropy.
-    /// With supersampling the grid keeps its cell size in output pixels.
+    /// With supersampling the grid keeps its cell size in output pixels. The scene's local waves
+    /// are its splashes (it has no objects, whose wakes a host hands `with_local_waves`).
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         // The ocean alone: a host draws the objects (embed::Ocean hands it none).
         scene.refuse_objects("a measurement of the ocean's own frame")?;
+        let sources = Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
+        Self::with_local_waves(gpu, scene, sources, width, height, options)
+    }
+
+    /// `new`, with the local waves `sources` (the scene's splashes and its objects' wakes,
+    /// embed::Ocean's).
+    pub fn with_local_waves(
+        gpu: &'g Gpu,
+        scene: &Scene,
+        sources: Sources,
+        width: u32,
+        height: u32,
+        options: Options,
+    ) -> Result<Renderer<'g>> {
+        scene.refuse_objects("the ocean's renderer (a host draws the objects)")?;
         let device = &gpu.device;
-        // The sky's model is the scene's.
+        // The sky's model is the scene's; the packets, its local waves'.
         let mut options = options;
         options.shader.sky_physical = scene.sky.model == SkyKind::Physical;
+        options.shader.packets = !sources.is_empty();
         assert!(options.sky_map || !options.shader.terms.sky, "the sky term samples the sky map");
         assert!(
             options.sky_map || !options.shader.terms.sea || options.shader.method != Method::Full,
@@ -309,8 +352,10 @@ impl<'g> Renderer<'g> {
             reflections: options.shader.reflections.screen(),
             planar: options.shader.reflections.planar(),
             planar_tiles: options.shader.planar_tiles,
+            packets: options.shader.packets.then_some(sources.max_alive),
         };
         let resources = Resources::new(gpu, &spec)?;
+        let packet_bins = PacketBinsPass::new(device, &resources)?;
         // First in every frame, or recorded ahead of it by a host that draws casters into it.
         let shadow = (options.shader.shadow && !options.shader.draws_nothing())
             .then(|| ShadowPass::new(device, &resources, options.shader))
@@ -390,8 +435,11 @@ impl<'g> Renderer<'g> {
             .as_ref()
             .map(|images| PlanarPass::new(device, &resources, images, options.shader.planar_cover))
             .transpose()?;
-        let scopes =
-            (passes.len() + usize::from(shadow.is_some()) + usize::from(planar.is_some()) + HOST_PASSES) as u32;
+        let scopes = (passes.len()
+            + usize::from(shadow.is_some())
+            + usize::from(planar.is_some())
+            + usize::from(packet_bins.is_some())
+            + HOST_PASSES) as u32;
         let slots = (0..frames_in_flight as usize)
             .map(|i| FrameSlot::new(gpu, i, scopes, options.statistics))
             .collect::<Result<Vec<_>>>()?;
@@ -411,6 +459,9 @@ impl<'g> Renderer<'g> {
             shadow,
             planar,
             planar_cover_share: None,
+            packet_bins,
+            sources,
+            last_packets: None,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -521,6 +572,7 @@ impl<'g> Renderer<'g> {
             pass_ms,
             frame: data,
             planar_cover_share: None,
+            packets: self.last_packets,
         })
     }
 
@@ -639,10 +691,33 @@ impl<'g> Renderer<'g> {
                 self.shadow_setting.0, self.shadow_setting.1, shadow_setting.0, shadow_setting.1
             )));
         }
-        let wave_set = waves::generate(scene);
+        let mut wave_set = waves::generate(scene);
+        let packets = self.resources.packets.as_ref().map(|buffers| {
+            let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
+            FramePackets::new(&self.sources, scene.render.time_s, eye, buffers.max_entries)
+        });
+        if let Some(p) = &packets {
+            wave_set.packet_crest_m = p.grid.crest_m;
+        }
         let k = self.ssaa;
         let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         let mut data = frame::build_with_casters(scene, &wave_set, width, height, cell_px, casters);
+        self.last_packets = None;
+        if let (Some(p), Some(buffers)) = (&packets, &self.resources.packets) {
+            (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
+            // The longest wave any scale may resolve: the sample scales' cut (glsl/waves.glsl).
+            let longest = p.field.longest_wavelength() as f32;
+            data.uniforms.wave_extent[0] = data.uniforms.wave_extent[0].max(longest);
+            buffers.write(slot, p)?;
+            let total = p.field.total_energy;
+            self.last_packets = Some(PacketStats {
+                alive: p.gpu.len(),
+                cells: p.grid.cols * p.grid.rows,
+                entries: p.grid.entries,
+                dropped_energy_share: if total > 0.0 { p.field.dropped_energy / total } else { 0.0 },
+                crest_m: p.grid.crest_m,
+            });
+        }
         data.uniforms.tone[1] = self.sky_map_extent;
         if let Some((clip, values)) = host {
             data.uniforms.host_clip = clip;
@@ -755,15 +830,17 @@ impl<'g> Renderer<'g> {
         let eye_current = sky_current && self.eye_built.as_ref() == Some(&eye);
         self.eye_built = Some(eye);
         self.sky_in_map = Some(sky);
-        let ahead = std::mem::take(&mut self.slots[slot].ahead);
+        let ahead = self.slots[slot].ahead;
         let frame = Frame { planar_drawn: ahead.planar.is_some(), ..self.frame(slot, &data, host) };
         self.planar_cover_share = ahead.planar;
-        let device = &self.gpu.device;
-        let s = &mut self.slots[slot];
         // A host that recorded a pass ahead began the slot's profile with it.
         if !ahead.profile_begun {
-            s.profiler.reset(&device.raw, cmd);
+            self.slots[slot].profiler.reset(&self.gpu.device.raw, cmd);
         }
+        self.record_packet_bins(cmd, &frame);
+        self.slots[slot].ahead = RecordedAhead::default();
+        let device = &self.gpu.device;
+        let s = &mut self.slots[slot];
         if !ahead.shadows {
             if let Some(pass) = &self.shadow {
                 s.profiler.begin(device, cmd, pass.name());
@@ -802,7 +879,40 @@ impl<'g> Renderer<'g> {
             sun_view: data.sun_view.is_some(),
             host,
             planar_drawn: false,
+            packets: data.uniforms.packet_dims[2],
+            packet_cells: data.uniforms.packet_dims[0] * data.uniforms.packet_dims[1],
         }
+    }
+
+    /// Records the packets' binning for frame `frame` into `cmd`, unless it was recorded ahead.
+    fn record_packet_bins(&mut self, cmd: vk::CommandBuffer, frame: &Frame) {
+        let Some(pass) = &self.packet_bins else { return };
+        let device = &self.gpu.device;
+        let s = &mut self.slots[frame.slot];
+        if std::mem::replace(&mut s.ahead.packets_binned, true) {
+            return;
+        }
+        s.profiler.begin(device, cmd, pass.name());
+        pass.declare(&self.resources, frame, &mut self.tracker);
+        self.tracker.flush(&device.raw, cmd);
+        pass.record(&mut Recorder { device, cmd, tracker: &mut self.tracker, frame }, &self.resources);
+        s.profiler.end(device, cmd);
+    }
+
+    /// The last prepared frame's packets (None without local waves).
+    pub fn packet_stats(&self) -> Option<PacketStats> {
+        self.last_packets
+    }
+
+    /// Whether this renderer was made for local waves like `sources` (with them or without, and
+    /// the same budget); `set_local_waves` then changes them.
+    pub fn fits_local_waves(&self, sources: &Sources) -> bool {
+        self.sources.is_empty() == sources.is_empty() && self.sources.max_alive == sources.max_alive
+    }
+
+    pub fn set_local_waves(&mut self, sources: Sources) {
+        debug_assert!(self.fits_local_waves(&sources));
+        self.sources = sources;
     }
 
     /// Records the sun's shadow map of frame `prepared` in `slot` into a host's command buffer
@@ -816,11 +926,16 @@ impl<'g> Renderer<'g> {
         prepared: &Prepared,
         casters: &mut dyn FnMut(vk::CommandBuffer, &CasterView),
     ) -> Result<bool> {
-        let Some(pass) = &self.shadow else { return Ok(false) };
+        if self.shadow.is_none() {
+            return Ok(false);
+        }
         let frame = self.frame(slot, &prepared.data, None);
+        self.slots[slot].begin_ahead(&self.gpu.device.raw, cmd);
+        // The sun's view displaces the packets too.
+        self.record_packet_bins(cmd, &frame);
+        let Some(pass) = &self.shadow else { return Ok(false) };
         let device = &self.gpu.device;
         let s = &mut self.slots[slot];
-        s.begin_ahead(&device.raw, cmd);
         s.profiler.begin(device, cmd, pass.name());
         pass.declare(&self.resources, &frame, &mut self.tracker);
         self.tracker.flush(&device.raw, cmd);

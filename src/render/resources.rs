@@ -4,6 +4,7 @@
 use crate::error::{Error, Result, VkContext};
 use crate::model::fresnel::MeanFresnelTable;
 use crate::render::frame::{FrameUniforms, GpuWaves};
+use crate::render::packets::PacketBuffers;
 use crate::render::passes::shade::shade_tiles;
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
@@ -67,6 +68,9 @@ pub struct ResourceSpec {
     /// Whether the shading pass's sea-only tiles are sorted by whether they may read the mirror
     /// (passes/planar_tiles.rs), where the mirror is its only reflection read.
     pub planar_tiles: bool,
+    /// The most wave packets alive at once, where the scene has local waves (their buffers are
+    /// made; passes/packets.rs bins them).
+    pub packets: Option<usize>,
 }
 
 /// What the sea's local reflections read (passes/reflections.rs), at the host's size, every
@@ -209,6 +213,10 @@ pub struct Resources<'g> {
     /// The shading pass's tiles sorted by whether they may mirror an object
     /// (passes/planar_tiles.rs): where the mirror is the sea's only reflection read.
     pub planar_tiles: Option<Buffer<'g>>,
+    /// The frame's wave packets and their cells, where the scene has local waves.
+    pub packets: Option<PacketBuffers<'g>>,
+    /// Bound in their place without (the shaders' code for them is specialized away).
+    pub packet_stand_in: Buffer<'g>,
 }
 
 /// Rays per side of the aerial perspective's camera volume, and slices along each.
@@ -242,6 +250,7 @@ impl<'g> Resources<'g> {
             reflections,
             planar,
             planar_tiles,
+            packets,
         } = *spec;
         let limits = &gpu.device.properties.limits;
         let side = limits.max_image_dimension2_d;
@@ -393,6 +402,8 @@ impl<'g> Resources<'g> {
             None
         };
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
+        let packets = packets.map(|max_alive| PacketBuffers::new(gpu, max_alive, slots)).transpose()?;
+        let packet_stand_in = Buffer::new(gpu, "packets stand-in", 64, B::STORAGE_BUFFER, Location::Gpu)?;
         Ok(Resources {
             frame_uniforms,
             waves,
@@ -417,6 +428,8 @@ impl<'g> Resources<'g> {
             reflections,
             planar,
             planar_tiles,
+            packets,
+            packet_stand_in,
         })
     }
 

@@ -124,7 +124,17 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
             1.0 / unresolved
         )
     };
+    // Wave packets (local waves) may be resolved where no train is: the grid and the normals stay.
+    options.shader.packets |= !scene.splashes.is_empty();
+    let packets = options.shader.packets;
+    if !packets {
+        omit(
+            "wave packets (their binning pass and shader terms)",
+            "no local waves: the scene has no [[splash]] and no moving object".into(),
+        );
+    }
     if options.shader.geometry
+        && !packets
         && !options.shader.draws_nothing()
         && !grid_resolves_some_train(&camera, waves, scene.render.grid_cell_px * k as f64, width * k, height * k)
     {
@@ -135,6 +145,7 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     let resolving = options.shader.method != Method::NoFilter;
     if options.shader.normals
         && resolving
+        && !packets
         && !options.shader.draws_nothing()
         && !pixels_resolve_some_train(&camera, waves, width * k, height * k)
     {

@@ -10,6 +10,7 @@ pub mod eye_sky;
 pub mod host_copy;
 pub mod host_tonemap;
 pub mod ocean;
+pub mod packets;
 pub mod placeholders;
 pub mod planar;
 pub mod planar_tiles;
@@ -50,6 +51,9 @@ pub struct Frame {
     /// Whether the host drew its objects mirrored into the planar images this frame
     /// (passes/planar.rs), which the shading pass then reads.
     pub planar_drawn: bool,
+    /// The frame's wave packets and their grid's cells (0 and 0 without).
+    pub packets: u32,
+    pub packet_cells: u32,
 }
 
 /// The host's attachments a frame draws into (passes/composite.rs).

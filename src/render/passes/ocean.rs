@@ -3,6 +3,7 @@
 //! image's bits, see glsl/ocean.frag), for the shading pass (shade.rs). Also the ocean shaders'
 //! configuration, shared by both passes.
 
+use super::packets::{declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ};
 use super::shade::SHADE_GROUP;
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
@@ -118,6 +119,9 @@ pub struct ShaderConfig {
     /// (passes/planar.rs MirrorCover). Off: over the whole images, whatever the host says (for
     /// comparison).
     pub planar_cover: bool,
+    /// Whether the frame has wave packets (constant 18, glsl/packets.glsl): the grid displaces
+    /// them and the pixels shade them. Set from the scene's local waves by the renderer.
+    pub packets: bool,
 }
 
 impl Default for ShaderConfig {
@@ -138,6 +142,7 @@ impl Default for ShaderConfig {
             reflections: Reflections::Screen,
             planar_tiles: true,
             planar_cover: true,
+            packets: false,
         }
     }
 }
@@ -198,7 +203,7 @@ impl ShaderConfig {
     pub fn shade_tiled_specialization(&self, reads_mirror: bool) -> Specialization {
         let mut words = self.word_list(true, false);
         words[16] = u32::from(reads_mirror && self.reflections.planar());
-        words.push(1);
+        words[TILED_CONSTANT] = 1;
         Specialization::words(&words)
     }
 
@@ -206,7 +211,8 @@ impl ShaderConfig {
         Specialization::words(&self.word_list(sea_only, sun_view))
     }
 
-    /// Constants 0 to 16 of the ocean's shaders, in order.
+    /// Constants 0 to 18 of the ocean's shaders, in order: 17 (glsl/shade.glsl TILED) is the
+    /// tiled shading pass's alone, 18 the packets.
     fn word_list(&self, sea_only: bool, sun_view: bool) -> Vec<u32> {
         vec![
             self.terms.sun as u32,
@@ -226,6 +232,8 @@ impl ShaderConfig {
             self.steps_to_ray_hit() as u32,
             self.reflections.screen() as u32,
             self.reflections.planar() as u32,
+            0,
+            self.packets as u32,
         ]
     }
 
@@ -234,6 +242,9 @@ impl ShaderConfig {
         ShaderConfig { terms, method, background: false, ..ShaderConfig::default() }
     }
 }
+
+/// The tiled shading pass's constant (glsl/shade.glsl TILED).
+const TILED_CONSTANT: usize = 17;
 
 /// The clear value of pixels no grid triangle covers: +Inf as the rest position's x, the bits of
 /// `NO_SEA_BITS` in glsl/common.glsl.
@@ -264,9 +275,12 @@ impl<'g> OceanPass<'g> {
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
                 (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
                 (EYE_SKY_BINDING, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
+                (PACKETS_BINDING_READ, D::STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
+                (PACKET_CELLS_BINDING_READ, D::STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
             ],
         )?;
         write_frame_uniforms(&bindings, r, true);
+        write_packet_bindings(&bindings, r);
         // The physical sky seen directly (sky.frag; a placeholder without the physical sky).
         bindings.write_image(
             EYE_SKY_BINDING,
@@ -327,6 +341,7 @@ impl Pass for OceanPass<'_> {
         }
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
+        declare_packet_reads(r, t, Access::VertexStorageRead);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {

@@ -1,0 +1,87 @@
+#version 450
+// Bins the frame's packets into the cells of their grid (model::packets::grid, whose `lists`
+// is the CPU's twin), in five steps (push constant `step`), each a dispatch behind a barrier:
+//   0: every cell's counter to 0 (one invocation per cell);
+//   1: each packet copied from the slot's upload window and counted into the cells of its
+//      range (one per packet);
+//   2: the counts' exclusive prefix sum, each cell's start (one workgroup), the counters set to
+//      the starts;
+//   3: each packet's index written at its cells' counters (one per packet);
+//   4: each cell's list sorted by packet index (one per cell): the atomics' order varies from
+//      run to run, and the sums the shaders form in list order should not.
+#include "frame.glsl"
+#include "packet_data.glsl"
+
+layout(local_size_x = 256) in;   // passes/packets.rs BIN_GROUP
+
+layout(set = 0, binding = 1, std430) readonly buffer Upload { Packet upload[]; };
+layout(set = 0, binding = 2, std430) writeonly buffer Packets { Packet packets[]; };
+layout(set = 0, binding = 3, std430) buffer Cells { uint cells[]; };
+layout(set = 0, binding = 4, std430) buffer Counters { uint counters[]; };
+layout(push_constant) uniform Step { uint step; uint first; } call;   // first: the slot's window
+
+const uint GROUP = 256u;
+const uint CELLS_PER_INVOCATION = MAX_PACKET_CELLS / GROUP;
+shared uint partial[GROUP];
+
+// A packet's cells: first column and row, last column and row.
+uvec4 cell_range(Packet p) {
+    uint first = floatBitsToUint(p.wave.z), last = floatBitsToUint(p.wave.w);
+    return uvec4(first & 0xffffu, first >> 16, last & 0xffffu, last >> 16);
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint cols = frame.packet_dims.x;
+    uint cell_count = cols * frame.packet_dims.y;
+    uint packet_count = frame.packet_dims.z;
+    if (call.step == 0u) {
+        if (i < cell_count) counters[i] = 0u;
+    } else if (call.step == 1u) {
+        if (i >= packet_count) return;
+        Packet p = upload[call.first + i];
+        packets[i] = p;
+        uvec4 r = cell_range(p);
+        for (uint y = r.y; y <= r.w; ++y)
+            for (uint x = r.x; x <= r.z; ++x) atomicAdd(counters[y * cols + x], 1u);
+    } else if (call.step == 2u) {
+        // Invocation t sums cells [t n, t n + n), n = CELLS_PER_INVOCATION; the group's partial
+        // sums are scanned in shared memory, then each invocation writes its cells' starts.
+        uint t = gl_LocalInvocationID.x, begin = t * CELLS_PER_INVOCATION;
+        uint end = min(begin + CELLS_PER_INVOCATION, cell_count);
+        uint sum = 0u;
+        for (uint c = begin; c < end; ++c) sum += counters[c];
+        partial[t] = sum;
+        barrier();
+        // Hillis-Steele inclusive scan over the group's partial sums.
+        for (uint offset = 1u; offset < GROUP; offset *= 2u) {
+            uint before = t >= offset ? partial[t - offset] : 0u;
+            barrier();
+            partial[t] += before;
+            barrier();
+        }
+        uint start = partial[t] - sum;
+        for (uint c = begin; c < end; ++c) {
+            uint count = counters[c];
+            cells[c] = start;
+            counters[c] = start;
+            start += count;
+        }
+        if (t == GROUP - 1u) cells[cell_count] = partial[t];
+    } else if (call.step == 3u) {
+        if (i >= packet_count) return;
+        uvec4 r = cell_range(upload[call.first + i]);
+        for (uint y = r.y; y <= r.w; ++y)
+            for (uint x = r.x; x <= r.z; ++x) cells[PACKET_LISTS + atomicAdd(counters[y * cols + x], 1u)] = i;
+    } else {
+        if (i >= cell_count) return;
+        // Insertion sort of the cell's run: runs are a few dozen packets.
+        uint begin = PACKET_LISTS + cells[i], end = PACKET_LISTS + cells[i + 1u];
+        for (uint a = begin + 1u; a < end; ++a) {
+            uint v = cells[a];
+            uint b = a;
+            for (; b > begin && cells[b - 1u] > v; --b) cells[b] = cells[b - 1u];
+            cells[b] = v;
+        }
+    }
+}

@@ -1,0 +1,131 @@
+//! A frame's wave packets for the GPU: the scene's packet field at the frame's time, moved to the
+//! eye's frame, binned into cells (model::packets::grid), and packed as glsl/packet_data.glsl
+//! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
+
+use crate::error::Result;
+use crate::model::packets::grid::{PacketGrid, MAX_CELLS};
+use crate::model::packets::sources::Sources;
+use crate::model::packets::{Packet, PacketField};
+use crate::vk::buffer::Buffer;
+use crate::vk::gpu::Gpu;
+use crate::vk::memory::Location;
+use ash::vk;
+use glam::DVec2;
+use std::f64::consts::TAU;
+
+/// One packet as glsl/packet_data.glsl's `Packet` (std430, 48 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuPacket {
+    /// The envelope's centre (m, camera-relative) and the wave vector (turns per m).
+    pub centre_k: [f32; 4],
+    /// The envelope's two axes, each over its sigma (1/m).
+    pub envelope: [f32; 4],
+    /// Amplitude at the centre (m) and the phase there (turns, [0, 1)).
+    pub wave: [f32; 2],
+    /// Its cells: first column | first row << 16, then the last's.
+    pub cells: [u32; 2],
+}
+
+/// The lists' room per packet alive: a packet overlaps this many cells on average before the
+/// grid coarsens (grid::PacketGrid::new).
+pub const ENTRIES_PER_PACKET: usize = 8;
+
+impl GpuPacket {
+    fn new(p: &Packet, range: [u32; 4]) -> GpuPacket {
+        let k = p.direction * (p.k / TAU);
+        let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
+        GpuPacket {
+            centre_k: [p.centre.x, p.centre.y, k.x, k.y].map(|v| v as f32),
+            envelope: [along.x, along.y, across.x, across.y].map(|v| v as f32),
+            wave: [p.amplitude as f32, (p.phase / TAU).rem_euclid(1.0) as f32],
+            cells: [range[0] | range[1] << 16, range[2] | range[3] << 16],
+        }
+    }
+}
+
+/// One frame's packets: the field in the eye's frame, its cells and the packed packets.
+#[derive(Clone, Debug, Default)]
+pub struct FramePackets {
+    pub field: PacketField,
+    pub grid: PacketGrid,
+    pub gpu: Vec<GpuPacket>,
+}
+
+impl FramePackets {
+    /// The packets of `sources` at time `t`, the eye above world position `eye` (the scene's
+    /// camera x_m, y_m), binned within `max_entries` list entries.
+    pub fn new(sources: &Sources, t: f64, eye: DVec2, max_entries: usize) -> FramePackets {
+        let field = sources.field(t).relative_to(eye);
+        let grid = PacketGrid::new(&field.packets, max_entries);
+        let gpu = field.packets.iter().zip(&grid.ranges).map(|(p, &r)| GpuPacket::new(p, r)).collect();
+        FramePackets { field, grid, gpu }
+    }
+
+    /// FrameUniforms::packet_grid and packet_dims.
+    pub fn uniforms(&self) -> ([f32; 4], [u32; 4]) {
+        let g = &self.grid;
+        let inverse_cell = if g.cell_m > 0.0 { 1.0 / g.cell_m } else { 0.0 };
+        ([g.origin.x as f32, g.origin.y as f32, inverse_cell as f32, 0.0], [g.cols, g.rows, self.gpu.len() as u32, 0])
+    }
+}
+
+/// The packets' buffers, made for a budget of packets alive.
+pub struct PacketBuffers<'g> {
+    /// Each frame slot's packets, written by the CPU: `max_alive` of them a slot.
+    pub upload: Buffer<'g>,
+    /// The frame's packets, copied from the slot's window by the binning.
+    pub packets: Buffer<'g>,
+    /// Each cell's start in the lists (MAX_CELLS + 1 of them), then the lists.
+    pub cells: Buffer<'g>,
+    /// The binning's per-cell counters.
+    pub counters: Buffer<'g>,
+    pub max_alive: usize,
+    /// The lists' room (entries).
+    pub max_entries: usize,
+}
+
+impl<'g> PacketBuffers<'g> {
+    pub fn new(gpu: &'g Gpu, max_alive: usize, slots: u32) -> Result<Self> {
+        use vk::BufferUsageFlags as B;
+        let packet_bytes = std::mem::size_of::<GpuPacket>() as u64 * max_alive as u64;
+        let max_entries = ENTRIES_PER_PACKET * max_alive;
+        let storage = B::STORAGE_BUFFER;
+        Ok(PacketBuffers {
+            upload: Buffer::new(gpu, "packets upload", packet_bytes * slots as u64, storage, Location::Upload)?,
+            packets: Buffer::new(gpu, "packets", packet_bytes, storage, Location::Gpu)?,
+            cells: Buffer::new(
+                gpu,
+                "packet cells",
+                4 * (MAX_CELLS as u64 + 1 + max_entries as u64),
+                storage,
+                Location::Gpu,
+            )?,
+            counters: Buffer::new(gpu, "packet counters", 4 * MAX_CELLS as u64, storage, Location::Gpu)?,
+            max_alive,
+            max_entries,
+        })
+    }
+
+    /// The first packet of `slot`'s window in `upload`.
+    pub fn first(&self, slot: usize) -> u32 {
+        (slot * self.max_alive) as u32
+    }
+
+    /// Writes a frame's packets into `slot`'s window (the slot's last frame is done).
+    pub fn write(&self, slot: usize, packets: &FramePackets) -> Result<()> {
+        debug_assert!(packets.gpu.len() <= self.max_alive && packets.grid.entries <= self.max_entries);
+        let offset = std::mem::size_of::<GpuPacket>() as u64 * self.first(slot) as u64;
+        self.upload.write_at(offset, &packets.gpu)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_gpu_packet_is_forty_eight_bytes() {
+        assert_eq!(std::mem::size_of::<GpuPacket>(), 48);
+    }
+}

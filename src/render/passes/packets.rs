@@ -1,0 +1,129 @@
+//! Packet bins: the frame's wave packets copied from its slot's upload window and binned into
+//! the cells of their grid (glsl/packet_bins.comp's five steps, each a dispatch behind a barrier
+//! from its declared accesses), so that the grid's vertices and the pixels read only the packets
+//! that reach them (glsl/packets.glsl). First in the frame: the sun's view of the grid, which a
+//! host may record ahead of the frame, displaces the packets too.
+
+use super::{Frame, Pass, Recorder};
+use crate::error::Result;
+use crate::model::packets::grid::MAX_CELLS;
+use crate::render::packets::PacketBuffers;
+use crate::render::resources::{Resources, FRAME_BINDING};
+use crate::shaders;
+use crate::vk::barrier::{Access, Tracker};
+use crate::vk::device::Device;
+use crate::vk::owned::Owned;
+use crate::vk::pipeline::{compute_pipeline, Bindings};
+use ash::vk;
+
+const UPLOAD_BINDING: u32 = 1;
+const PACKETS_BINDING: u32 = 2;
+const CELLS_BINDING: u32 = 3;
+const COUNTERS_BINDING: u32 = 4;
+/// The step and the slot's first packet in the upload window.
+const PUSH_BYTES: u32 = 8;
+/// Invocations per workgroup (glsl/packet_bins.comp's local size).
+const BIN_GROUP: u32 = 256;
+
+pub struct PacketBinsPass<'g> {
+    bindings: Bindings<'g>,
+    pipeline: Owned<'g, vk::Pipeline>,
+}
+
+impl<'g> PacketBinsPass<'g> {
+    pub const NAME: &'static str = "packet bins";
+
+    /// None where the frame has no packets (Resources::packets).
+    pub fn new(device: &'g Device, r: &Resources) -> Result<Option<Self>> {
+        let Some(p) = &r.packets else { return Ok(None) };
+        use vk::DescriptorType as D;
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let bindings = Bindings::with_push_constants(
+            device,
+            Self::NAME,
+            &[
+                (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
+                (UPLOAD_BINDING, D::STORAGE_BUFFER, compute),
+                (PACKETS_BINDING, D::STORAGE_BUFFER, compute),
+                (CELLS_BINDING, D::STORAGE_BUFFER, compute),
+                (COUNTERS_BINDING, D::STORAGE_BUFFER, compute),
+            ],
+            PUSH_BYTES,
+        )?;
+        super::write_frame_uniforms(&bindings, r, false);
+        bindings.write_buffer(UPLOAD_BINDING, D::STORAGE_BUFFER, p.upload.raw);
+        bindings.write_buffer(PACKETS_BINDING, D::STORAGE_BUFFER, p.packets.raw);
+        bindings.write_buffer(CELLS_BINDING, D::STORAGE_BUFFER, p.cells.raw);
+        bindings.write_buffer(COUNTERS_BINDING, D::STORAGE_BUFFER, p.counters.raw);
+        let pipeline = compute_pipeline(device, bindings.layout(), shaders::PACKET_BINS_COMP, Self::NAME)?;
+        Ok(Some(PacketBinsPass { bindings, pipeline }))
+    }
+}
+
+impl Pass for PacketBinsPass<'_> {
+    fn name(&self) -> &'static str {
+        Self::NAME
+    }
+
+    fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
+        let Some(p) = &r.packets else { return };
+        t.buffer(&p.upload, Access::ComputeStorageRead);
+        t.buffer(&p.packets, Access::ComputeStorageWrite);
+        t.buffer(&p.counters, Access::ComputeStorageWrite);
+        t.buffer(&p.cells, Access::ComputeStorageWrite);
+    }
+
+    fn record(&self, rec: &mut Recorder, r: &Resources) {
+        let Some(p) = &r.packets else { return };
+        let (packets, cells) = (rec.frame.packets, rec.frame.packet_cells);
+        if packets == 0 {
+            return;
+        }
+        debug_assert!(cells <= MAX_CELLS);
+        let (device, cmd) = (&rec.device.raw, rec.cmd);
+        // SAFETY: outside a rendering scope; the set was made for this pipeline's layout and the
+        // pass's buffers were declared.
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
+        self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
+        let first = p.first(rec.frame.slot);
+        let groups = |n: u32| n.div_ceil(BIN_GROUP);
+        // Steps 0 to 4 (glsl/packet_bins.comp): clear, count, scan, scatter, sort.
+        for (step, group_count) in
+            [groups(cells), groups(packets), 1, groups(packets), groups(cells)].into_iter().enumerate()
+        {
+            if step > 0 {
+                // Each step reads and writes what the one before wrote.
+                rec.tracker.buffer(&p.counters, Access::ComputeStorageReadWrite);
+                rec.tracker.buffer(&p.cells, Access::ComputeStorageReadWrite);
+                rec.tracker.flush(device, cmd);
+            }
+            self.bindings.push_compute_words(cmd, &[step as u32, first]);
+            // SAFETY: as above.
+            unsafe { device.cmd_dispatch(cmd, group_count, 1, 1) };
+        }
+    }
+}
+
+/// The bindings of the packets' buffers in the passes that read them (glsl/packets.glsl).
+pub const PACKETS_BINDING_READ: u32 = 20;
+pub const PACKET_CELLS_BINDING_READ: u32 = 21;
+
+/// Points a pass's packet bindings at the frame's packets, or at the stand-in where it has none
+/// (the shaders' code for them is specialized away, and the bindings must still be valid).
+pub fn write_packet_bindings(bindings: &Bindings, r: &Resources) {
+    let ty = vk::DescriptorType::STORAGE_BUFFER;
+    let (packets, cells) = match &r.packets {
+        Some(PacketBuffers { packets, cells, .. }) => (packets.raw, cells.raw),
+        None => (r.packet_stand_in.raw, r.packet_stand_in.raw),
+    };
+    bindings.write_buffer(PACKETS_BINDING_READ, ty, packets);
+    bindings.write_buffer(PACKET_CELLS_BINDING_READ, ty, cells);
+}
+
+/// Declares a pass's reads of the frame's packets (at `access`), where it has any.
+pub fn declare_packet_reads(r: &Resources, t: &mut Tracker, access: Access) {
+    if let Some(p) = &r.packets {
+        t.buffer(&p.packets, access);
+        t.buffer(&p.cells, access);
+    }
+}
