@@ -14,6 +14,7 @@
 #include "sky.glsl"
 #include "planet.glsl"
 #include "groundtruth_sky.glsl"
+#include "packet_data.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 // The physical sky's check (src/measure/truth_sky.rs): per evaluation, the radiance and the
@@ -24,6 +25,10 @@ const uint CHECK_STRATUM = 0xffffffffu;
 
 // Per train: xy wave vector (turns per metre), z phase at time t (turns), w amplitude h (m).
 layout(set = 0, binding = 1, std430) readonly buffer ExactWaves { vec4 exact_waves[]; };
+// The wave packets (glsl/packet_data.glsl) and their cells' lists, binned on the CPU
+// (model::packets::grid::PacketGrid::lists), as exact geometry: every packet at full amplitude.
+layout(set = 0, binding = 9, std430) readonly buffer TruthPackets { Packet truth_packets[]; };
+layout(set = 0, binding = 10, std430) readonly buffer TruthPacketCells { uint truth_packet_cells[]; };
 // Per pixel, seven vec4 (src/measure/groundtruth.rs WORDS_PER_PIXEL): the sum over samples so far
 // (rgb) with a = 1 where sub-samples resolve the shortest train, 0 where not; the sum over the
 // even strata, the (N/2) x (N/2) subset, for a convergence estimate, with the sum of the refracted
@@ -76,6 +81,38 @@ void add_train(vec4 w, vec2 x, inout Surface s) {
     s.grad_z += k * (h * sc.x);
 }
 
+// A packet's displacement and its derivatives (model::packets::Packet::add_to): the carrier's
+// and its envelope's, nothing past PACKET_SIGMAS.
+void add_packet(uint index, vec2 x, inout Surface s) {
+    Packet p = truth_packets[index];
+    vec2 rel = x - p.centre_k.xy;
+    float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
+    if (max(abs(u), abs(v)) > PACKET_SIGMAS) return;
+    float a = p.wave.x * exp(-0.5 * (u * u + v * v));
+    vec2 grad = -a * (u * p.envelope.xy + v * p.envelope.zw);
+    vec2 k = 2.0 * PI * p.centre_k.zw;
+    vec2 dir = k * inversesqrt(dot(k, k));
+    vec2 sc = sincos_turns(p.wave.y - dot(p.centre_k.zw, rel));
+    s.d += vec3(dir * (a * sc.x), a * sc.y);
+    s.j += outerProduct(dir, grad * sc.x - k * (a * sc.y));
+    s.grad_z += grad * sc.y + k * (a * sc.x);
+}
+
+// The packets whose cell holds x, four an iteration (the loop budget counts iterations).
+void add_packets(vec2 x, inout Surface s) {
+    vec2 c = (x - frame.packet_grid.xy) * frame.packet_grid.z;
+    vec2 dims = vec2(frame.packet_dims.xy);
+    if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return;
+    uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);
+    uint end = PACKET_LISTS + truth_packet_cells[cell + 1u];
+    for (uint i = PACKET_LISTS + truth_packet_cells[cell]; i < end; i += 4u) {
+        add_packet(truth_packet_cells[i], x, s);
+        if (i + 1u < end) add_packet(truth_packet_cells[i + 1u], x, s);
+        if (i + 2u < end) add_packet(truth_packet_cells[i + 2u], x, s);
+        if (i + 3u < end) add_packet(truth_packet_cells[i + 3u], x, s);
+    }
+}
+
 // Eight trains an iteration (tile.wave_count is a multiple of 8, padded with trains of no
 // amplitude): lavapipe's loop budget counts iterations, so a march gets eight times the steps.
 Surface surface(vec2 x) {
@@ -94,6 +131,7 @@ Surface surface(vec2 x) {
         add_train(exact_waves[i + 6u], x, s);
         add_train(exact_waves[i + 7u], x, s);
     }
+    if (frame.packet_dims.z > 0u) add_packets(x, s);
     return s;
 }
 

@@ -334,6 +334,12 @@ impl<'g> Ocean<'g> {
             };
             omitted.push(Omission { what: what.into(), why: why.into() });
         }
+        if !shader.packets {
+            omitted.push(Omission {
+                what: "wave packets (their binning pass and shader terms)".into(),
+                why: "no local waves: the scene has no [[splash]] and no moving object".into(),
+            });
+        }
         // The loop the device runs, so that `shader()` names it.
         shader.train_reads = crate::render::passes::shade::train_reads_on(&self.gpu.device, shader.train_reads);
         let options = Options {

@@ -7,9 +7,12 @@ use crate::error::{Error, Result};
 use crate::measure::region::Region;
 use crate::measure::truth_objects::{self, TruthObjects};
 use crate::measure::truth_sky::{self, TruthSkyError, TruthSkyTables};
+use crate::model::packets::grid::MAX_CELLS;
+use crate::model::packets::sources::Sources;
 use crate::model::scene::{Scene, SkyKind};
 use crate::model::waves;
 use crate::render::frame;
+use crate::render::packets::{FramePackets, GpuPacket};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::buffer::Buffer;
@@ -59,6 +62,8 @@ const MAX_MARCH: u32 = 4096;
 /// Trains the shader's surface loop adds per iteration (glsl/groundtruth.comp `surface`): the
 /// budget counts iterations, so each step costs an eighth of the trains' count in it.
 const TRAINS_PER_ITERATION: usize = 8;
+/// Packets the shader's loop over a cell adds per iteration (glsl/groundtruth.comp `add_packets`).
+const PACKETS_PER_ITERATION: u32 = 4;
 
 /// Bisection steps after a bracketed crossing (glsl/groundtruth.comp).
 const BISECTION_STEPS: u32 = 16;
@@ -128,8 +133,8 @@ impl Sampling {
 /// the steps; the reflected rays share the rest in the order they are traced, so the first
 /// reflection, which decides the reflected sun and sky, may use what the rarer later ones do not.
 /// A ray that runs out is counted in the report (`unfinished_*`), never taken silently as a miss.
-fn march_budget(wave_count: u32, bounces: u32, physical: bool, objects: bool) -> Result<(u32, u32)> {
-    let iterations = wave_count.div_ceil(TRAINS_PER_ITERATION as u32);
+fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, objects: bool) -> Result<(u32, u32)> {
+    let iterations = wave_count.div_ceil(TRAINS_PER_ITERATION as u32) + packet_run.div_ceil(PACKETS_PER_ITERATION);
     let per_eval = 3 * iterations + 1;
     let rays = bounces + 2;
     // The physical sky's loops: one sky ray and one aerial path per sample at most.
@@ -162,12 +167,13 @@ fn march_budget(wave_count: u32, bounces: u32, physical: bool, objects: bool) ->
 /// independent phases has sub-Gaussian slopes (Hoeffding), the probes' maximum sits near 4.3
 /// standard deviations, so twice it stands 8 or more from the mean, where the tail's probability
 /// is below 1e-15. A probe on a fold (the Jacobian's determinant not positive) keeps the strict
-/// bound, or the former fixed 10 (84 degrees) where there is none.
-fn marching_slope(wave_set: &crate::model::waves::WaveSet) -> f64 {
+/// bound, or the former fixed 10 (84 degrees) where there is none. The packets add their cells'
+/// largest slope sum (grid::PacketGrid::slope) to both.
+fn marching_slope(wave_set: &crate::model::waves::WaveSet, packet_slope: f64) -> f64 {
     const SLOPE_PROBES: usize = 65536;
     const SLOPE_MARGIN: f64 = 2.0;
     const FOLDING_BOUND: f64 = 10.0;
-    let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
+    let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum::<f64>() + packet_slope;
     let strict = (kh_sum < 0.9).then(|| kh_sum / (1.0 - kh_sum));
     // Rest positions over a square many of the longest waves wide, by the R2 sequence (Roberts
     // 2018: the plastic number's powers), which covers it evenly whatever the count; the phases
@@ -183,7 +189,8 @@ fn marching_slope(wave_set: &crate::model::waves::WaveSet) -> f64 {
             None => return strict.unwrap_or(FOLDING_BOUND),
         }
     }
-    let probed = (SLOPE_MARGIN * steepest).min(FOLDING_BOUND);
+    // The packets' own bound added whole: the probes see the trains alone.
+    let probed = (SLOPE_MARGIN * steepest + packet_slope).min(FOLDING_BOUND);
     strict.map_or(probed, |strict| strict.min(probed))
 }
 
@@ -328,9 +335,29 @@ pub fn render(
         )));
     }
     let before = gpu.validation_counts().error_total();
-    let wave_set = waves::generate(scene);
-    let data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
+    let mut wave_set = waves::generate(scene);
+    // The scene's local waves at its time, every packet (no budget), binned here.
+    let sources = Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
+    let packets = (!sources.is_empty()).then(|| {
+        let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
+        let all = Sources { max_alive: usize::MAX, ..sources.clone() };
+        FramePackets::new(&all, scene.render.time_s, eye, usize::MAX)
+    });
+    wave_set.packet_crest_m = packets.as_ref().map_or(0.0, |p| p.grid.crest_m);
+    let mut data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
     let objects = TruthObjects::new(scene, &wave_set, width as f64 / height as f64)?;
+    let (packet_words, cell_words, packet_run) = match &packets {
+        Some(p) => {
+            (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
+            let (starts, lists) = p.grid.lists();
+            let run = starts.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
+            let mut cells = starts;
+            cells.resize(MAX_CELLS as usize + 1, 0);
+            cells.extend(lists);
+            (p.gpu.clone(), cells, run)
+        }
+        None => (vec![GpuPacket::default()], vec![0u32], 0),
+    };
 
     use vk::BufferUsageFlags as B;
     let uniforms = Buffer::new(
@@ -405,6 +432,8 @@ pub fn render(
             (5, D::STORAGE_BUFFER, stages),
             (6, D::STORAGE_BUFFER, stages),
             (8, D::STORAGE_BUFFER, stages),
+            (9, D::STORAGE_BUFFER, stages),
+            (10, D::STORAGE_BUFFER, stages),
         ],
         std::mem::size_of::<TilePush>() as u32,
     )?;
@@ -416,6 +445,24 @@ pub fn render(
     bindings.write_buffer(2, D::STORAGE_BUFFER, tables.raw);
     bindings.write_buffer(3, D::STORAGE_BUFFER, check.raw);
     bindings.write_buffer(8, D::STORAGE_BUFFER, output.raw);
+    let packet_buffer = Buffer::new(
+        gpu,
+        "ground truth packets",
+        std::mem::size_of_val(packet_words.as_slice()) as u64,
+        B::STORAGE_BUFFER,
+        Location::Upload,
+    )?;
+    packet_buffer.write(&packet_words)?;
+    let cell_buffer = Buffer::new(
+        gpu,
+        "ground truth packet cells",
+        4 * cell_words.len() as u64,
+        B::STORAGE_BUFFER,
+        Location::Upload,
+    )?;
+    cell_buffer.write(&cell_words)?;
+    bindings.write_buffer(9, D::STORAGE_BUFFER, packet_buffer.raw);
+    bindings.write_buffer(10, D::STORAGE_BUFFER, cell_buffer.raw);
     // Specialization constants 8 (glsl/sky.glsl SKY_PHYSICAL): which sky the samples see; 20
     // and 21 (glsl/groundtruth_objects.glsl HAS_OBJECTS, BVH_VISITS): whether rays meet objects,
     // and the visits a walk may take, as the loop budget reserved them.
@@ -435,7 +482,7 @@ pub fn render(
     let commands = Commands::new(device, "ground truth")?;
     let cmd = commands.cmd;
 
-    let (max_march, bounce_march) = march_budget(exact.len() as u32, bounces, physical, objects.is_some())?;
+    let (max_march, bounce_march) = march_budget(exact.len() as u32, packet_run, bounces, physical, objects.is_some())?;
     let push = TilePush {
         origin: [0, 0],
         samples,
@@ -445,7 +492,7 @@ pub fn render(
         bounce_march,
         wave_count: exact.len() as u32,
         slab: wave_set.highest_crest() as f32,
-        lipschitz: marching_slope(&wave_set) as f32,
+        lipschitz: marching_slope(&wave_set, packets.as_ref().map_or(0.0, |p| p.grid.slope)) as f32,
         ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
@@ -855,12 +902,12 @@ mod tests {
     #[test]
     fn the_loop_budget_fits_every_scene_and_names_what_it_cannot_trace() {
         let limit = crate::model::scene::MAX_WAVES;
-        let (camera, reflected) = march_budget(limit, MAX_BOUNCES, true, true).unwrap();
+        let (camera, reflected) = march_budget(limit, 0, MAX_BOUNCES, true, true).unwrap();
         assert!(camera > reflected && reflected >= MIN_MARCH * 8, "{camera}, {reflected}");
         // The default scene's march: a thousand steps and more for the camera ray.
-        let (camera, reflected) = march_budget(60, DEFAULT_BOUNCES, true, true).unwrap();
+        let (camera, reflected) = march_budget(60, 0, DEFAULT_BOUNCES, true, true).unwrap();
         assert!(camera >= 1500 && reflected >= 750, "{camera}, {reflected}");
-        let e = march_budget(4096, 3, true, false).unwrap_err().to_string();
+        let e = march_budget(4096, 0, 3, true, false).unwrap_err().to_string();
         assert!(e.contains("waves.count = 4096") && e.contains("--bounces 3"), "{e}");
     }
 
@@ -873,11 +920,11 @@ mod tests {
         let waves = crate::model::waves::generate(&calm);
         let kh: f64 = waves.trains.iter().map(|t| t.k * t.amplitude).sum();
         assert!(kh < 0.9, "{kh}");
-        assert!(marching_slope(&waves) <= kh / (1.0 - kh));
+        assert!(marching_slope(&waves, 0.0) <= kh / (1.0 - kh));
         // The default's 60 trains sum past 1: the probed bound, below the former fixed 10 and
         // above the displaced surface's slope at points the probes never met.
         let waves = crate::model::waves::generate(&Scene::default());
-        let bound = marching_slope(&waves);
+        let bound = marching_slope(&waves, 0.0);
         assert!(bound < 5.0, "{bound}");
         let mut steepest: f64 = 0.0;
         for n in 0..20_000u32 {

@@ -127,12 +127,6 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
     // Wave packets (local waves) may be resolved where no train is: the grid and the normals stay.
     options.shader.packets |= !scene.splashes.is_empty();
     let packets = options.shader.packets;
-    if !packets {
-        omit(
-            "wave packets (their binning pass and shader terms)",
-            "no local waves: the scene has no [[splash]] and no moving object".into(),
-        );
-    }
     if options.shader.geometry
         && !packets
         && !options.shader.draws_nothing()

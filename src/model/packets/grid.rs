@@ -27,6 +27,10 @@ pub struct PacketGrid {
     /// The largest sum of the amplitudes of the packets that overlap one cell (m): no packet
     /// crest rises higher over the rest plane, nor a trough sinks lower.
     pub crest_m: f64,
+    /// The largest sum over one cell's packets of a bound on each one's height slope over the
+    /// rest plane, k a plus its envelope's steepest, a exp(-1/2) / sigma (the ground truth's
+    /// march steps by it).
+    pub slope: f64,
 }
 
 /// The half-extents along x and y of a packet's envelope box.
@@ -63,6 +67,7 @@ impl PacketGrid {
         let (cols, rows) = (count(size.x), count(size.y));
         let cell_of = |x: f64, n: u32| ((x / cell_m).floor().max(0.0) as u32).min(n - 1);
         let mut sums = vec![0.0f64; (cols * rows) as usize];
+        let mut slopes = vec![0.0f64; (cols * rows) as usize];
         let mut entries = 0;
         let ranges: Vec<[u32; 4]> = packets
             .iter()
@@ -70,9 +75,11 @@ impl PacketGrid {
                 let h = half_extent(p);
                 let (a, b) = (p.centre - h - origin, p.centre + h - origin);
                 let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
+                let slope = p.amplitude * (p.k + (-0.5f64).exp() / p.sigma[0].min(p.sigma[1]));
                 for y in r[1]..=r[3] {
                     for x in r[0]..=r[2] {
                         sums[(y * cols + x) as usize] += p.amplitude;
+                        slopes[(y * cols + x) as usize] += slope;
                     }
                 }
                 entries += ((r[2] - r[0] + 1) * (r[3] - r[1] + 1)) as usize;
@@ -80,7 +87,8 @@ impl PacketGrid {
             })
             .collect();
         let crest_m = sums.iter().copied().fold(0.0, f64::max);
-        PacketGrid { origin, cell_m, cols, rows, ranges, entries, crest_m }
+        let slope = slopes.iter().copied().fold(0.0, f64::max);
+        PacketGrid { origin, cell_m, cols, rows, ranges, entries, crest_m, slope }
     }
 
     /// The cell holding rest position x, if the grid covers it.
