@@ -730,6 +730,13 @@ impl<'g> Ocean<'g> {
         self.renderer.as_ref()?.packet_stats()
     }
 
+    /// The last updated frame's wave packets in the eye's frame (rest positions from the point
+    /// below the eye, as the trains'), for a host's floating objects to ride
+    /// (model::floating::ride_with_packets). None without local waves.
+    pub fn packet_field(&self) -> Option<&crate::model::packets::PacketField> {
+        self.renderer.as_ref()?.packet_field()
+    }
+
     /// Records a pass of the host's own (`record`, into its command buffer `cmd`) ahead of
     /// frame `slot`'s [`Ocean::record`], inside the frame's profile: wrapped in a debug label and
     /// a timestamp scope `name`, it is timed with the ocean's passes ([`Ocean::pass_ms`]), and

@@ -345,7 +345,8 @@ pub fn render(
     });
     wave_set.packet_crest_m = packets.as_ref().map_or(0.0, |p| p.grid.crest_m);
     let mut data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
-    let objects = TruthObjects::new(scene, &wave_set, width as f64 / height as f64)?;
+    let field = packets.as_ref().map(|p| &p.field);
+    let objects = TruthObjects::new(scene, &wave_set, field, width as f64 / height as f64)?;
     let (packet_words, cell_words, packet_run) = match &packets {
         Some(p) => {
             (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();

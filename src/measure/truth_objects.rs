@@ -40,7 +40,14 @@ pub struct TruthObjects {
 
 impl TruthObjects {
     /// The objects of `scene` (None without any), seen from its camera at its time.
-    pub fn new(scene: &Scene, waves: &WaveSet, aspect: f64) -> Result<Option<TruthObjects>> {
+    /// `packets`: the wave packets alive at the scene's time, in the eye's frame (the floating
+    /// objects ride them).
+    pub fn new(
+        scene: &Scene,
+        waves: &WaveSet,
+        packets: Option<&crate::model::packets::PacketField>,
+        aspect: f64,
+    ) -> Result<Option<TruthObjects>> {
         if scene.objects.is_empty() {
             return Ok(None);
         }
@@ -62,8 +69,15 @@ impl TruthObjects {
         let mut attributes: Vec<([Vec3; 3], u32)> = Vec::new();
         for (object, &index) in scene.objects.iter().zip(&model_of) {
             let (model, first_material) = (&models[index], first_materials[index]);
-            let placement =
-                place(scene, waves, object, waterplane(model.bounds, object.scale), eye_z, scene.render.time_s);
+            let placement = place(
+                scene,
+                waves,
+                packets,
+                object,
+                waterplane(model.bounds, object.scale),
+                eye_z,
+                scene.render.time_s,
+            );
             let m = placement.relative_from_model;
             let normals = glam::DMat3::from_mat4(m).inverse().transpose();
             for mesh in &model.meshes {

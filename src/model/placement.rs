@@ -12,6 +12,7 @@
 //! leans 0.9° away.
 
 use crate::model::floating::{self, Waterplane};
+use crate::model::packets::PacketField;
 use crate::model::scene::{Motion, Object, Scene};
 use crate::model::waves::WaveSet;
 use glam::{DMat4, DQuat, DVec3};
@@ -43,13 +44,26 @@ pub fn waterplane(bounds: (glam::Vec3, glam::Vec3), scale: f64) -> Waterplane {
 }
 
 /// Where `object` (its model's waterplane `plane`) stands at time `t` under `scene`'s camera,
-/// eye `eye_z` m above mean sea level, on `waves` (the scene's: their phases count from the eye).
-pub fn place(scene: &Scene, waves: &WaveSet, object: &Object, plane: Waterplane, eye_z: f64, t: f64) -> Placement {
+/// eye `eye_z` m above mean sea level, on `waves` (the scene's: their phases count from the eye)
+/// and the wave packets alive at `t`, where there are any (in the same frame: PacketField::
+/// relative_to the eye).
+pub fn place(
+    scene: &Scene,
+    waves: &WaveSet,
+    packets: Option<&PacketField>,
+    object: &Object,
+    plane: Waterplane,
+    eye_z: f64,
+    t: f64,
+) -> Placement {
     let [x, y, z] = object.position_at(t);
     let offset = [x - scene.camera.x_m, y - scene.camera.y_m];
     let heading = object.heading_deg.to_radians();
     let pose = match object.motion {
-        Motion::Floating => floating::ride(waves, t, offset, heading, plane),
+        Motion::Floating => match packets {
+            Some(field) => floating::ride_with_packets(waves, field, t, offset, heading, plane),
+            None => floating::ride(waves, t, offset, heading, plane),
+        },
         Motion::Fixed => floating::Pose { heave_m: 0.0, pitch_rad: 0.0, roll_rad: 0.0 },
     };
     let (pitch, roll) = (object.pitch_deg.to_radians() + pose.pitch_rad, object.roll_deg.to_radians() + pose.roll_rad);
@@ -108,7 +122,7 @@ mod tests {
         let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
         let mut boat = object([30.0, 10.0, 0.0]);
         boat.heading_deg = 90.0;
-        let p = place(&scene, &waves, &boat, plane, 6.0, 0.0);
+        let p = place(&scene, &waves, None, &boat, plane, 6.0, 0.0);
         let at = |v: [f64; 3]| p.relative_from_model.transform_point3(DVec3::from(v));
         // The mast (+y in glTF) points up, the bow (+x) north, the eye 6 m above the sea.
         let base = at([0.0, 0.0, 0.0]);
@@ -128,7 +142,7 @@ mod tests {
         let waves = crate::model::waves::generate(&scene);
         let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
         let buoy = object([1.0e5, 0.0, 2.0]);
-        let p = place(&scene, &waves, &buoy, plane, 6.0, 0.0);
+        let p = place(&scene, &waves, None, &buoy, plane, 6.0, 0.0);
         let (n, w) = sea_plane_below(p.origin, 6.0, scene.planet.radius_m);
         assert!((n - p.up).length() < 1e-12, "{n} against {}", p.up);
         // The object stands 2 m above that plane, and the sea's surface below it is on it.
@@ -145,13 +159,13 @@ mod tests {
         let plane = Waterplane { length_m: 8.0, beam_m: 3.0 };
         // Fixed, 2 m up: the mean sea's plane below it.
         let post = object([40.0, 5.0, 2.0]);
-        let p = place(&scene, &waves, &post, plane, 6.0, 3.0);
+        let p = place(&scene, &waves, None, &post, plane, 6.0, 3.0);
         let (n, w) = sea_plane_below(p.origin, 6.0, scene.planet.radius_m);
         assert!((p.water_plane.0 - n).length() < 1e-12 && (p.water_plane.1 - w).abs() < 1e-6, "{:?}", p.water_plane);
         // Floating (pitched by hand too): through its origin, turned by the waves alone.
         let mut boat = object([40.0, 5.0, 0.0]);
         (boat.motion, boat.heading_deg, boat.pitch_deg) = (Motion::Floating, 30.0, 15.0);
-        let p = place(&scene, &waves, &boat, plane, 6.0, 3.0);
+        let p = place(&scene, &waves, None, &boat, plane, 6.0, 3.0);
         let (n, w) = p.water_plane;
         assert!((n.length() - 1.0).abs() < 1e-12 && (n.dot(p.origin) - w).abs() < 1e-6);
         let pose = floating::ride(&waves, 3.0, [40.0, 5.0], 30f64.to_radians(), plane);
@@ -169,11 +183,11 @@ mod tests {
         let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
         let mut boat = object([0.0, 0.0, 0.0]);
         (boat.pitch_deg, boat.roll_deg) = (10.0, 0.0);
-        let p = place(&scene, &waves, &boat, plane, 6.0, 0.0);
+        let p = place(&scene, &waves, None, &boat, plane, 6.0, 0.0);
         let bow = p.relative_from_model.transform_vector3(DVec3::X);
         assert!((bow.z - 10f64.to_radians().sin()).abs() < 1e-9, "{bow:?}");
         (boat.pitch_deg, boat.roll_deg) = (0.0, 10.0);
-        let p = place(&scene, &waves, &boat, plane, 6.0, 0.0);
+        let p = place(&scene, &waves, None, &boat, plane, 6.0, 0.0);
         // Port is -z in glTF (+y in the world with the bow along +x).
         let port = p.relative_from_model.transform_vector3(-DVec3::Z);
         assert!((port.z - 10f64.to_radians().sin()).abs() < 1e-9, "{port:?}");
@@ -186,7 +200,7 @@ mod tests {
         let plane = Waterplane { length_m: 100.0, beam_m: 20.0 };
         let r = scene.planet.radius_m;
         let ship = object([100e3, 0.0, 0.0]);
-        let p = place(&scene, &waves, &ship, plane, 10.0, 0.0);
+        let p = place(&scene, &waves, None, &ship, plane, 10.0, 0.0);
         let centre = DVec3::new(0.0, 0.0, -r - 10.0);
         assert!(((p.origin - centre).length() - r).abs() < 1e-6, "on the sphere");
         // The drop below the tangent plane: R - sqrt(R^2 - x^2) ~ x^2 / 2R, about 785 m.
@@ -197,7 +211,7 @@ mod tests {
         // A moving object: at t its origin moved by the velocity (here along the tangent plane).
         let mut moving = object([0.0, 0.0, 0.0]);
         moving.velocity_mps = [5.0, -2.0];
-        let p = place(&scene, &waves, &moving, plane, 10.0, 4.0);
+        let p = place(&scene, &waves, None, &moving, plane, 10.0, 4.0);
         assert!((p.origin.truncate() - glam::DVec2::new(20.0, -8.0)).length() < 1e-3, "{:?}", p.origin);
     }
 
@@ -209,7 +223,7 @@ mod tests {
         let mut buoy = object([12.0, -3.0, 0.0]);
         buoy.motion = Motion::Floating;
         let t = 2.5;
-        let p = place(&scene, &waves, &buoy, plane, 6.0, t);
+        let p = place(&scene, &waves, None, &buoy, plane, 6.0, t);
         let pose = floating::ride(&waves, t, [12.0, -3.0], 0.0, plane);
         assert!((p.origin.z + 6.0 - pose.heave_m).abs() < 1e-3, "{:?} {pose:?}", p.origin);
         let bow = p.relative_from_model.transform_vector3(DVec3::X);

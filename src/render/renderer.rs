@@ -7,6 +7,7 @@
 use crate::error::{Error, Result};
 use crate::model::masking::{GlintMaskingTable, VisibleFacetTable};
 use crate::model::packets::sources::Sources;
+use crate::model::packets::PacketField;
 use crate::model::scene::{Planet, Reflections, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
@@ -212,6 +213,8 @@ pub struct Renderer<'g> {
     sources: Sources,
     /// The last prepared frame's packets: how many, and the energy the budget left out.
     last_packets: Option<PacketStats>,
+    /// ...and their field, in the eye's frame (the host's floating objects ride it).
+    last_field: Option<PacketField>,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
@@ -462,6 +465,7 @@ impl<'g> Renderer<'g> {
             packet_bins,
             sources,
             last_packets: None,
+            last_field: None,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -703,6 +707,7 @@ impl<'g> Renderer<'g> {
         let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         let mut data = frame::build_with_casters(scene, &wave_set, width, height, cell_px, casters);
         self.last_packets = None;
+        self.last_field = packets.as_ref().map(|p| p.field.clone());
         if let (Some(p), Some(buffers)) = (&packets, &self.resources.packets) {
             (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
             // The longest wave any scale may resolve: the sample scales' cut (glsl/waves.glsl).
@@ -902,6 +907,11 @@ impl<'g> Renderer<'g> {
     /// The last prepared frame's packets (None without local waves).
     pub fn packet_stats(&self) -> Option<PacketStats> {
         self.last_packets
+    }
+
+    /// The last prepared frame's wave packets, in the eye's frame (None without local waves).
+    pub fn packet_field(&self) -> Option<&PacketField> {
+        self.last_field.as_ref()
     }
 
     /// Whether this renderer was made for local waves like `sources` (with them or without, and

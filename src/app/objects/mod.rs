@@ -101,6 +101,8 @@ pub struct ObjectFrame<'a> {
     /// What the objects are mirrored with for the sea's planar reflections
     /// (embed::Ocean::mirror_view), where it reads them (None from `new`).
     pub mirror: Option<MirrorView>,
+    /// The wave packets the floating objects ride (embed::Ocean::packet_field; None from `new`).
+    pub packets: Option<&'a crate::model::packets::PacketField>,
 }
 
 impl<'a> ObjectFrame<'a> {
@@ -126,6 +128,7 @@ impl<'a> ObjectFrame<'a> {
             colour_max,
             sun_shadow: None,
             mirror: None,
+            packets: None,
         }
     }
 }
@@ -322,6 +325,7 @@ impl<'g> Objects<'g> {
         let frame = ObjectFrame {
             sun_shadow: ocean.sun_shadow(),
             mirror: ocean.mirror_view(),
+            packets: ocean.packet_field(),
             ..ObjectFrame::new(scene, &waves, view, projection, &light, desc.radiance_scale as f64, max)
         };
         self.update(slot, &frame)
@@ -337,7 +341,8 @@ impl<'g> Objects<'g> {
         let planes = view_planes(projection * view * DMat4::from_translation(eye));
         let mut bounds: Option<(DVec3, DVec3)> = None;
         for (i, (object, model)) in self.objects.iter().enumerate() {
-            let p = place(scene, &waves, object, self.waterplanes[i], eye.z, scene.render.time_s);
+            // The trains' pose: the packets' heave is within the box's margin of the sun's view.
+            let p = place(scene, &waves, None, object, self.waterplanes[i], eye.z, scene.render.time_s);
             let (lo, hi) = self.model_bounds[*model];
             let model_box = CasterBox { min: lo.as_dvec3(), max: hi.as_dvec3() };
             let corners: Vec<DVec3> = model_box.corners().map(|c| p.relative_from_model.transform_point3(c)).collect();
@@ -498,7 +503,15 @@ impl<'g> Objects<'g> {
             .iter()
             .map(|&i| {
                 let (object, model) = &self.objects[i];
-                let p = place(frame.scene, frame.waves, object, self.waterplanes[i], frame.eye.z, frame.time_s);
+                let p = place(
+                    frame.scene,
+                    frame.waves,
+                    frame.packets,
+                    object,
+                    self.waterplanes[i],
+                    frame.eye.z,
+                    frame.time_s,
+                );
                 let (n, w) = sea_plane_below(p.origin, frame.eye.z, frame.scene.planet.radius_m);
                 if let Some(view) = &frame.mirror {
                     let (lo, hi) = self.model_bounds[*model];
