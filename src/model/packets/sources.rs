@@ -24,9 +24,11 @@ pub const WAVELENGTH_BAND_M: (f64, f64) = (1e-3, 1e4);
 const SPLASH_WAVELENGTHS_PER_RADIUS: (f64, f64) = (TAU / 4.0, TAU / 0.05);
 
 /// A wake's amplitude scale (Wake::amplitude_m) per metre of hull, where the scene gives none:
-/// ours, 2 cm per metre (a 10 m launch's waves 0.2 m high one hull length behind, a 100 m
-/// ship's 2 m, before the slow hull's weakening, Wake's).
-pub const WAKE_AMPLITUDE_PER_HULL_M: f64 = 0.02;
+/// ours, 6 cm per metre. The drawn crests 1 to 8 hull lengths behind reach about a third of the
+/// scale (the far-field law overstates the field near the hull): a 6 m launch at hull Froude
+/// number 0.65 raises crests of 3 to 13 cm (examples/wake_heights.rs), a 120 m ship at 0.23 about
+/// half a metre after the slow hull's weakening (Wake::amplitude_m).
+pub const WAKE_AMPLITUDE_PER_HULL_M: f64 = 0.06;
 
 /// How far behind its object a wake is drawn, in hull lengths along its slowest ray (the
 /// transverse waves', which leave at half the object's speed)...
