@@ -4,21 +4,25 @@
 use glam::DVec2;
 use ocean::model::packets::sources::Sources;
 use ocean::model::scene::Scene;
-fn main() {
-    let scene = Scene::load(std::path::Path::new(&std::env::args().nth(1).unwrap())).unwrap();
-    let s = Sources::of_scene(&scene).unwrap();
-    let f = s.field(scene.render.time_s);
-    let o = &scene.objects[0];
-    let p = DVec2::new(o.position_m[0], o.position_m[1]);
-    let v = DVec2::from(o.velocity_mps).normalize();
-    println!("packets {} hull {:?}", f.packets.len(), o.hull_length_m);
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let path = std::env::args().nth(1).ok_or("usage: wake_heights SCENE.toml")?;
+    let scene = Scene::load(std::path::Path::new(&path))?;
+    let field = Sources::of_scene(&scene)?.field(scene.render.time_s);
+    let object = scene
+        .objects
+        .iter()
+        .find(|o| o.velocity_mps != [0.0, 0.0])
+        .ok_or_else(|| format!("{path}: no moving object"))?;
+    let at = DVec2::new(object.position_m[0], object.position_m[1]);
+    let track = DVec2::from(object.velocity_mps).normalize();
+    println!("{} packets; hull {:.1} m", field.packets.len(), object.hull_length_m.unwrap_or(0.0));
     for r in [3.0, 6.0, 12.0, 24.0, 48.0] {
-        let mut m: f64 = 0.0;
-        for i in 0..400 {
-            let a = (i as f64 / 400.0 * 40.0 - 20.0).to_radians();
-            let d = -v.rotate(DVec2::from_angle(a));
-            m = m.max(f.height(p + d * r).abs());
-        }
-        println!("r {r} max height {m:.4}");
+        let highest = (0..400)
+            .map(|i| (-20.0 + 40.0 * i as f64 / 400.0f64).to_radians())
+            .map(|a| field.height(at - track.rotate(DVec2::from_angle(a)) * r).abs())
+            .fold(0.0, f64::max);
+        println!("{r:5.1} m behind: highest crest {highest:.3} m");
     }
+    Ok(())
 }
