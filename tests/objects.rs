@@ -70,7 +70,7 @@ fn first_object_in_world(scene: &Scene, width: u32, height: u32) -> impl Fn([f64
     let eye = view.inverse().w_axis.truncate();
     let object = &scene.objects[0];
     let model = ocean::model::gltf::load(&object.file).unwrap();
-    let placement = place(scene, &waves, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
+    let placement = place(scene, &waves, None, object, waterplane(model.bounds, object.scale), eye.z, 0.0);
     move |model_point| eye + placement.relative_from_model.transform_point3(DVec3::from(model_point))
 }
 
