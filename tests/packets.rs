@@ -140,6 +140,14 @@ fn bad_local_wave_keys_are_refused_with_one_line() {
         (splash("position_m = [0.0, 0.0]\ntime_s = -2.0\nradius_m = 1.0"), "splash 1: time_s = -2"),
         (splash("position_m = [0.0, 0.0]\ntime_s = 1.0\nradius_m = 100.0"), "outside the model's band"),
         (splash("position_m = [0.0, 0.0]\ntime_s = 1.0\nradius_m = 1e-4"), "outside the model's band"),
+        (
+            "[[wake]]\nposition_m = [0.0, 0.0]\nvelocity_mps = [0.0, 0.0]\nhull_length_m = 5.0\n".to_owned(),
+            "wake 1: velocity_mps = [0, 0]: a wake needs a moving hull",
+        ),
+        (
+            "[[wake]]\nposition_m = [0.0, 0.0]\nvelocity_mps = [3.0, 0.0]\nhull_length_m = 0.0\n".to_owned(),
+            "wake 1: hull_length_m = 0 is out of range (0, 10000]",
+        ),
         ("[packets]\nmax_alive = 200000\n".to_owned(), "packets.max_alive = 200000 is out of range [1, 131072]"),
         ("[packets]\nmax_alive = 0\n".to_owned(), "packets.max_alive = 0"),
     ];

@@ -337,7 +337,7 @@ impl<'g> Ocean<'g> {
         if !shader.packets {
             omitted.push(Omission {
                 what: "wave packets (their binning pass and shader terms)".into(),
-                why: "no local waves: the scene has no [[splash]] and no moving object".into(),
+                why: "no local waves: the scene has no [[splash]], no [[wake]] and no moving object".into(),
             });
         }
         // The loop the device runs, so that `shader()` names it.

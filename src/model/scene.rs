@@ -4,7 +4,7 @@
 //! (-180, 180]. Elevations and pitches are limited to [-90, 90], where they mean something.
 
 use crate::error::{Error, Result};
-use crate::model::packets::sources::{PacketBudget, SplashEvent};
+use crate::model::packets::sources::{PacketBudget, SplashEvent, WakeEvent};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -225,6 +225,9 @@ pub struct Scene {
     /// Scripted splashes (`[[splash]]`), whose rings are drawn as wave packets.
     #[serde(rename = "splash", skip_serializing_if = "Vec::is_empty")]
     pub splashes: Vec<SplashEvent>,
+    /// Wakes of hulls the scene does not draw (`[[wake]]`).
+    #[serde(rename = "wake", skip_serializing_if = "Vec::is_empty")]
+    pub wakes: Vec<WakeEvent>,
     /// The budget of wave packets alive at once (wakes and rings).
     pub packets: PacketBudget,
 }
@@ -604,6 +607,9 @@ impl Scene {
         }
         for (i, splash) in self.splashes.iter().enumerate() {
             splash.validate().map_err(|e| format!("splash {}: {e}", i + 1))?;
+        }
+        for (i, wake) in self.wakes.iter().enumerate() {
+            wake.validate().map_err(|e| format!("wake {}: {e}", i + 1))?;
         }
         self.packets.validate()
     }

@@ -125,7 +125,7 @@ pub fn plan(scene: &Scene, waves: &WaveSet, width: u32, height: u32, requested: 
         )
     };
     // Wave packets (local waves) may be resolved where no train is: the grid and the normals stay.
-    options.shader.packets |= !scene.splashes.is_empty();
+    options.shader.packets |= !scene.splashes.is_empty() || !scene.wakes.is_empty();
     let packets = options.shader.packets;
     if options.shader.geometry
         && !packets

@@ -56,6 +56,43 @@ pub struct SplashEvent {
     pub radius_m: f64,
 }
 
+/// A wake without an object of ours (`[[wake]]`): a hull moving in a straight line that the
+/// scene does not draw (a host's own object, or a measurement of the wake alone).
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WakeEvent {
+    /// Where the hull is at time 0: x, y in the world's horizontal frame.
+    pub position_m: [f64; 2],
+    pub velocity_mps: [f64; 2],
+    pub hull_length_m: f64,
+    /// Since when it has moved (s); without it, always: a steady wake.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_s: Option<f64>,
+    /// The wake's amplitude scale (m; kelvin::Wake::amplitude_m); by default
+    /// WAKE_AMPLITUDE_PER_HULL_M times the hull's length.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub amplitude_m: Option<f64>,
+}
+
+impl WakeEvent {
+    pub fn validate(&self) -> Result<(), String> {
+        for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
+            if !(v.abs() <= 1e7) {
+                return Err(format!("position_m.{axis} = {v} is out of range [-1e7, 1e7]"));
+            }
+        }
+        for (axis, &v) in ["x", "y"].iter().zip(&self.velocity_mps) {
+            if !(v.abs() <= 150.0) {
+                return Err(format!("velocity_mps.{axis} = {v} is out of range [-150, 150]"));
+            }
+        }
+        if DVec2::from(self.velocity_mps).length() == 0.0 {
+            return Err("velocity_mps = [0, 0]: a wake needs a moving hull".into());
+        }
+        check_hull(self.velocity_mps, Some(self.hull_length_m), self.start_s, ("amplitude_m", self.amplitude_m))
+    }
+}
+
 /// The budget of packets alive at once (`[packets]`).
 #[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -113,29 +150,50 @@ impl SplashEvent {
 
 /// The checks on an object's wake keys (called from Object::validate).
 pub fn validate_wake(object: &Object) -> Result<(), String> {
-    if let Some(start) = object.start_s {
+    let amplitude = ("wake_amplitude_m", object.wake_amplitude_m);
+    check_hull(object.velocity_mps, object.hull_length_m, object.start_s, amplitude)
+}
+
+/// The checks a moving hull's keys share; `amplitude` is the amplitude's key and value.
+fn check_hull(
+    velocity_mps: [f64; 2],
+    hull_length_m: Option<f64>,
+    start_s: Option<f64>,
+    amplitude: (&str, Option<f64>),
+) -> Result<(), String> {
+    if let Some(start) = start_s {
         if !(start.abs() <= 1e9) {
             return Err(format!("start_s = {start} is out of range [-1e9, 1e9]"));
         }
     }
-    if let Some(length) = object.hull_length_m {
+    if let Some(length) = hull_length_m {
         if !(length > 0.0 && length <= 1e4) {
             return Err(format!("hull_length_m = {length} is out of range (0, 10000]"));
         }
     }
-    if let Some(a) = object.wake_amplitude_m {
+    if let (key, Some(a)) = amplitude {
         if !(a >= 0.0 && a <= 100.0) {
-            return Err(format!("wake_amplitude_m = {a} is out of range [0, 100]"));
+            return Err(format!("{key} = {a} is out of range [0, 100]"));
         }
     }
-    let speed = DVec2::from(object.velocity_mps).length();
+    let speed = DVec2::from(velocity_mps).length();
     if speed > 0.0 {
         // The transverse waves, the wake's longest, are 2 pi U^2 / g long.
         let longest = TAU * speed * speed / G;
-        let [x, y] = object.velocity_mps;
+        let [x, y] = velocity_mps;
         in_band(&format!("velocity_mps = [{x}, {y}] ({speed:.1} m/s)"), WAVELENGTH_BAND_M.0, longest)?;
     }
     Ok(())
+}
+
+/// How a wake of a hull `hull` m long moving at `speed` is cut into packets.
+fn wake_sampling(hull: f64, speed: f64) -> WakeSampling {
+    WakeSampling {
+        components: WAKE_COMPONENTS,
+        spacing_wavelengths: WAKE_SPACING_WAVELENGTHS,
+        min_spacing_m: hull,
+        max_age_s: (2.0 * WAKE_LENGTH_HULLS * hull / speed).min(WAKE_MAX_AGE_S),
+    }
 }
 
 /// What a scene's local waves come from.
@@ -151,7 +209,21 @@ impl Sources {
     /// hull length is unknown (Scene::load takes it from the model; a scene built in code sets
     /// hull_length_m).
     pub fn of_scene(scene: &Scene) -> Result<Sources, String> {
-        let mut wakes = Vec::new();
+        let mut wakes: Vec<(Wake, WakeSampling)> = scene
+            .wakes
+            .iter()
+            .map(|w| {
+                let velocity = DVec2::from(w.velocity_mps);
+                let wake = Wake {
+                    origin: DVec2::from(w.position_m),
+                    velocity,
+                    start_s: w.start_s,
+                    hull_length_m: w.hull_length_m,
+                    amplitude_m: w.amplitude_m.unwrap_or(WAKE_AMPLITUDE_PER_HULL_M * w.hull_length_m),
+                };
+                (wake, wake_sampling(w.hull_length_m, velocity.length()))
+            })
+            .collect();
         for (i, object) in scene.objects.iter().enumerate() {
             let velocity = DVec2::from(object.velocity_mps);
             let speed = velocity.length();
@@ -172,13 +244,7 @@ impl Sources {
                 hull_length_m: hull,
                 amplitude_m: object.wake_amplitude_m.unwrap_or(WAKE_AMPLITUDE_PER_HULL_M * hull),
             };
-            let sampling = WakeSampling {
-                components: WAKE_COMPONENTS,
-                spacing_wavelengths: WAKE_SPACING_WAVELENGTHS,
-                min_spacing_m: hull,
-                max_age_s: (2.0 * WAKE_LENGTH_HULLS * hull / speed).min(WAKE_MAX_AGE_S),
-            };
-            wakes.push((wake, sampling));
+            wakes.push((wake, wake_sampling(hull, speed)));
         }
         Ok(Sources {
             wakes,
