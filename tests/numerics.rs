@@ -226,7 +226,7 @@ fn normal_weights_across_the_screen() {
     let camera = ocean::render::frame::CameraFrame::new(&scene, &wave_set, 64, 64);
     let sky = ocean::model::sky::SkyModel::new(3.0, 0.0, 2.5);
     let reference = reference::ReferenceScene {
-        footprint: Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: 64, height: 64 },
+        footprint: Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: 64, height: 64, packets: None },
         sky: &sky,
         full: false,
     };

@@ -45,7 +45,7 @@ pub struct ShadeWork {
 /// rest-plane point stands for the displaced one, as in the footprint).
 pub fn shade_work(scene: &Scene, waves: &WaveSet, width: u32, height: u32) -> ShadeWork {
     let camera = CameraFrame::new(scene, waves, width, height);
-    let footprint = Footprint { camera: &camera, waves, time_s: scene.render.time_s, width, height };
+    let footprint = Footprint { camera: &camera, waves, time_s: scene.render.time_s, width, height, packets: None };
     const STRIDE: u32 = 4;
     let (mut sampled, mut sea, mut trains) = (0u64, 0u64, 0u64);
     for py in (0..height).step_by(STRIDE as usize) {

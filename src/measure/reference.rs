@@ -70,6 +70,19 @@ impl ReferenceScene<'_> {
         )
     }
 
+    /// A wave packet the grid displaces at pixel (px, py) of a grid of `cells` px (one reaching
+    /// the pixel's rest position with a phase step per cell below the geometry's cut-off), its
+    /// wavelength (m); None where none is, or the pixel sees no sea.
+    pub fn displaced_packet(&self, cells: f64, px: f64, py: f64) -> Option<f64> {
+        let (x, a_u, a_v) = self.rest_hit(self.pixel_ray(px, py))?;
+        let packets = self.footprint.packets?;
+        packets.packets.iter().filter(|p| p.reaches(x)).find_map(|p| {
+            let k = p.direction / p.wavelength();
+            let step = k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs());
+            (step < GEOMETRY_STEPS[1] as f64).then_some(p.wavelength())
+        })
+    }
+
     /// Weight of a train resolved by the per-pixel normal (see glsl/waves.glsl).
     pub fn normal_weight(&self, k_turns: DVec2, a_u: DVec2, a_v: DVec2) -> f64 {
         normal_weight(k_turns, a_u, a_v)

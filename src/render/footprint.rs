@@ -10,9 +10,10 @@
 //! `resolved_surface` tilts it by the sphere's normal there, as glsl/shade.glsl.
 
 use super::frame::CameraFrame;
+use crate::model::packets::{PacketField, SurfaceSum};
 use crate::model::waves::{add_tangents, trochoid_slope_variance, WaveSet};
 use glam::{DVec2, DVec3};
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 /// A pixel's box filter's transfer of a sinusoid advancing `s` turns across it: sinc(pi s), 0 past
 /// its first zero, as the polynomial (1 - s^2)(1 + a s^2 + b s^4) with a = 1 - pi^2 / 6 (sinc's
@@ -51,6 +52,9 @@ pub struct Footprint<'a> {
     pub time_s: f64,
     pub width: u32,
     pub height: u32,
+    /// The wave packets alive at time_s, in the eye's frame (PacketField::relative_to), where
+    /// there are any: added to the resolved surface as glsl/packets.glsl adds them.
+    pub packets: Option<&'a PacketField>,
 }
 
 impl Footprint<'_> {
@@ -108,6 +112,18 @@ impl Footprint<'_> {
             // The variance the normal does not hold: of the amplitude sqrt(1 - wn^2) k h, from its
             // square as the shader forms it.
             let residual = trochoid_slope_variance((1.0 - wn * wn) * (kh * kh));
+            sigma2[0] += along * along * residual;
+            sigma2[1] += across * across * residual;
+        }
+        for p in self.packets.iter().flat_map(|f| &f.packets).filter(|p| p.reaches(x)) {
+            let wn = if v_up > 0.0 { normal_weight(p.direction * (p.k / TAU), a_u, a_v) } else { 0.0 };
+            let mut surface = SurfaceSum::default();
+            p.add_to(x, &mut surface);
+            tx += wn * surface.tx;
+            ty += wn * surface.ty;
+            let kae = p.k * p.amplitude * p.envelope(x).0;
+            let residual = trochoid_slope_variance((1.0 - wn * wn) * (kae * kae));
+            let (along, across) = (p.direction.dot(wind), p.direction.perp_dot(wind));
             sigma2[0] += along * along * residual;
             sigma2[1] += across * across * residual;
         }
@@ -200,7 +216,8 @@ mod tests {
         let wave_set = waves::generate(&scene);
         let (w, h) = (160, 120);
         let camera = CameraFrame::new(&scene, &wave_set, w, h);
-        let footprint = Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: w, height: h };
+        let footprint =
+            Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: w, height: h, packets: None };
         let off_ray = |x: DVec2, ray: DVec3, a_u, a_v| {
             let p = footprint.filtered_point(x, a_u, a_v).point;
             (p - ray.normalize() * p.dot(ray.normalize())).length()

@@ -328,7 +328,7 @@ pub fn baseline_slope_variance(
     width: u32,
     height: u32,
 ) -> [f64; 2] {
-    let footprint = super::footprint::Footprint { camera, waves, time_s, width, height };
+    let footprint = super::footprint::Footprint { camera, waves, time_s, width, height, packets: None };
     footprint
         .resolved_surface(width as f64 / 2.0, height as f64 - 1.0, None)
         .map_or(waves.sigma2, |(_, _, sigma2)| sigma2)

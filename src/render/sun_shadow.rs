@@ -188,7 +188,8 @@ mod tests {
             let camera = CameraFrame::new(&scene, &wave_set, w, h);
             let finest = finest_pixel_step(&camera, (w, h));
             assert_eq!(finest.is_some(), expect_sea, "pitch {pitch}: {finest:?}");
-            let footprint = Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: w, height: h };
+            let footprint =
+                Footprint { camera: &camera, waves: &wave_set, time_s: 0.0, width: w, height: h, packets: None };
             let mut pixels = 0;
             for py in (0..h).step_by(4) {
                 for px in (0..w).step_by(4) {

@@ -67,7 +67,14 @@ pub fn run(gpu: &Gpu, scene: &Scene, scene_name: &str, reference: &Path, out_dir
         Some(p) => p,
         None => &preetham,
     };
-    let footprint = Footprint { camera: &camera, waves: &wave_set, time_s: scene.render.time_s, width: w, height: h };
+    let footprint = Footprint {
+        camera: &camera,
+        waves: &wave_set,
+        time_s: scene.render.time_s,
+        width: w,
+        height: h,
+        packets: None,
+    };
     let model = |full| ReferenceScene { footprint: Footprint { ..footprint }, sky, full };
     let (full_model, paper_model) = (model(true), model(false));
     let lookup = |method| -> Result<Vec<[f32; 4]>> {
