@@ -98,18 +98,23 @@ void add_packet(uint index, vec2 x, inout Surface s) {
     s.grad_z += grad * sc.y + k * (a * sc.x);
 }
 
-// The packets whose cell holds x, four an iteration (the loop budget counts iterations).
+// The packets whose cell holds x, eight an iteration (the loop budget counts iterations; sixteen
+// took lavapipe two minutes to compile). The truth's cells are its own (finer than the frame's):
+// their lists start after their count's starts.
 void add_packets(vec2 x, inout Surface s) {
     vec2 c = (x - frame.packet_grid.xy) * frame.packet_grid.z;
     vec2 dims = vec2(frame.packet_dims.xy);
     if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return;
     uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);
-    uint end = PACKET_LISTS + truth_packet_cells[cell + 1u];
-    for (uint i = PACKET_LISTS + truth_packet_cells[cell]; i < end; i += 4u) {
-        add_packet(truth_packet_cells[i], x, s);
-        if (i + 1u < end) add_packet(truth_packet_cells[i + 1u], x, s);
-        if (i + 2u < end) add_packet(truth_packet_cells[i + 2u], x, s);
-        if (i + 3u < end) add_packet(truth_packet_cells[i + 3u], x, s);
+    uint lists = frame.packet_dims.x * frame.packet_dims.y + 1u;
+    uint end = lists + truth_packet_cells[cell + 1u];
+    // Each run is padded to whole iterations with a packet that reaches nowhere
+    // (src/measure/groundtruth.rs): no bound check per packet.
+    for (uint i = lists + truth_packet_cells[cell]; i < end; i += 8u) {
+#define ADD_PACKET(j) add_packet(truth_packet_cells[i + j], x, s);
+        ADD_PACKET(0u) ADD_PACKET(1u) ADD_PACKET(2u) ADD_PACKET(3u) ADD_PACKET(4u) ADD_PACKET(5u) ADD_PACKET(6u)
+        ADD_PACKET(7u)
+#undef ADD_PACKET
     }
 }
 

@@ -7,7 +7,6 @@ use crate::error::{Error, Result};
 use crate::measure::region::Region;
 use crate::measure::truth_objects::{self, TruthObjects};
 use crate::measure::truth_sky::{self, TruthSkyError, TruthSkyTables};
-use crate::model::packets::grid::MAX_CELLS;
 use crate::model::packets::sources::Sources;
 use crate::model::scene::{Scene, SkyKind};
 use crate::model::waves;
@@ -63,7 +62,10 @@ const MAX_MARCH: u32 = 4096;
 /// budget counts iterations, so each step costs an eighth of the trains' count in it.
 const TRAINS_PER_ITERATION: usize = 8;
 /// Packets the shader's loop over a cell adds per iteration (glsl/groundtruth.comp `add_packets`).
-const PACKETS_PER_ITERATION: u32 = 4;
+const PACKETS_PER_ITERATION: u32 = 8;
+/// The ground truth's packet cells a side at most: finer than a frame's (whose GPU scan takes
+/// grid::MAX_CELLS_PER_SIDE), for shorter lists where the packets are small.
+const TRUTH_CELLS_PER_SIDE: u32 = 512;
 
 /// Bisection steps after a bracketed crossing (glsl/groundtruth.comp).
 const BISECTION_STEPS: u32 = 16;
@@ -167,13 +169,16 @@ fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, 
 /// independent phases has sub-Gaussian slopes (Hoeffding), the probes' maximum sits near 4.3
 /// standard deviations, so twice it stands 8 or more from the mean, where the tail's probability
 /// is below 1e-15. A probe on a fold (the Jacobian's determinant not positive) keeps the strict
-/// bound, or the former fixed 10 (84 degrees) where there is none. The packets add their cells'
-/// largest slope sum (grid::PacketGrid::slope) to both.
-fn marching_slope(wave_set: &crate::model::waves::WaveSet, packet_slope: f64) -> f64 {
-    const SLOPE_PROBES: usize = 65536;
-    const SLOPE_MARGIN: f64 = 2.0;
+/// bound, or the former fixed 10 (84 degrees) where there is none. The wave packets add their
+/// cells' largest slope sum (grid::PacketGrid::slope) to the strict bound and their own probed
+/// steepest slope (`packet_steepest`) to the probes'.
+const SLOPE_PROBES: usize = 65536;
+const SLOPE_MARGIN: f64 = 2.0;
+
+fn marching_slope(wave_set: &crate::model::waves::WaveSet, packets: Option<&FramePackets>) -> f64 {
     const FOLDING_BOUND: f64 = 10.0;
-    let kh_sum: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum::<f64>() + packet_slope;
+    let kh_sum: f64 =
+        wave_set.trains.iter().map(|t| t.k * t.amplitude).sum::<f64>() + packets.map_or(0.0, |p| p.grid.slope);
     let strict = (kh_sum < 0.9).then(|| kh_sum / (1.0 - kh_sum));
     // Rest positions over a square many of the longest waves wide, by the R2 sequence (Roberts
     // 2018: the plastic number's powers), which covers it evenly whatever the count; the phases
@@ -189,9 +194,39 @@ fn marching_slope(wave_set: &crate::model::waves::WaveSet, packet_slope: f64) ->
             None => return strict.unwrap_or(FOLDING_BOUND),
         }
     }
-    // The packets' own bound added whole: the probes see the trains alone.
-    let probed = (SLOPE_MARGIN * steepest + packet_slope).min(FOLDING_BOUND);
+    // The packets' steepest beside the trains': the sum of the two bounds the surface's.
+    let steepest = steepest + packets.map_or(Some(0.0), packet_steepest).unwrap_or(FOLDING_BOUND);
+    let probed = (SLOPE_MARGIN * steepest).min(FOLDING_BOUND);
     strict.map_or(probed, |strict| strict.min(probed))
+}
+
+/// The steepest height slope of the packets' own surface over SLOPE_PROBES rest positions
+/// spread evenly (the R2 sequence) over their cells, each reading its cell's list; None where it
+/// folds.
+fn packet_steepest(packets: &FramePackets) -> Option<f64> {
+    let (starts, lists) = packets.grid.lists();
+    let g = &packets.grid;
+    let size = glam::DVec2::new(g.cols as f64, g.rows as f64) * g.cell_m;
+    let (a1, a2) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
+    let mut steepest: f64 = 0.0;
+    for n in 0..SLOPE_PROBES {
+        let x = g.origin + size * glam::DVec2::new((0.5 + a1 * n as f64).fract(), (0.5 + a2 * n as f64).fract());
+        let Some(cell) = g.cell(x) else { continue };
+        let mut sum = crate::model::packets::SurfaceSum::default();
+        for &i in &lists[starts[cell as usize] as usize..starts[cell as usize + 1] as usize] {
+            let p = &packets.field.packets[i as usize];
+            if p.reaches(x) {
+                p.add_to(x, &mut sum);
+            }
+        }
+        let (tx, ty) = (sum.tx + glam::DVec3::X, sum.ty + glam::DVec3::Y);
+        let det = tx.x * ty.y - ty.x * tx.y;
+        if det <= 0.0 {
+            return None;
+        }
+        steepest = steepest.max(((ty.y * tx.z - ty.x * ty.z) / det).hypot((tx.x * ty.z - tx.y * tx.z) / det));
+    }
+    Some(steepest)
 }
 
 /// The height slope of the displaced surface over the point whose rest position is x at time 0:
@@ -341,7 +376,7 @@ pub fn render(
     let packets = (!sources.is_empty()).then(|| {
         let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
         let all = Sources { max_alive: usize::MAX, ..sources.clone() };
-        FramePackets::new(&all, scene.render.time_s, eye, usize::MAX)
+        FramePackets::with_cells(&all, scene.render.time_s, eye, usize::MAX, TRUTH_CELLS_PER_SIDE)
     });
     wave_set.packet_crest_m = packets.as_ref().map_or(0.0, |p| p.grid.crest_m);
     let mut data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
@@ -351,11 +386,29 @@ pub fn render(
         Some(p) => {
             (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
             let (starts, lists) = p.grid.lists();
-            let run = starts.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
-            let mut cells = starts;
-            cells.resize(MAX_CELLS as usize + 1, 0);
-            cells.extend(lists);
-            (p.gpu.clone(), cells, run)
+            // Each run padded to whole iterations of the shader's loop with a packet past the
+            // last, which reaches nowhere (its envelope's axes infinite).
+            let pad = PACKETS_PER_ITERATION as usize;
+            let nowhere = p.gpu.len() as u32;
+            let mut cells = Vec::with_capacity(starts.len() + lists.len() * 2);
+            let mut padded = Vec::with_capacity(lists.len() * 2);
+            for w in starts.windows(2) {
+                cells.push(padded.len() as u32);
+                padded.extend(&lists[w[0] as usize..w[1] as usize]);
+                padded.resize(padded.len().next_multiple_of(pad), nowhere);
+            }
+            cells.push(padded.len() as u32);
+            let run =
+                starts.windows(2).map(|w| (w[1] - w[0]).next_multiple_of(PACKETS_PER_ITERATION)).max().unwrap_or(0);
+            cells.extend(padded);
+            let mut words = p.gpu.clone();
+            // Far from every rest position (a finite distance: the envelope's products stay finite).
+            words.push(GpuPacket {
+                centre_k: [1e30, 1e30, 1.0, 0.0],
+                envelope: [1.0, 0.0, 0.0, 1.0],
+                ..GpuPacket::default()
+            });
+            (words, cells, run)
         }
         None => (vec![GpuPacket::default()], vec![0u32], 0),
     };
@@ -493,7 +546,7 @@ pub fn render(
         bounce_march,
         wave_count: exact.len() as u32,
         slab: wave_set.highest_crest() as f32,
-        lipschitz: marching_slope(&wave_set, packets.as_ref().map_or(0.0, |p| p.grid.slope)) as f32,
+        lipschitz: marching_slope(&wave_set, packets.as_ref()) as f32,
         ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
@@ -921,11 +974,11 @@ mod tests {
         let waves = crate::model::waves::generate(&calm);
         let kh: f64 = waves.trains.iter().map(|t| t.k * t.amplitude).sum();
         assert!(kh < 0.9, "{kh}");
-        assert!(marching_slope(&waves, 0.0) <= kh / (1.0 - kh));
+        assert!(marching_slope(&waves, None) <= kh / (1.0 - kh));
         // The default's 60 trains sum past 1: the probed bound, below the former fixed 10 and
         // above the displaced surface's slope at points the probes never met.
         let waves = crate::model::waves::generate(&Scene::default());
-        let bound = marching_slope(&waves, 0.0);
+        let bound = marching_slope(&waves, None);
         assert!(bound < 5.0, "{bound}");
         let mut steepest: f64 = 0.0;
         for n in 0..20_000u32 {

@@ -3,7 +3,7 @@
 //! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
 
 use crate::error::Result;
-use crate::model::packets::grid::{PacketGrid, MAX_CELLS};
+use crate::model::packets::grid::{PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE};
 use crate::model::packets::sources::Sources;
 use crate::model::packets::{Packet, PacketField};
 use crate::vk::buffer::Buffer;
@@ -56,8 +56,13 @@ impl FramePackets {
     /// The packets of `sources` at time `t`, the eye above world position `eye` (the scene's
     /// camera x_m, y_m), binned within `max_entries` list entries.
     pub fn new(sources: &Sources, t: f64, eye: DVec2, max_entries: usize) -> FramePackets {
+        Self::with_cells(sources, t, eye, max_entries, MAX_CELLS_PER_SIDE)
+    }
+
+    /// `new` with at most `per_side` cells a side (the ground truth's own, finer grid).
+    pub fn with_cells(sources: &Sources, t: f64, eye: DVec2, max_entries: usize, per_side: u32) -> FramePackets {
         let field = sources.field(t).relative_to(eye);
-        let grid = PacketGrid::new(&field.packets, max_entries);
+        let grid = PacketGrid::with_side(&field.packets, max_entries, per_side);
         let gpu = field.packets.iter().zip(&grid.ranges).map(|(p, &r)| GpuPacket::new(p, r)).collect();
         FramePackets { field, grid, gpu }
     }

@@ -44,6 +44,11 @@ impl PacketGrid {
     /// whose lists hold at most `max_entries` pairs (coarser cells, fewer pairs: each cell side
     /// doubled until they fit). Empty without packets.
     pub fn new(packets: &[Packet], max_entries: usize) -> PacketGrid {
+        Self::with_side(packets, max_entries, MAX_CELLS_PER_SIDE)
+    }
+
+    /// `new` with at most `per_side` cells a side.
+    pub fn with_side(packets: &[Packet], max_entries: usize, per_side: u32) -> PacketGrid {
         let Some(first) = packets.first() else { return PacketGrid::default() };
         let (mut lo, mut hi) = (first.centre, first.centre);
         for p in packets {
@@ -52,9 +57,9 @@ impl PacketGrid {
             hi = hi.max(p.centre + h);
         }
         let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
-        let mut cell_m = size.max_element() / MAX_CELLS_PER_SIDE as f64;
+        let mut cell_m = size.max_element() / per_side as f64;
         loop {
-            let grid = Self::with_cells(packets, lo, size, cell_m);
+            let grid = Self::with_cells(packets, lo, size, cell_m, per_side);
             if grid.entries <= max_entries || grid.cols * grid.rows == 1 {
                 return grid;
             }
@@ -62,8 +67,8 @@ impl PacketGrid {
         }
     }
 
-    fn with_cells(packets: &[Packet], origin: DVec2, size: DVec2, cell_m: f64) -> PacketGrid {
-        let count = |extent: f64| ((extent / cell_m).ceil() as u32).clamp(1, MAX_CELLS_PER_SIDE);
+    fn with_cells(packets: &[Packet], origin: DVec2, size: DVec2, cell_m: f64, per_side: u32) -> PacketGrid {
+        let count = |extent: f64| ((extent / cell_m).ceil() as u32).clamp(1, per_side);
         let (cols, rows) = (count(size.x), count(size.y));
         let cell_of = |x: f64, n: u32| ((x / cell_m).floor().max(0.0) as u32).min(n - 1);
         let mut sums = vec![0.0f64; (cols * rows) as usize];
