@@ -11,7 +11,7 @@ struct Packet {
                      // zw: its cells' range as uint bits, first column | row << 16, last the same
 };
 
-const uint MAX_PACKET_CELLS = 16384u;   // grid::MAX_CELLS
+const uint MAX_PACKET_CELLS = 65536u;   // grid::MAX_CELLS
 // Where the lists start in the cells' buffer: after the MAX_PACKET_CELLS + 1 starts.
 const uint PACKET_LISTS = MAX_PACKET_CELLS + 1u;
 // Envelope tails beyond this many sigmas are left out (packets::ENVELOPE_SIGMAS).

@@ -29,7 +29,7 @@ pub struct GpuPacket {
 
 /// The lists' room per packet alive: a packet overlaps this many cells on average before the
 /// grid coarsens (grid::PacketGrid::new).
-pub const ENTRIES_PER_PACKET: usize = 8;
+pub const ENTRIES_PER_PACKET: usize = 32;
 
 impl GpuPacket {
     fn new(p: &Packet, range: [u32; 4]) -> GpuPacket {

@@ -7,8 +7,8 @@
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
 
-/// Cells per side at most: 16 384 cells, whose starts the GPU's one-workgroup scan covers.
-pub const MAX_CELLS_PER_SIDE: u32 = 128;
+/// Cells per side at most: 65 536 cells, whose starts the GPU's one-workgroup scan covers.
+pub const MAX_CELLS_PER_SIDE: u32 = 256;
 pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
 
 /// The grid of one frame's packets.
