@@ -34,8 +34,7 @@ struct PacketSample {
     vec2 sc;         // sin and cos of the phase
 };
 
-PacketSample packet_sample(uint index, vec2 x) {
-    Packet p = packets[index];
+PacketSample packet_sample(Packet p, vec2 x) {
     vec2 rel = x - p.centre_k.xy;
     float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
     PacketSample s;
@@ -56,7 +55,7 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
     uvec2 run = packet_run(x);
     float inv_ramp = 1.0 / (steps.y - steps.x);
     for (uint i = run.x; i < run.y; ++i) {
-        PacketSample q = packet_sample(packet_cells[PACKET_LISTS + i], x);
+        PacketSample q = packet_sample(packets[packet_cells[PACKET_LISTS + i]], x);
         if (!q.reaches) continue;
         float h = resolution_weight(s, q.k, steps, inv_ramp, 1.0) * q.a;
         d += vec3(q.dir * (h * q.sc.x), h * q.sc.y);
@@ -64,29 +63,31 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
     return d;
 }
 
-// Adds the packets at rest position x to a pixel's surface: each at its normal weight in the
-// tangents (none where the pixel resolves nothing), the rest of its slope variance, that of the
-// amplitude sqrt(1 - wn^2) k a E, to the BRDF's, as add_weighted_train does a train's. The
-// tangents are Packet::add_to's: the carrier's and the envelope's gradient's.
+// Adds one packet at its sample q to a pixel's surface: at its normal weight in the tangents (none
+// where the pixel resolves nothing), the rest of its slope variance, that of the amplitude
+// sqrt(1 - wn^2) k a E, to the BRDF's, as add_weighted_train does a train's. The tangents are
+// Packet::add_to's: the carrier's and the envelope's gradient's.
+void add_packet(inout SurfaceSample r, PacketSample q, SampleScale s, bool resolves) {
+    if (!q.reaches) return;
+    float wn = resolves ? normal_weight(s, q.k) : 0.0;
+    float k = 2.0 * PI * length(q.k);
+    // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
+    vec2 horizontal = q.grad * q.sc.x - q.dir * (q.a * k * q.sc.y);
+    vec2 vertical = q.grad * q.sc.y + q.dir * (q.a * k * q.sc.x);
+    r.tangent_x += wn * vec3(q.dir * horizontal.x, vertical.x);
+    r.tangent_y += wn * vec3(q.dir * horizontal.y, vertical.y);
+    // k a E <= STEEPEST_KA < 1: the slope variance's argument stays below 1.
+    float kae = k * q.a;
+    float unresolved2 = (1.0 - wn * wn) * kae * kae;
+    r.sigma2 += wind_axes2(q.dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
+    if (GLINTS) r.curvature += 0.5 * k * k * unresolved2;
+    count_train(wn > 0.0);
+}
+
+// The packets at rest position x, each read by this invocation from its cell's list.
 void add_packets(inout SurfaceSample r, vec2 x, SampleScale s, bool resolves) {
     uvec2 run = packet_run(x);
-    for (uint i = run.x; i < run.y; ++i) {
-        PacketSample q = packet_sample(packet_cells[PACKET_LISTS + i], x);
-        if (!q.reaches) continue;
-        float wn = resolves ? normal_weight(s, q.k) : 0.0;
-        float k = 2.0 * PI * length(q.k);
-        // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
-        vec2 horizontal = q.grad * q.sc.x - q.dir * (q.a * k * q.sc.y);
-        vec2 vertical = q.grad * q.sc.y + q.dir * (q.a * k * q.sc.x);
-        r.tangent_x += wn * vec3(q.dir * horizontal.x, vertical.x);
-        r.tangent_y += wn * vec3(q.dir * horizontal.y, vertical.y);
-        // k a E <= STEEPEST_KA < 1: the slope variance's argument stays below 1.
-        float kae = k * q.a;
-        float unresolved2 = (1.0 - wn * wn) * kae * kae;
-        r.sigma2 += wind_axes2(q.dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
-        if (GLINTS) r.curvature += 0.5 * k * k * unresolved2;
-        count_train(wn > 0.0);
-    }
+    for (uint i = run.x; i < run.y; ++i) add_packet(r, packet_sample(packets[packet_cells[PACKET_LISTS + i]], x), s, resolves);
 }
 
 #endif
