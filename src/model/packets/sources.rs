@@ -77,12 +77,12 @@ pub struct WakeEvent {
 impl WakeEvent {
     pub fn validate(&self) -> Result<(), String> {
         for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
-            if !(v.abs() <= 1e7) {
+            if !(-1e7..=1e7).contains(&v) {
                 return Err(format!("position_m.{axis} = {v} is out of range [-1e7, 1e7]"));
             }
         }
         for (axis, &v) in ["x", "y"].iter().zip(&self.velocity_mps) {
-            if !(v.abs() <= 150.0) {
+            if !(-150.0..=150.0).contains(&v) {
                 return Err(format!("velocity_mps.{axis} = {v} is out of range [-150, 150]"));
             }
         }
@@ -129,7 +129,7 @@ fn in_band(what: &str, shortest: f64, longest: f64) -> Result<(), String> {
 impl SplashEvent {
     pub fn validate(&self) -> Result<(), String> {
         for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
-            if !(v.abs() <= 1e7) {
+            if !(-1e7..=1e7).contains(&v) {
                 return Err(format!("position_m.{axis} = {v} is out of range [-1e7, 1e7]"));
             }
         }
@@ -162,7 +162,7 @@ fn check_hull(
     amplitude: (&str, Option<f64>),
 ) -> Result<(), String> {
     if let Some(start) = start_s {
-        if !(start.abs() <= 1e9) {
+        if !(-1e9..=1e9).contains(&start) {
             return Err(format!("start_s = {start} is out of range [-1e9, 1e9]"));
         }
     }
@@ -172,7 +172,7 @@ fn check_hull(
         }
     }
     if let (key, Some(a)) = amplitude {
-        if !(a >= 0.0 && a <= 100.0) {
+        if !(0.0..=100.0).contains(&a) {
             return Err(format!("{key} = {a} is out of range [0, 100]"));
         }
     }
