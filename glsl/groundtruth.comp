@@ -82,14 +82,15 @@ void add_train(vec4 w, vec2 x, inout Surface s) {
 }
 
 // A packet's displacement and its derivatives (model::packets::Packet::add_to): the carrier's
-// and its envelope's, nothing past PACKET_SIGMAS.
+// and its envelope's (tapered to 0 at PACKET_SIGMAS).
 void add_packet(uint index, vec2 x, inout Surface s) {
     Packet p = truth_packets[index];
     vec2 rel = x - p.centre_k.xy;
     float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
-    if (max(abs(u), abs(v)) > PACKET_SIGMAS) return;
-    float a = p.wave.x * exp(-0.5 * (u * u + v * v));
-    vec2 grad = -a * (u * p.envelope.xy + v * p.envelope.zw);
+    if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS) return;
+    vec3 e = packet_envelope(u, v);
+    float a = p.wave.x * e.x;
+    vec2 grad = p.wave.x * (e.y * p.envelope.xy + e.z * p.envelope.zw);
     vec2 k = 2.0 * PI * p.centre_k.zw;
     vec2 dir = k * inversesqrt(dot(k, k));
     vec2 sc = sincos_turns(p.wave.y - dot(p.centre_k.zw, rel));

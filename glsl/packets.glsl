@@ -36,9 +36,8 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
         float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
         vec2 k_turns = p.centre_k.zw;
         float weight = resolution_weight(s, k_turns, steps, inv_ramp, 1.0);
-        if (max(abs(u), abs(v)) > PACKET_SIGMAS || weight <= 0.0) continue;
-        // Within the box, u^2 + v^2 <= 32: no underflow.
-        float h = weight * p.wave.x * exp(-0.5 * (u * u + v * v));
+        if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS || weight <= 0.0) continue;
+        float h = weight * p.wave.x * packet_envelope(u, v).x;
         vec2 dir = k_turns * inversesqrt(dot(k_turns, k_turns));   // |k| >= 1e-4 turns/m: the model's band
         vec2 sc = sincos_turns(p.wave.y - dot(k_turns, rel));
         d += vec3(dir * (h * sc.x), h * sc.y);
@@ -54,15 +53,16 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
 void add_packet(inout SurfaceSample r, Packet p, vec2 x, SampleScale s, bool resolves) {
     vec2 rel = x - p.centre_k.xy;
     float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
-    if (max(abs(u), abs(v)) > PACKET_SIGMAS) return;
+    if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS) return;
     vec2 k_turns = p.centre_k.zw;
     float wn = resolves ? normal_weight(s, k_turns) : 0.0;
-    float a = p.wave.x * exp(-0.5 * (u * u + v * v));
+    vec3 e = packet_envelope(u, v);
+    float a = p.wave.x * e.x;
     float k2 = dot(k_turns, k_turns);   // >= 1e-8 turns^2/m^2: the model's band
     vec2 dir = k_turns * inversesqrt(k2);
     float k = 2.0 * PI * sqrt(k2);
     if (wn > 0.0) {
-        vec2 grad = -a * (u * p.envelope.xy + v * p.envelope.zw);
+        vec2 grad = p.wave.x * (e.y * p.envelope.xy + e.z * p.envelope.zw);
         vec2 sc = sincos_turns(p.wave.y - dot(k_turns, rel));
         // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
         vec2 horizontal = grad * sc.x - dir * (a * k * sc.y);

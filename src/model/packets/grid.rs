@@ -1,11 +1,16 @@
 //! The cells a frame's packets are binned into: a grid of square cells over the rest plane
-//! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope
-//! box (ENVELOPE_SIGMAS on both axes) overlaps it, so that a pixel or a grid vertex reads only
+//! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope's
+//! bounding box (its ellipse of ENVELOPE_SIGMAS) overlaps it, so that a pixel or a grid vertex reads only
 //! the packets that reach it. The GPU bins them itself (glsl/packet_bins.comp) from the ranges of
 //! cells computed here; `lists` is the same binning on the CPU, for the ground truth and the tests.
 
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
+
+/// The tapered envelope's steepest slope per unit of amplitude, times sigma: the Gaussian's
+/// exp(-1/2), plus a bound on the taper's, its largest derivative (1.5 over its 0.5 sigmas) times
+/// the Gaussian at the taper's start, exp(-2.75^2 / 2).
+const ENVELOPE_STEEPEST: f64 = 0.6065 + 3.0 * 0.0228;
 
 /// Cells per side at most: 65 536 cells, whose starts the GPU's one-workgroup scan covers.
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
@@ -28,15 +33,15 @@ pub struct PacketGrid {
     /// crest rises higher over the rest plane, nor a trough sinks lower.
     pub crest_m: f64,
     /// The largest sum over one cell's packets of a bound on each one's height slope over the
-    /// rest plane, k a plus its envelope's steepest, a exp(-1/2) / sigma (the ground truth's
-    /// march steps by it).
+    /// rest plane, k a plus its envelope's steepest (ENVELOPE_STEEPEST a / sigma; the ground
+    /// truth's march steps by it).
     pub slope: f64,
 }
 
-/// The half-extents along x and y of a packet's envelope box.
+/// The half-extents along x and y of the bounding box of a packet's envelope ellipse.
 fn half_extent(p: &Packet) -> DVec2 {
     let (a, [s0, s1]) = (p.axis, p.sigma);
-    ENVELOPE_SIGMAS * DVec2::new(a.x.abs() * s0 + a.y.abs() * s1, a.y.abs() * s0 + a.x.abs() * s1)
+    ENVELOPE_SIGMAS * DVec2::new((a.x * s0).hypot(a.y * s1), (a.y * s0).hypot(a.x * s1))
 }
 
 impl PacketGrid {
@@ -80,7 +85,7 @@ impl PacketGrid {
                 let h = half_extent(p);
                 let (a, b) = (p.centre - h - origin, p.centre + h - origin);
                 let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
-                let slope = p.amplitude * (p.k + (-0.5f64).exp() / p.sigma[0].min(p.sigma[1]));
+                let slope = p.amplitude * (p.k + ENVELOPE_STEEPEST / p.sigma[0].min(p.sigma[1]));
                 for y in r[1]..=r[3] {
                     for x in r[0]..=r[2] {
                         sums[(y * cols + x) as usize] += p.amplitude;
