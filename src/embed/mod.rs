@@ -435,7 +435,7 @@ impl<'g> Ocean<'g> {
         self.desc.scene = scene;
         let fits = self.renderer.as_ref().is_some_and(|r| r.fits(&self.desc.scene) && r.fits_local_waves(&sources));
         if let (true, Some(renderer)) = (fits, self.renderer.as_mut()) {
-            renderer.set_local_waves(sources.clone());
+            renderer.set_local_waves(sources.clone())?;
         }
         self.sources = sources;
         let rebuild = self.broken.is_some()

@@ -379,6 +379,7 @@ pub fn render(
         FramePackets::with_cells(&all, scene.render.time_s, eye, usize::MAX, TRUTH_CELLS_PER_SIDE)
     });
     wave_set.packet_crest_m = packets.as_ref().map_or(0.0, |p| p.grid.crest_m);
+    wave_set.packet_longest_m = packets.as_ref().map_or(0.0, |p| p.field.longest_wavelength());
     let mut data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
     let field = packets.as_ref().map(|p| &p.field);
     let objects = TruthObjects::new(scene, &wave_set, field, width as f64 / height as f64)?;

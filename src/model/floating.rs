@@ -179,7 +179,14 @@ mod tests {
     use crate::model::waves::Train;
 
     fn sea(trains: Vec<Train>) -> WaveSet {
-        WaveSet { trains, wind_direction: [1.0, 0.0], sigma2: [0.0; 2], mean_height_offset: 0.0, packet_crest_m: 0.0 }
+        WaveSet {
+            trains,
+            wind_direction: [1.0, 0.0],
+            sigma2: [0.0; 2],
+            mean_height_offset: 0.0,
+            packet_crest_m: 0.0,
+            packet_longest_m: 0.0,
+        }
     }
 
     fn train(wavelength: f64, angle: f64, amplitude: f64, phase0: f64) -> Train {

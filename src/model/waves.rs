@@ -75,6 +75,8 @@ pub struct WaveSet {
     /// The highest crest the frame's wave packets add at any one place (m; 0 without them, as
     /// `generate` leaves it): render::packets sets it for a frame.
     pub packet_crest_m: f64,
+    /// The longest of the frame's wave packets (m; 0 without them), set with packet_crest_m.
+    pub packet_longest_m: f64,
 }
 
 /// Pierson-Moskowitz spectrum S(omega) for wind speed u (m^2 s).
@@ -206,7 +208,7 @@ pub fn generate(scene: &Scene) -> WaveSet {
         [acc[0] + v[0], acc[1] + v[1]]
     });
     let mean_height_offset = trains.iter().map(|t| t.k * t.amplitude * t.amplitude / 2.0).sum();
-    WaveSet { trains, wind_direction, sigma2, mean_height_offset, packet_crest_m: 0.0 }
+    WaveSet { trains, wind_direction, sigma2, mean_height_offset, packet_crest_m: 0.0, packet_longest_m: 0.0 }
 }
 
 /// Cox & Munk (1954), clean sea: total slope variance 0.003 + 5.12e-3 U (U in m/s at 12.5 m).
@@ -231,6 +233,12 @@ impl WaveSet {
         } else {
             0.0
         }
+    }
+
+    /// The longest wave of the trains and the frame's packets (m; 0 without either): what any
+    /// scale may resolve first.
+    pub fn longest_wavelength(&self) -> f64 {
+        self.trains.last().map_or(0.0, |t| t.wavelength).max(self.packet_longest_m)
     }
 
     /// The summed amplitude, with the packets' crest: no point of the surface rises higher above

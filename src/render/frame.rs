@@ -530,7 +530,7 @@ pub fn build_with_casters(
             0.0,
             0.0,
         ],
-        wave_extent: [waves.trains.last().map_or(0.0, |t| t.wavelength) as f32, waves.highest_crest() as f32, 0.0, 0.0],
+        wave_extent: [waves.longest_wavelength() as f32, waves.highest_crest() as f32, 0.0, 0.0],
         baseline_sigma2: {
             let b = baseline_slope_variance(&camera, waves, scene.render.time_s, width, height);
             [b[0] as f32, b[1] as f32, 0.0, 0.0]

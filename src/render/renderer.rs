@@ -215,6 +215,8 @@ pub struct Renderer<'g> {
     last_packets: Option<PacketStats>,
     /// ...and their field, in the eye's frame (the host's floating objects ride it).
     last_field: Option<PacketField>,
+    /// Whether `sources` are the scene's own (`new`): each frame's scene must then have the same.
+    sources_from_scene: bool,
     /// In execution order.
     passes: Vec<Box<dyn Pass + 'g>>,
     resources: Resources<'g>,
@@ -301,7 +303,9 @@ impl<'g> Renderer<'g> {
         // The ocean alone: a host draws the objects (embed::Ocean hands it none).
         scene.refuse_objects("a measurement of the ocean's own frame")?;
         let sources = Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
-        Self::with_local_waves(gpu, scene, sources, width, height, options)
+        let mut renderer = Self::with_local_waves(gpu, scene, sources, width, height, options)?;
+        renderer.sources_from_scene = true;
+        Ok(renderer)
     }
 
     /// `new`, with the local waves `sources` (the scene's splashes and its objects' wakes,
@@ -466,6 +470,7 @@ impl<'g> Renderer<'g> {
             sources,
             last_packets: None,
             last_field: None,
+            sources_from_scene: false,
             passes,
             resources,
             tracker: Tracker::default(),
@@ -487,9 +492,12 @@ impl<'g> Renderer<'g> {
     }
 
     /// Whether this renderer's pipelines and resources suit `scene` (else make a new renderer):
-    /// the sky's model and sampler, the tone mapping and the shadow map.
+    /// the sky's model and sampler, the tone mapping and the shadow map, and where it was made
+    /// from a scene (`new`), that scene's local waves.
     pub fn fits(&self, scene: &Scene) -> bool {
-        scene.sky.model == self.sky_model
+        let waves_fit = !self.sources_from_scene || Sources::of_scene(scene).is_ok_and(|s| s == self.sources);
+        waves_fit
+            && scene.sky.model == self.sky_model
             && scene.render.sky_anisotropy == self.anisotropy
             && Tone::of(scene) == self.tone
             && (scene.render.shadow_map, scene.render.shadow_map_size) == self.shadow_setting
@@ -695,6 +703,15 @@ impl<'g> Renderer<'g> {
                 self.shadow_setting.0, self.shadow_setting.1, shadow_setting.0, shadow_setting.1
             )));
         }
+        if self.sources_from_scene {
+            let sources =
+                Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
+            if sources != self.sources {
+                return Err(Error::Argument(
+                    "this renderer was made for other local waves ([[splash]], [[wake]], [packets]) than the scene's: make a new renderer".into(),
+                ));
+            }
+        }
         let mut wave_set = waves::generate(scene);
         let packets = self.resources.packets.as_ref().map(|buffers| {
             let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
@@ -702,6 +719,7 @@ impl<'g> Renderer<'g> {
         });
         if let Some(p) = &packets {
             wave_set.packet_crest_m = p.grid.crest_m;
+            wave_set.packet_longest_m = p.field.longest_wavelength();
         }
         let k = self.ssaa;
         let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
@@ -710,9 +728,6 @@ impl<'g> Renderer<'g> {
         self.last_field = packets.as_ref().map(|p| p.field.clone());
         if let (Some(p), Some(buffers)) = (&packets, &self.resources.packets) {
             (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
-            // The longest wave any scale may resolve: the sample scales' cut (glsl/waves.glsl).
-            let longest = p.field.longest_wavelength() as f32;
-            data.uniforms.wave_extent[0] = data.uniforms.wave_extent[0].max(longest);
             buffers.write(slot, p)?;
             let total = p.field.total_energy;
             self.last_packets = Some(PacketStats {
@@ -920,9 +935,21 @@ impl<'g> Renderer<'g> {
         self.sources.is_empty() == sources.is_empty() && self.sources.max_alive == sources.max_alive
     }
 
-    pub fn set_local_waves(&mut self, sources: Sources) {
-        debug_assert!(self.fits_local_waves(&sources));
+    /// New local waves for the next frames; Err (nothing changed) where they do not fit
+    /// (`fits_local_waves`: make a new renderer).
+    pub fn set_local_waves(&mut self, sources: Sources) -> Result<()> {
+        if !self.fits_local_waves(&sources) {
+            return Err(Error::Argument(format!(
+                "this renderer was made for {} local waves within packets.max_alive = {}; the new ones are {} within {}",
+                if self.sources.is_empty() { "no" } else { "some" },
+                self.sources.max_alive,
+                if sources.is_empty() { "none" } else { "some" },
+                sources.max_alive
+            )));
+        }
         self.sources = sources;
+        self.sources_from_scene = false;
+        Ok(())
     }
 
     /// Records the sun's shadow map of frame `prepared` in `slot` into a host's command buffer

@@ -34,7 +34,10 @@ pub fn resolving_probes(
     size: (u32, u32),
     margin: f64,
 ) -> Vec<DVec2> {
-    let Some(longest) = waves.trains.last().map(|t| t.wavelength) else { return Vec::new() };
+    let longest = waves.longest_wavelength();
+    if longest <= 0.0 {
+        return Vec::new();
+    }
     probe_steps(camera, size, 2.0)
         .filter_map(|(rest, q_min)| (longest * unresolved > margin * q_min * cells).then_some(rest))
         .collect()
