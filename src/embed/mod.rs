@@ -276,19 +276,13 @@ pub use crate::render::resources::PLANAR_DEPTH_FORMAT;
 /// The sun's shadow map's format, for a host's caster pipeline.
 pub const SHADOW_FORMAT: vk::Format = crate::vk::device::DEPTH_FORMAT;
 
-/// A scene's local waves (its splashes and its moving objects' wakes), or the line that says why
-/// not.
-fn local_waves(scene: &Scene) -> Result<Sources> {
-    Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(host scene)".into(), message })
-}
-
 impl<'g> Ocean<'g> {
     /// Makes the ocean's pipelines and resources on the host's device. Fails naming a format the
     /// ocean cannot write or test against, a frame count or size out of range, or what the
     /// device lacks.
     pub fn new(gpu: &'g Gpu, mut desc: OceanDesc) -> Result<Ocean<'g>> {
         check_desc(gpu, &desc)?;
-        let sources = local_waves(&desc.scene)?;
+        let sources = Sources::of_named_scene(&desc.scene, "(host scene)")?;
         // A scene's objects are its host's to draw.
         desc.scene.objects.clear();
         let mut ocean = Ocean {
@@ -429,7 +423,7 @@ impl<'g> Ocean<'g> {
     /// are rebuilt: the host has then waited for every frame in flight.
     pub fn set_scene(&mut self, mut scene: Scene) -> Result<()> {
         scene.validate().map_err(|message| Error::Scene { file: "(host scene)".into(), message })?;
-        let sources = local_waves(&scene)?;
+        let sources = Sources::of_named_scene(&scene, "(host scene)")?;
         scene.objects.clear();
         // The scene is kept even if the rebuild fails: the next resize or scene change retries.
         self.desc.scene = scene;

@@ -158,6 +158,16 @@ fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, 
     Ok((primary, steps - primary))
 }
 
+/// Probes of the marching slope's bound, and its margin over their steepest.
+const SLOPE_PROBES: usize = 65536;
+const SLOPE_MARGIN: f64 = 2.0;
+/// The R2 sequence's steps (Roberts 2018: the plastic number's powers): probe n sits at the
+/// fractional parts of 0.5 + n times these.
+const R2: (f64, f64) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
+
+/// A frame's packets with their cells' lists (PacketGrid::lists: starts, then indices).
+type ListedPackets<'a> = (&'a FramePackets, &'a (Vec<u32>, Vec<u32>));
+
 /// The slope bound the march steps by (glsl/groundtruth.comp `intersect`): how fast the displaced
 /// surface's height can change along a horizontal line.
 ///
@@ -172,23 +182,19 @@ fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, 
 /// bound, or the former fixed 10 (84 degrees) where there is none. The wave packets add their
 /// cells' largest slope sum (grid::PacketGrid::slope) to the strict bound and their own probed
 /// steepest slope (`packet_steepest`) to the probes'.
-const SLOPE_PROBES: usize = 65536;
-const SLOPE_MARGIN: f64 = 2.0;
-
-fn marching_slope(wave_set: &crate::model::waves::WaveSet, packets: Option<&FramePackets>) -> f64 {
+fn marching_slope(wave_set: &crate::model::waves::WaveSet, packets: Option<ListedPackets>) -> f64 {
     const FOLDING_BOUND: f64 = 10.0;
     let kh_sum: f64 =
-        wave_set.trains.iter().map(|t| t.k * t.amplitude).sum::<f64>() + packets.map_or(0.0, |p| p.grid.slope);
+        wave_set.trains.iter().map(|t| t.k * t.amplitude).sum::<f64>() + packets.map_or(0.0, |(p, _)| p.grid.slope);
     let strict = (kh_sum < 0.9).then(|| kh_sum / (1.0 - kh_sum));
     // Rest positions over a square many of the longest waves wide, by the R2 sequence (Roberts
     // 2018: the plastic number's powers), which covers it evenly whatever the count; the phases
     // at time 0 (time only shifts the surface, its slopes' statistics stay).
     let longest = wave_set.trains.iter().map(|t| t.wavelength).fold(1.0, f64::max);
     let side = 64.0 * longest;
-    let (a1, a2) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
     let mut steepest: f64 = 0.0;
     for n in 0..SLOPE_PROBES {
-        let x = [side * (0.5 + a1 * n as f64).fract(), side * (0.5 + a2 * n as f64).fract()];
+        let x = [side * (0.5 + R2.0 * n as f64).fract(), side * (0.5 + R2.1 * n as f64).fract()];
         match displaced_slope(wave_set, x) {
             Some(slope) => steepest = steepest.max(slope),
             None => return strict.unwrap_or(FOLDING_BOUND),
@@ -203,14 +209,12 @@ fn marching_slope(wave_set: &crate::model::waves::WaveSet, packets: Option<&Fram
 /// The steepest height slope of the packets' own surface over SLOPE_PROBES rest positions
 /// spread evenly (the R2 sequence) over their cells, each reading its cell's list; None where it
 /// folds.
-fn packet_steepest(packets: &FramePackets) -> Option<f64> {
-    let (starts, lists) = packets.grid.lists();
+fn packet_steepest((packets, (starts, lists)): ListedPackets) -> Option<f64> {
     let g = &packets.grid;
     let size = glam::DVec2::new(g.cols as f64, g.rows as f64) * g.cell_m;
-    let (a1, a2) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
     let mut steepest: f64 = 0.0;
     for n in 0..SLOPE_PROBES {
-        let x = g.origin + size * glam::DVec2::new((0.5 + a1 * n as f64).fract(), (0.5 + a2 * n as f64).fract());
+        let x = g.origin + size * glam::DVec2::new((0.5 + R2.0 * n as f64).fract(), (0.5 + R2.1 * n as f64).fract());
         let Some(cell) = g.cell(x) else { continue };
         let mut sum = crate::model::packets::SurfaceSum::default();
         for &i in &lists[starts[cell as usize] as usize..starts[cell as usize + 1] as usize] {
@@ -219,12 +223,7 @@ fn packet_steepest(packets: &FramePackets) -> Option<f64> {
                 p.add_to(x, &mut sum);
             }
         }
-        let (tx, ty) = (sum.tx + glam::DVec3::X, sum.ty + glam::DVec3::Y);
-        let det = tx.x * ty.y - ty.x * tx.y;
-        if det <= 0.0 {
-            return None;
-        }
-        steepest = steepest.max(((ty.y * tx.z - ty.x * ty.z) / det).hypot((tx.x * ty.z - tx.y * tx.z) / det));
+        steepest = steepest.max(slope_through(sum.tx + glam::DVec3::X, sum.ty + glam::DVec3::Y)?);
     }
     Some(steepest)
 }
@@ -235,6 +234,12 @@ fn packet_steepest(packets: &FramePackets) -> Option<f64> {
 /// surface folds (det <= 0).
 fn displaced_slope(wave_set: &crate::model::waves::WaveSet, x: [f64; 2]) -> Option<f64> {
     let (_, tx, ty) = crate::model::masking::surface(wave_set, 0.0, glam::DVec2::from(x));
+    slope_through(tx, ty)
+}
+
+/// The height slope of a surface with tangents tx = d p / d x, ty = d p / d y at a rest position:
+/// the height's gradient through the inverse of their horizontal parts; None where it folds.
+fn slope_through(tx: glam::DVec3, ty: glam::DVec3) -> Option<f64> {
     let det = tx.x * ty.y - ty.x * tx.y;
     (det > 0.0).then(|| ((ty.y * tx.z - ty.x * ty.z) / det).hypot((tx.x * ty.z - tx.y * tx.z) / det))
 }
@@ -372,7 +377,7 @@ pub fn render(
     let before = gpu.validation_counts().error_total();
     let mut wave_set = waves::generate(scene);
     // The scene's local waves at its time, every packet (no budget), binned here.
-    let sources = Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
+    let sources = Sources::of_named_scene(scene, "(scene)")?;
     let packets = (!sources.is_empty()).then(|| {
         let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
         let all = Sources { max_alive: usize::MAX, ..sources.clone() };
@@ -383,12 +388,12 @@ pub fn render(
     let mut data = frame::build(scene, &wave_set, width, height, scene.render.grid_cell_px);
     let field = packets.as_ref().map(|p| &p.field);
     let objects = TruthObjects::new(scene, &wave_set, field, width as f64 / height as f64)?;
-    let (packet_words, cell_words, packet_run) = match &packets {
-        Some(p) => {
+    let lists = packets.as_ref().map(|p| p.grid.lists());
+    let (packet_words, cell_words, packet_run) = match packets.as_ref().zip(lists.as_ref()) {
+        Some((p, (starts, lists))) => {
             (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
-            let (starts, lists) = p.grid.lists();
             // Each run padded to whole iterations of the shader's loop with a packet past the
-            // last, which reaches nowhere (its envelope's axes infinite).
+            // last, which reaches nowhere (its centre beyond every rest position).
             let pad = PACKETS_PER_ITERATION as usize;
             let nowhere = p.gpu.len() as u32;
             let mut cells = Vec::with_capacity(starts.len() + lists.len() * 2);
@@ -547,7 +552,7 @@ pub fn render(
         bounce_march,
         wave_count: exact.len() as u32,
         slab: wave_set.highest_crest() as f32,
-        lipschitz: marching_slope(&wave_set, packets.as_ref()) as f32,
+        lipschitz: marching_slope(&wave_set, packets.as_ref().zip(lists.as_ref())) as f32,
         ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,

@@ -62,12 +62,13 @@ impl ReferenceScene<'_> {
     /// nothing, or the pixel sees no sea, which is where this reference is the method's.
     pub fn displaced_train(&self, cells: f64, px: f64, py: f64) -> Option<f64> {
         let (_, a_u, a_v) = self.rest_hit(self.pixel_ray(px, py))?;
-        self.footprint.waves.trains.iter().map(|t| (DVec2::from(t.direction) / t.wavelength, t.wavelength)).find_map(
-            |(k, wavelength)| {
-                let step = k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs());
-                (step < GEOMETRY_STEPS[1] as f64).then_some(wavelength)
-            },
-        )
+        let displaced = |k| displaced_by_grid(k, a_u * cells, a_v * cells);
+        self.footprint
+            .waves
+            .trains
+            .iter()
+            .map(|t| (DVec2::from(t.direction) / t.wavelength, t.wavelength))
+            .find_map(|(k, wavelength)| displaced(k).then_some(wavelength))
     }
 
     /// A wave packet the grid displaces at pixel (px, py) of a grid of `cells` px (one reaching
@@ -77,9 +78,7 @@ impl ReferenceScene<'_> {
         let (x, a_u, a_v) = self.rest_hit(self.pixel_ray(px, py))?;
         let packets = self.footprint.packets?;
         packets.packets.iter().filter(|p| p.reaches(x)).find_map(|p| {
-            let k = p.direction / p.wavelength();
-            let step = k.dot(a_u * cells).abs().max(k.dot(a_v * cells).abs());
-            (step < GEOMETRY_STEPS[1] as f64).then_some(p.wavelength())
+            displaced_by_grid(p.direction / p.wavelength(), a_u * cells, a_v * cells).then(|| p.wavelength())
         })
     }
 
@@ -294,6 +293,12 @@ impl ReferenceScene<'_> {
         }
         (sum.map(|s| s / weight_sum), enters_sum / weight_sum)
     }
+}
+
+/// Whether the grid displaces a wave of wave vector `k_turns` (turns per m) whose cells move its
+/// rest position by `cell_u` and `cell_v`: its phase step per cell below the geometry's cut-off.
+fn displaced_by_grid(k_turns: DVec2, cell_u: DVec2, cell_v: DVec2) -> bool {
+    k_turns.dot(cell_u).abs().max(k_turns.dot(cell_v).abs()) < GEOMETRY_STEPS[1] as f64
 }
 
 /// The unit normal of the mean facet that a ray along the unit direction d (wind-axis components)

@@ -302,7 +302,7 @@ impl<'g> Renderer<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene, width: u32, height: u32, options: Options) -> Result<Renderer<'g>> {
         // The ocean alone: a host draws the objects (embed::Ocean hands it none).
         scene.refuse_objects("a measurement of the ocean's own frame")?;
-        let sources = Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
+        let sources = Sources::of_named_scene(scene, "(scene)")?;
         let mut renderer = Self::with_local_waves(gpu, scene, sources, width, height, options)?;
         renderer.sources_from_scene = true;
         Ok(renderer)
@@ -704,8 +704,7 @@ impl<'g> Renderer<'g> {
             )));
         }
         if self.sources_from_scene {
-            let sources =
-                Sources::of_scene(scene).map_err(|message| Error::Scene { file: "(scene)".into(), message })?;
+            let sources = Sources::of_named_scene(scene, "(scene)")?;
             if sources != self.sources {
                 return Err(Error::Argument(
                     "this renderer was made for other local waves ([[splash]], [[wake]], [packets]) than the scene's: make a new renderer".into(),
@@ -725,7 +724,6 @@ impl<'g> Renderer<'g> {
         let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         let mut data = frame::build_with_casters(scene, &wave_set, width, height, cell_px, casters);
         self.last_packets = None;
-        self.last_field = packets.as_ref().map(|p| p.field.clone());
         if let (Some(p), Some(buffers)) = (&packets, &self.resources.packets) {
             (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
             buffers.write(slot, p)?;
@@ -738,6 +736,8 @@ impl<'g> Renderer<'g> {
                 crest_m: p.grid.crest_m,
             });
         }
+        // Kept for the host's floating objects (packet_field): moved, not copied.
+        self.last_field = packets.map(|p| p.field);
         data.uniforms.tone[1] = self.sky_map_extent;
         if let Some((clip, values)) = host {
             data.uniforms.host_clip = clip;

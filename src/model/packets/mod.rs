@@ -22,8 +22,8 @@ pub const STEEPEST_KA: f64 = std::f64::consts::PI * 0.142;
 /// exp(-2 nu k^2 t) (Lamb, Hydrodynamics, 1932, section 348).
 pub const VISCOSITY: f64 = 1.05e-6;
 
-/// A packet's envelope reaches this far, in sigmas on its normalized ellipse r^2 = (u / sigma_1)^2
-/// + (v / sigma_2)^2: the Gaussian exp(-r^2 / 2) is tapered to 0 by a smoothstep from
+/// A packet's envelope reaches this far, in sigmas on its normalized ellipse
+/// r^2 = (u / sigma_1)^2 + (v / sigma_2)^2: the Gaussian exp(-r^2 / 2) is tapered to 0 by a smoothstep from
 /// ENVELOPE_TAPER to here, so nothing is cut off (a cut at 4 sigmas left exp(-8) = 3.4e-4 of a
 /// step; the taper holds 0.05% of the energy, the tail of E^2 beyond 3.9 of its sigmas). Its
 /// reach sets how many packets a point reads: the 3.25-sigma ellipse is 0.52 of the 4-sigma box.

@@ -253,6 +253,11 @@ impl Sources {
         })
     }
 
+    /// `of_scene`, its error a scene error naming `file`.
+    pub fn of_named_scene(scene: &Scene, file: &str) -> crate::error::Result<Sources> {
+        Self::of_scene(scene).map_err(|message| crate::error::Error::Scene { file: file.into(), message })
+    }
+
     /// Whether the scene has any local wave source (else the packet passes and terms are left
     /// out).
     pub fn is_empty(&self) -> bool {
