@@ -10,8 +10,22 @@
 // Whether the frame has packets (specialization constant 18): without, their loops are gone.
 layout(constant_id = 18) const bool PACKETS = false;
 
-layout(set = 0, binding = 20, std430) readonly buffer Packets { Packet packets[]; };
-layout(set = 0, binding = 21, std430) readonly buffer PacketCells { uint packet_cells[]; };
+// Texel buffers, not storage buffers: a texel fetch gathers across the SIMD lanes where a
+// storage buffer's divergent read is fetched lane by lane on a CPU driver (render/packets.rs
+// PacketTexels). A packet is three RGBA32_SFLOAT texels (its cell range's bits, unused here, may
+// come back with denormals flushed); the cells are R32_UINT.
+layout(set = 0, binding = 20) uniform samplerBuffer packet_texels;
+layout(set = 0, binding = 21) uniform usamplerBuffer packet_cell_texels;
+
+uint packet_cell_word(uint i) {
+    return texelFetch(packet_cell_texels, int(i)).x;
+}
+
+// Packet i's texel j (0: centre_k, 1: envelope, 2: wave): the envelope test reads the first two,
+// and only the packets that pass it fetch the third.
+vec4 packet_texel(uint i, int j) {
+    return texelFetch(packet_texels, 3 * int(i) + j);
+}
 
 // The run of the lists that holds the packets reaching rest position x: empty outside the grid
 // (and for a NaN x, which no comparison admits).
@@ -21,7 +35,7 @@ uvec2 packet_run(vec2 x) {
     vec2 dims = vec2(frame.packet_dims.xy);
     if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return uvec2(0u);
     uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);
-    return uvec2(packet_cells[cell], packet_cells[cell + 1u]);
+    return uvec2(packet_cell_word(cell), packet_cell_word(cell + 1u));
 }
 
 // The packets' displacement at rest position x, each at the grid's weight (as `displacement`);
@@ -31,39 +45,43 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
     uvec2 run = packet_run(x);
     float inv_ramp = 1.0 / (steps.y - steps.x);
     for (uint i = run.x; i < run.y; ++i) {
-        Packet p = packets[packet_cells[PACKET_LISTS + i]];
-        vec2 rel = x - p.centre_k.xy;
-        float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
-        vec2 k_turns = p.centre_k.zw;
+        uint index = packet_cell_word(PACKET_LISTS + i);
+        vec4 centre_k = packet_texel(index, 0), envelope = packet_texel(index, 1);
+        vec2 rel = x - centre_k.xy;
+        float u = dot(rel, envelope.xy), v = dot(rel, envelope.zw);
+        vec2 k_turns = centre_k.zw;
         float weight = resolution_weight(s, k_turns, steps, inv_ramp, 1.0);
         if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS || weight <= 0.0) continue;
-        float h = weight * p.wave.x * packet_envelope(u, v).x;
+        vec4 wave = packet_texel(index, 2);
+        float h = weight * wave.x * packet_envelope(u, v).x;
         vec2 dir = k_turns * inversesqrt(dot(k_turns, k_turns));   // |k| >= 1e-4 turns/m: the model's band
-        vec2 sc = sincos_turns(p.wave.y - dot(k_turns, rel));
+        vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         d += vec3(dir * (h * sc.x), h * sc.y);
     }
     return d;
 }
 
-// Adds packet p at rest position x to a pixel's surface: at its normal weight wn in the tangents
+// Adds packet `index` at rest position x to a pixel's surface: at its normal weight wn in the tangents
 // (none where the pixel resolves nothing), the rest of its slope variance, that of the amplitude
 // sqrt(1 - wn^2) k a E, to the BRDF's, as add_weighted_train does a train's. The tangents are
 // Packet::add_to's: the carrier's and the envelope's gradient's. A packet the pixel does not
 // resolve at all (wn = 0, most of a distant wake's) costs its envelope and variance alone.
-void add_packet(inout SurfaceSample r, Packet p, vec2 x, SampleScale s, bool resolves) {
-    vec2 rel = x - p.centre_k.xy;
-    float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
+void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool resolves) {
+    vec4 centre_k = packet_texel(index, 0), envelope = packet_texel(index, 1);
+    vec2 rel = x - centre_k.xy;
+    float u = dot(rel, envelope.xy), v = dot(rel, envelope.zw);
     if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS) return;
-    vec2 k_turns = p.centre_k.zw;
+    vec4 wave = packet_texel(index, 2);
+    vec2 k_turns = centre_k.zw;
     float wn = resolves ? normal_weight(s, k_turns) : 0.0;
     vec3 e = packet_envelope(u, v);
-    float a = p.wave.x * e.x;
+    float a = wave.x * e.x;
     float k2 = dot(k_turns, k_turns);   // >= 1e-8 turns^2/m^2: the model's band
     vec2 dir = k_turns * inversesqrt(k2);
     float k = 2.0 * PI * sqrt(k2);
     if (wn > 0.0) {
-        vec2 grad = p.wave.x * (e.y * p.envelope.xy + e.z * p.envelope.zw);
-        vec2 sc = sincos_turns(p.wave.y - dot(k_turns, rel));
+        vec2 grad = wave.x * (e.y * envelope.xy + e.z * envelope.zw);
+        vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
         vec2 horizontal = grad * sc.x - dir * (a * k * sc.y);
         vec2 vertical = grad * sc.y + dir * (a * k * sc.x);
@@ -81,7 +99,7 @@ void add_packet(inout SurfaceSample r, Packet p, vec2 x, SampleScale s, bool res
 // The packets at rest position x, read from its cell's list.
 void add_packets(inout SurfaceSample r, vec2 x, SampleScale s, bool resolves) {
     uvec2 run = packet_run(x);
-    for (uint i = run.x; i < run.y; ++i) add_packet(r, packets[packet_cells[PACKET_LISTS + i]], x, s, resolves);
+    for (uint i = run.x; i < run.y; ++i) add_packet(r, packet_cell_word(PACKET_LISTS + i), x, s, resolves);
 }
 
 #endif

@@ -2,13 +2,14 @@
 //! eye's frame, binned into cells (model::packets::grid), and packed as glsl/packet_data.glsl
 //! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::packets::grid::{PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE};
 use crate::model::packets::sources::Sources;
 use crate::model::packets::{Packet, PacketField};
 use crate::vk::buffer::Buffer;
 use crate::vk::gpu::Gpu;
 use crate::vk::memory::Location;
+use crate::vk::owned::Owned;
 use ash::vk;
 use glam::DVec2;
 use std::f64::consts::TAU;
@@ -75,8 +76,37 @@ impl FramePackets {
     }
 }
 
+/// The packets and their cells as the drawing passes read them: texel buffers, fetched by
+/// texelFetch (glsl/packets.glsl). A storage buffer's divergent reads cost lavapipe a scalar load
+/// per lane and component, a texel fetch one gather (docs/bench/packets.md: the mast's wake's
+/// shading pass 0.66x).
+pub struct PacketTexels<'g> {
+    /// RGBA32_SFLOAT, three texels a packet. Bit-exact for its floats; the cell range's bits
+    /// (read by the binning only, as a storage buffer) are denormals a fetch may flush. Not
+    /// RGBA32_UINT: lavapipe 22.3 fetched the third of each three such texels as zeros.
+    pub packets: Owned<'g, vk::BufferView>,
+    /// R32_UINT: the cells' starts, then their lists.
+    pub cells: Owned<'g, vk::BufferView>,
+}
+
+impl<'g> PacketTexels<'g> {
+    pub const PACKET_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+    pub const CELL_FORMAT: vk::Format = vk::Format::R32_UINT;
+
+    /// Views of `packets` and `cells`, made with UNIFORM_TEXEL_BUFFER usage (both formats'
+    /// uniform texel buffer support is required by Vulkan).
+    pub fn new(packets: &Buffer<'g>, cells: &Buffer<'g>, name: &str) -> Result<Self> {
+        Ok(PacketTexels {
+            packets: packets.texel_view(Self::PACKET_FORMAT, 16, &format!("{name} texels"))?,
+            cells: cells.texel_view(Self::CELL_FORMAT, 4, &format!("{name} cell texels"))?,
+        })
+    }
+}
+
 /// The packets' buffers, made for a budget of packets alive.
 pub struct PacketBuffers<'g> {
+    /// How the drawing passes read `packets` and `cells` (dropped before them).
+    pub texels: PacketTexels<'g>,
     /// Each frame slot's packets, written by the CPU: `max_alive` of them a slot.
     pub upload: Buffer<'g>,
     /// The frame's packets, copied from the slot's window by the binning.
@@ -95,17 +125,29 @@ impl<'g> PacketBuffers<'g> {
         use vk::BufferUsageFlags as B;
         let packet_bytes = std::mem::size_of::<GpuPacket>() as u64 * max_alive as u64;
         let max_entries = ENTRIES_PER_PACKET * max_alive;
+        let cell_words = MAX_CELLS as u64 + 1 + max_entries as u64;
+        // The cells' view is the longest (4 bytes a texel): a budget whose lists it cannot hold is
+        // refused by its key, with the most this device takes.
+        let limit = u64::from(gpu.device.properties.limits.max_texel_buffer_elements);
+        if cell_words > limit {
+            let most = limit.saturating_sub(MAX_CELLS as u64 + 1) / ENTRIES_PER_PACKET as u64;
+            return Err(Error::MissingFeature {
+                device: gpu.device.name.clone(),
+                feature: format!(
+                    "room for [packets] max_alive = {max_alive}: its cells' lists need {cell_words} texels, \
+                     maxTexelBufferElements is {limit} (max_alive at most {most} here)"
+                ),
+            });
+        }
         let storage = B::STORAGE_BUFFER;
+        let read = B::STORAGE_BUFFER | B::UNIFORM_TEXEL_BUFFER;
+        let packets = Buffer::new(gpu, "packets", packet_bytes, read, Location::Gpu)?;
+        let cells = Buffer::new(gpu, "packet cells", 4 * cell_words, read, Location::Gpu)?;
         Ok(PacketBuffers {
+            texels: PacketTexels::new(&packets, &cells, "packets")?,
             upload: Buffer::new(gpu, "packets upload", packet_bytes * slots as u64, storage, Location::Upload)?,
-            packets: Buffer::new(gpu, "packets", packet_bytes, storage, Location::Gpu)?,
-            cells: Buffer::new(
-                gpu,
-                "packet cells",
-                4 * (MAX_CELLS as u64 + 1 + max_entries as u64),
-                storage,
-                Location::Gpu,
-            )?,
+            packets,
+            cells,
             counters: Buffer::new(gpu, "packet counters", 4 * MAX_CELLS as u64, storage, Location::Gpu)?,
             max_alive,
             max_entries,

@@ -4,7 +4,7 @@
 use crate::error::{Error, Result, VkContext};
 use crate::model::fresnel::MeanFresnelTable;
 use crate::render::frame::{FrameUniforms, GpuWaves};
-use crate::render::packets::PacketBuffers;
+use crate::render::packets::{PacketBuffers, PacketTexels};
 use crate::render::passes::shade::shade_tiles;
 use crate::vk::buffer::Buffer;
 use crate::vk::device::{DEPTH_FORMAT, HDR_BITS_FORMAT, HDR_FORMAT};
@@ -215,7 +215,9 @@ pub struct Resources<'g> {
     pub planar_tiles: Option<Buffer<'g>>,
     /// The frame's wave packets and their cells, where the scene has local waves.
     pub packets: Option<PacketBuffers<'g>>,
-    /// Bound in their place without (the shaders' code for them is specialized away).
+    /// Bound in their place without (the shaders' code for them is specialized away), and its
+    /// views (dropped first).
+    pub packet_stand_in_texels: PacketTexels<'g>,
     pub packet_stand_in: Buffer<'g>,
 }
 
@@ -403,7 +405,8 @@ impl<'g> Resources<'g> {
         };
         let exposure = Buffer::new(gpu, "measured exposure", 16, B::UNIFORM_BUFFER | B::STORAGE_BUFFER, Location::Gpu)?;
         let packets = packets.map(|max_alive| PacketBuffers::new(gpu, max_alive, slots)).transpose()?;
-        let packet_stand_in = Buffer::new(gpu, "packets stand-in", 64, B::STORAGE_BUFFER, Location::Gpu)?;
+        let packet_stand_in = Buffer::new(gpu, "packets stand-in", 64, B::UNIFORM_TEXEL_BUFFER, Location::Gpu)?;
+        let packet_stand_in_texels = PacketTexels::new(&packet_stand_in, &packet_stand_in, "packets stand-in")?;
         Ok(Resources {
             frame_uniforms,
             waves,
@@ -429,6 +432,7 @@ impl<'g> Resources<'g> {
             planar,
             planar_tiles,
             packets,
+            packet_stand_in_texels,
             packet_stand_in,
         })
     }

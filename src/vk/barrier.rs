@@ -74,6 +74,8 @@ pub enum Access {
     FragmentUniformRead,
     /// A storage buffer read by a vertex shader (vertices pulled by index).
     VertexStorageRead,
+    /// A texel buffer (or an image) sampled by a vertex shader.
+    VertexSampled,
     /// An index buffer read by indexed draws.
     IndexRead,
     /// Indirect arguments read by vkCmdDispatchIndirect (or an indirect draw).
@@ -104,7 +106,7 @@ impl Access {
             | Access::ComputeSampled
             | Access::ComputeUniformRead => S::COMPUTE_SHADER,
             Access::FragmentUniformRead => S::FRAGMENT_SHADER,
-            Access::VertexStorageRead => S::VERTEX_SHADER,
+            Access::VertexStorageRead | Access::VertexSampled => S::VERTEX_SHADER,
             Access::IndexRead => S::INDEX_INPUT,
             Access::IndirectRead => S::DRAW_INDIRECT,
             Access::TransferRead | Access::TransferWrite => S::BLIT | S::COPY,
@@ -127,6 +129,7 @@ impl Access {
             Access::ComputeSampled => A::SHADER_SAMPLED_READ,
             Access::ComputeUniformRead | Access::FragmentUniformRead => A::UNIFORM_READ,
             Access::VertexStorageRead => A::SHADER_STORAGE_READ,
+            Access::VertexSampled => A::SHADER_SAMPLED_READ,
             Access::IndexRead => A::INDEX_READ,
             Access::IndirectRead => A::INDIRECT_COMMAND_READ,
             Access::TransferRead => A::TRANSFER_READ,
@@ -148,7 +151,7 @@ impl Access {
             Access::ComputeSampled => L::SHADER_READ_ONLY_OPTIMAL,
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
             Access::TransferWrite | Access::ClearWrite => L::TRANSFER_DST_OPTIMAL,
-            Access::FragmentSampled => L::SHADER_READ_ONLY_OPTIMAL,
+            Access::FragmentSampled | Access::VertexSampled => L::SHADER_READ_ONLY_OPTIMAL,
             Access::ColorAttachmentWrite | Access::ColorAttachmentReadWrite => L::COLOR_ATTACHMENT_OPTIMAL,
             // Not DEPTH_ATTACHMENT_OPTIMAL, which needs the separateDepthStencilLayouts feature.
             Access::DepthAttachmentReadWrite => L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,

@@ -2,7 +2,8 @@
 
 use super::gpu::Gpu;
 use super::memory::{Allocation, Location, ResourceKind};
-use crate::error::{Result, VkContext};
+use super::owned::Owned;
+use crate::error::{Error, Result, VkContext};
 use ash::vk;
 
 /// Plain data that any byte pattern of its size is a valid value of (what a readback can hold).
@@ -84,6 +85,28 @@ impl<'g> Buffer<'g> {
         // SAFETY: the mapping covers the bytes read; the GPU finished writing (fence waited).
         unsafe { std::ptr::copy_nonoverlapping(ptr, out.as_mut_ptr() as *mut u8, count * std::mem::size_of::<T>()) };
         Ok(out)
+    }
+
+    /// A view of the whole buffer as texels of `format` (`texel_bytes` each), for a texel-buffer
+    /// binding: a shader's texelFetch reads it as the texture unit gathers, where a storage buffer's
+    /// divergent reads are fetched lane by lane on some drivers (lavapipe). The buffer was made with
+    /// the matching TEXEL_BUFFER usage; its texels must fit the device's maxTexelBufferElements.
+    pub fn texel_view(&self, format: vk::Format, texel_bytes: u64, name: &str) -> Result<Owned<'g, vk::BufferView>> {
+        let texels = self.size / texel_bytes;
+        let limit = u64::from(self.gpu.device.properties.limits.max_texel_buffer_elements);
+        if texels > limit {
+            return Err(Error::MissingFeature {
+                device: self.gpu.device.name.clone(),
+                feature: format!(
+                    "room for {texels} texels in one texel buffer ({name}); its maxTexelBufferElements is {limit}"
+                ),
+            });
+        }
+        let info =
+            vk::BufferViewCreateInfo::default().buffer(self.raw).format(format).offset(0).range(texels * texel_bytes);
+        // SAFETY: a live buffer of this device, the range inside it and within the texel limit.
+        let raw = unsafe { self.gpu.raw().create_buffer_view(&info, None) }.during("vkCreateBufferView")?;
+        Ok(Owned::new(&self.gpu.device, raw, name))
     }
 
     /// Reads `pixels` RGBA16F texels (an image copied out) as f32.

@@ -35,6 +35,7 @@ destroy_with! {
     vk::Fence => destroy_fence,
     vk::Semaphore => destroy_semaphore,
     vk::ImageView => destroy_image_view,
+    vk::BufferView => destroy_buffer_view,
 }
 
 pub struct Owned<'g, H: Destroy> {

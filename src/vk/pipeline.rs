@@ -146,6 +146,18 @@ impl<'g> Bindings<'g> {
         unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
     }
 
+    /// Binds a texel buffer's view (a UNIFORM_ or STORAGE_TEXEL_BUFFER binding).
+    pub fn write_texel_buffer(&self, binding: u32, ty: vk::DescriptorType, view: vk::BufferView) {
+        let views = [view];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(ty)
+            .texel_buffer_view(&views);
+        // SAFETY: as above.
+        unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
+    }
+
     pub fn write_image(
         &self,
         binding: u32,

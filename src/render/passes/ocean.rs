@@ -3,7 +3,9 @@
 //! image's bits, see glsl/ocean.frag), for the shading pass (shade.rs). Also the ocean shaders'
 //! configuration, shared by both passes.
 
-use super::packets::{declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ};
+use super::packets::{
+    declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE,
+};
 use super::shade::SHADE_GROUP;
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
@@ -275,8 +277,8 @@ impl<'g> OceanPass<'g> {
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
                 (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, both),
                 (EYE_SKY_BINDING, D::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT),
-                (PACKETS_BINDING_READ, D::STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
-                (PACKET_CELLS_BINDING_READ, D::STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
+                (PACKETS_BINDING_READ, PACKET_READ_TYPE, vk::ShaderStageFlags::VERTEX),
+                (PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE, vk::ShaderStageFlags::VERTEX),
             ],
         )?;
         write_frame_uniforms(&bindings, r, true);
@@ -341,7 +343,7 @@ impl Pass for OceanPass<'_> {
         }
         t.image(&r.hdr, 0, 1, Access::ColorAttachmentWrite, true);
         t.image(&r.depth, 0, 1, Access::DepthAttachmentReadWrite, true);
-        declare_packet_reads(r, t, Access::VertexStorageRead);
+        declare_packet_reads(r, t, Access::VertexSampled);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {

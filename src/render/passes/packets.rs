@@ -7,7 +7,6 @@
 use super::{Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::model::packets::grid::MAX_CELLS;
-use crate::render::packets::PacketBuffers;
 use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
@@ -104,20 +103,21 @@ impl Pass for PacketBinsPass<'_> {
     }
 }
 
-/// The bindings of the packets' buffers in the passes that read them (glsl/packets.glsl).
+/// The bindings of the packets' texel buffers in the passes that read them (glsl/packets.glsl),
+/// and their descriptor type.
 pub const PACKETS_BINDING_READ: u32 = 20;
 pub const PACKET_CELLS_BINDING_READ: u32 = 21;
+pub const PACKET_READ_TYPE: vk::DescriptorType = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
 
 /// Points a pass's packet bindings at the frame's packets, or at the stand-in where it has none
 /// (the shaders' code for them is specialized away, and the bindings must still be valid).
 pub fn write_packet_bindings(bindings: &Bindings, r: &Resources) {
-    let ty = vk::DescriptorType::STORAGE_BUFFER;
-    let (packets, cells) = match &r.packets {
-        Some(PacketBuffers { packets, cells, .. }) => (packets.raw, cells.raw),
-        None => (r.packet_stand_in.raw, r.packet_stand_in.raw),
+    let texels = match &r.packets {
+        Some(p) => &p.texels,
+        None => &r.packet_stand_in_texels,
     };
-    bindings.write_buffer(PACKETS_BINDING_READ, ty, packets);
-    bindings.write_buffer(PACKET_CELLS_BINDING_READ, ty, cells);
+    bindings.write_texel_buffer(PACKETS_BINDING_READ, PACKET_READ_TYPE, texels.packets.raw);
+    bindings.write_texel_buffer(PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE, texels.cells.raw);
 }
 
 /// Declares a pass's reads of the frame's packets (at `access`), where it has any.

@@ -3,7 +3,9 @@
 //! replaces those bits in the HDR image.
 
 use super::ocean::{sky_shaded_rows, ShaderConfig, TrainReads};
-use super::packets::{declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ};
+use super::packets::{
+    declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE,
+};
 use super::{write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{
@@ -130,8 +132,8 @@ impl<'g> ShadePass<'g> {
                 (PLANAR_COLOUR_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (PLANAR_INVERSE_DEPTH_BINDING, D::COMBINED_IMAGE_SAMPLER, compute),
                 (PLANAR_TILES_BINDING, D::STORAGE_BUFFER, compute),
-                (PACKETS_BINDING_READ, D::STORAGE_BUFFER, compute),
-                (PACKET_CELLS_BINDING_READ, D::STORAGE_BUFFER, compute),
+                (PACKETS_BINDING_READ, PACKET_READ_TYPE, compute),
+                (PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE, compute),
             ],
             PUSH_BYTES,
         )?;
@@ -246,7 +248,7 @@ impl Pass for ShadePass<'_> {
             t.image(&tables.sea_irradiance, 0, 1, Access::ComputeSampled, false);
         }
         t.image(&r.shadow_map, 0, 1, Access::ComputeSampled, false);
-        declare_packet_reads(r, t, Access::ComputeStorageRead);
+        declare_packet_reads(r, t, Access::ComputeSampled);
         if r.depth_read {
             t.image(&r.depth, 0, 1, Access::ComputeSampled, false);
         }

@@ -6,7 +6,9 @@
 //! and no casters) only clear it, to "lit".
 
 use super::ocean::ShaderConfig;
-use super::packets::{declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ};
+use super::packets::{
+    declare_packet_reads, write_packet_bindings, PACKETS_BINDING_READ, PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE,
+};
 use super::{whole_viewport, write_frame_uniforms, Frame, Pass, Recorder};
 use crate::error::Result;
 use crate::render::resources::{Resources, FRAME_BINDING, WAVES_BINDING};
@@ -54,8 +56,8 @@ impl<'g> ShadowPass<'g> {
             &[
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, vertex),
                 (WAVES_BINDING, D::UNIFORM_BUFFER_DYNAMIC, vertex),
-                (PACKETS_BINDING_READ, D::STORAGE_BUFFER, vertex),
-                (PACKET_CELLS_BINDING_READ, D::STORAGE_BUFFER, vertex),
+                (PACKETS_BINDING_READ, PACKET_READ_TYPE, vertex),
+                (PACKET_CELLS_BINDING_READ, PACKET_READ_TYPE, vertex),
             ],
         )?;
         write_frame_uniforms(&bindings, r, true);
@@ -88,7 +90,7 @@ impl Pass for ShadowPass<'_> {
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         t.image(&r.shadow_map, 0, 1, Access::DepthAttachmentReadWrite, true);
-        declare_packet_reads(r, t, Access::VertexStorageRead);
+        declare_packet_reads(r, t, Access::VertexSampled);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
