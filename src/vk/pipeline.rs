@@ -137,25 +137,13 @@ impl<'g> Bindings<'g> {
     /// offset given at bind time).
     pub fn write_buffer_range(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer, range: u64) {
         let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(ty)
-            .buffer_info(&info);
-        // SAFETY: the set is not in use by any pending command buffer when written.
-        unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
+        self.update(self.write(binding, ty).buffer_info(&info));
     }
 
     /// Binds a texel buffer's view (a UNIFORM_ or STORAGE_TEXEL_BUFFER binding).
     pub fn write_texel_buffer(&self, binding: u32, ty: vk::DescriptorType, view: vk::BufferView) {
         let views = [view];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(ty)
-            .texel_buffer_view(&views);
-        // SAFETY: as above.
-        unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
+        self.update(self.write(binding, ty).texel_buffer_view(&views));
     }
 
     pub fn write_image(
@@ -167,12 +155,16 @@ impl<'g> Bindings<'g> {
         sampler: vk::Sampler,
     ) {
         let info = [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(ty)
-            .image_info(&info);
-        // SAFETY: as above.
+        self.update(self.write(binding, ty).image_info(&info));
+    }
+
+    fn write(&self, binding: u32, ty: vk::DescriptorType) -> vk::WriteDescriptorSet<'static> {
+        vk::WriteDescriptorSet::default().dst_set(self.set).dst_binding(binding).descriptor_type(ty)
+    }
+
+    fn update(&self, write: vk::WriteDescriptorSet) {
+        // SAFETY: the set is not in use by any pending command buffer when written, and `write`
+        // points at descriptors of the binding's type that outlive this call.
         unsafe { self.device.raw.update_descriptor_sets(&[write], &[]) };
     }
 
