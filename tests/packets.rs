@@ -159,3 +159,34 @@ fn bad_local_wave_keys_are_refused_with_one_line() {
     let hull = Scene::parse(&object("hull_length_m = -2.0").replace("hull_length_m = 10.0\n", ""), "bad.toml");
     assert!(hull.unwrap_err().to_string().contains("hull_length_m = -2 is out of range (0, 10000]"));
 }
+
+/// A still floating hull with a draft radiates rings from its heave against the water (its
+/// model's draft, taken by resolve_hulls); the same hull fixed, or moving, radiates none.
+#[test]
+fn a_still_floating_buoy_radiates_rings_and_a_fixed_one_none() {
+    let buoy = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/models/buoy.gltf");
+    let scene = |keys: &str| {
+        let text = format!(
+            "[wind]\nspeed_mps = 6.0\n[[object]]\nfile = \"{buoy}\"\nposition_m = [30.0, 5.0, 0.0]\nscale = 3.0\n{keys}\n"
+        );
+        let mut scene = Scene::parse(&text, "buoy.toml").unwrap();
+        scene.resolve_hulls().unwrap();
+        ocean::model::packets::sources::Sources::of_scene(&scene).unwrap()
+    };
+    let floating = scene("motion = \"floating\"");
+    assert_eq!(floating.hulls.len(), 1);
+    let hull = &floating.hulls[0];
+    // The model is 1 m across with 0.6 m below its waterline, scaled 3 times.
+    assert!((hull.plane.draft_m - 1.8).abs() < 1e-6 && (hull.plane.length_m - 3.0).abs() < 1e-6, "{:?}", hull.plane);
+    assert!(!hull.components.is_empty() && hull.drawn_power_share > 0.5, "{hull:?}");
+    // Its rings circle it: every packet's carrier points away from the hull.
+    let field = floating.field(2.0);
+    assert!(!field.packets.is_empty());
+    for p in &field.packets {
+        let out = (p.centre - hull.centre).normalize();
+        assert!(out.dot(p.direction) > 0.999, "{p:?}");
+    }
+    assert!(scene("motion = \"fixed\"").is_empty());
+    let moving = scene("motion = \"floating\"\nvelocity_mps = [2.0, 0.0]");
+    assert!(moving.hulls.is_empty() && moving.wakes.len() == 1);
+}

@@ -17,16 +17,102 @@
 //! the heave adds the rest plane's offset above mean sea level (Σ k h²/2, a metre in a storm),
 //! so that a point hull sits exactly on the drawn surface. Over the rectangle the sideways motion
 //! is left to first order: it moves the plane by O(k h²) per train.
+//!
+//! A hull with a draft heaves as a damped oscillator driven by the water at its bottom (pitch and
+//! roll stay the fitted plane's): per wave of wavenumber k, its heave is a₀ times
+//! `Waterplane::heave_response`, which is 1 for a hull without draft and for waves long against
+//! it, and rises near its natural period. What it moves against the water radiates rings
+//! (packets::heave).
 
 use crate::model::packets::PacketField;
 use crate::model::waves::WaveSet;
 use glam::DVec2;
 
-/// A hull's waterplane: the rectangle over which the sea is averaged.
+/// A hull's waterplane: the rectangle over which the sea is averaged, and the hull's draft.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Waterplane {
     pub length_m: f64,
     pub beam_m: f64,
+    /// Depth of the hull's bottom below its waterline (m); 0 rides the fitted plane exactly.
+    pub draft_m: f64,
+}
+
+/// A hull's heave damping beside its radiation's, as a ratio of the critical: ours, of the order
+/// of the viscous and eddy damping of small buoys and boats in heave. It bounds the response at
+/// the natural period where a long hull radiates little.
+pub const VISCOUS_HEAVE_DAMPING: f64 = 0.1;
+
+/// Directions over a quarter turn for the waterplane's mean squared directional factor (its
+/// square is even about both axes).
+const DIRECTIONS: usize = 64;
+
+impl Waterplane {
+    /// The rectangle's area (m²).
+    pub fn area(&self) -> f64 {
+        self.length_m.max(0.0) * self.beam_m.max(0.0)
+    }
+
+    /// The rectangle's average of cos(k d . x) for a wave along `angle_from_bow` (rad):
+    /// S(k L cos / 2) S(k B sin / 2), the fit's factor on a₀ and, by reciprocity, the directional
+    /// factor of the waves the hull radiates.
+    pub fn directional(&self, k: f64, angle_from_bow: f64) -> f64 {
+        let (s, c) = angle_from_bow.sin_cos();
+        sinc(0.5 * k * self.length_m.max(0.0) * c) * sinc(0.5 * k * self.beam_m.max(0.0) * s)
+    }
+
+    /// The directional factor's square averaged over all directions, by the midpoint rule.
+    pub fn mean_directional2(&self, k: f64) -> f64 {
+        let step = 0.5 * std::f64::consts::PI / DIRECTIONS as f64;
+        (0..DIRECTIONS).map(|i| self.directional(k, (i as f64 + 0.5) * step).powi(2)).sum::<f64>() / DIRECTIONS as f64
+    }
+
+    /// The heave's radiation damping over the stiffness times omega, B omega / (rho g A), at
+    /// wavenumber k: k² A e^(−2kd) <S²> / 2, from Haskind's relation with the Froude-Krylov force
+    /// rho g A e^(−kd) S on a wall-sided hull in deep water (Newman, Marine Hydrodynamics, 1977,
+    /// section 6.18). For a small hull, rho omega³ A² / 2g.
+    pub fn radiation_damping(&self, k: f64) -> f64 {
+        0.5 * k * k * self.area() * (-2.0 * k * self.draft_m).exp() * self.mean_directional2(k)
+    }
+
+    /// The heave of a wall-sided hull of this draft (its mass rho A d, no added mass: natural
+    /// frequency sqrt(g / d)) over the fitted a₀ of a wave of wavenumber k, as a complex factor
+    /// (re, im) on a₀'s phasor: e^(−kd) (1 + i b) / (1 − kd + i b), b the damping's
+    /// (radiation_damping plus VISCOUS_HEAVE_DAMPING's 2 zeta omega / omega₀), both acting on
+    /// the heave against the water at its bottom, e^(−kd) a₀. Exactly 1 without draft; 1 for
+    /// waves long against the draft.
+    pub fn heave_response(&self, k: f64) -> DVec2 {
+        if self.draft_m <= 0.0 {
+            return DVec2::X;
+        }
+        let (kd, b) = (k * self.draft_m, self.damping(k));
+        complex_quotient(DVec2::new(1.0, b), DVec2::new(1.0 - kd, b)) * (-kd).exp()
+    }
+
+    /// The heave against the water at the hull's bottom, over a₀, complex: heave_response − e^(−kd)
+    /// = e^(−kd) kd / (1 − kd + i b). What radiates (packets::heave).
+    pub fn relative_heave(&self, k: f64) -> DVec2 {
+        if self.draft_m <= 0.0 {
+            return DVec2::ZERO;
+        }
+        let (kd, b) = (k * self.draft_m, self.damping(k));
+        complex_quotient(DVec2::new(kd, 0.0), DVec2::new(1.0 - kd, b)) * (-kd).exp()
+    }
+
+    /// The heave's whole damping term b: radiation's and the viscous 2 zeta sqrt(kd).
+    fn damping(&self, k: f64) -> f64 {
+        self.radiation_damping(k) + 2.0 * VISCOUS_HEAVE_DAMPING * (k * self.draft_m).sqrt()
+    }
+}
+
+/// a / b for complex numbers as (re, im); b is never 0 here (its imaginary part is a damping > 0).
+fn complex_quotient(a: DVec2, b: DVec2) -> DVec2 {
+    let d = b.length_squared();
+    DVec2::new(a.x * b.x + a.y * b.y, a.y * b.x - a.x * b.y) / d
+}
+
+/// The complex product of (re, im) pairs.
+pub fn complex_product(a: DVec2, b: DVec2) -> DVec2 {
+    DVec2::new(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x)
 }
 
 /// Where the sea puts a floating object, relative to its still-water pose.
@@ -72,6 +158,7 @@ struct PlaneFit {
     across: DVec2,
     half_l: f64,
     half_b: f64,
+    plane: Waterplane,
     a0: f64,
     slope_u: f64,
     slope_v: f64,
@@ -86,6 +173,7 @@ impl PlaneFit {
             across: DVec2::new(-sin_h, cos_h),
             half_l: 0.5 * plane.length_m.max(0.0),
             half_b: 0.5 * plane.beam_m.max(0.0),
+            plane,
             a0: 0.0,
             slope_u: 0.0,
             slope_v: 0.0,
@@ -108,7 +196,11 @@ impl PlaneFit {
         let (sin_psi, cos_psi) = psi.sin_cos();
         let (sx, sy, fx, fy) = (sinc(x), sinc(y), slope_factor(x), slope_factor(y));
         let (gu, gv) = (g.dot(self.along), g.dot(self.across));
-        self.a0 += h * cos_psi * sx * sy + sin_psi * (gu * alpha * l2 * fx * sy + gv * beta * b2 * sx * fy);
+        // a₀'s share is Re[(c − i s) e^(i psi)], s the tilt's: the hull heaves it times its
+        // response, a complex factor (1 without draft).
+        let (c, s) = (h * sx * sy, gu * alpha * l2 * fx * sy + gv * beta * b2 * sx * fy);
+        let f = self.plane.heave_response(k);
+        self.a0 += (f.x * c + f.y * s) * cos_psi + (f.x * s - f.y * c) * sin_psi;
         // −(6/L) S′(αL/2) = α F(αL/2), F = −3 S′(x)/x: so a point hull (L → 0) keeps the
         // slope at its centre, h α sin ψ, with no 0/0.
         self.slope_u += h * sin_psi * alpha * fx * sy
@@ -230,7 +322,7 @@ mod tests {
     #[test]
     fn the_closed_form_is_the_least_squares_plane() {
         let waves = sea(vec![train(40.0, 0.3, 0.5, 1.0), train(7.0, -1.2, 0.08, 2.5), train(2.1, 2.0, 0.02, 0.4)]);
-        let plane = Waterplane { length_m: 6.0, beam_m: 2.2 };
+        let plane = Waterplane { length_m: 6.0, beam_m: 2.2, draft_m: 0.0 };
         for (t, centre, heading) in [(0.0, [0.0, 0.0], 0.0), (3.7, [40.0, -12.0], 1.1), (11.0, [-5.0, 8.0], -2.6)] {
             let ours = ride(&waves, t, centre, heading, plane);
             // Fitted about the rest position under the centre, as ride centres it.
@@ -259,7 +351,7 @@ mod tests {
             phase: 0.9,
         };
         let field = PacketField { packets: vec![packet], ..Default::default() };
-        let plane = Waterplane { length_m: 6.0, beam_m: 2.2 };
+        let plane = Waterplane { length_m: 6.0, beam_m: 2.2, draft_m: 0.0 };
         for (centre, heading) in [([30.0, -4.0], 0.3), ([10.0, 20.0], -1.9), ([70.0, -40.0], 2.5)] {
             let ours = ride_with_packets(&calm, &field, 0.0, centre, heading, plane);
             let n = 200;
@@ -292,7 +384,7 @@ mod tests {
         // A 100 m swell along +x, crest at the origin at t = 0 (phase 0), plus a 2 m chop.
         let swell = train(100.0, 0.0, 1.0, 0.0);
         let waves = sea(vec![swell, train(2.0, 0.0, 0.05, 0.7)]);
-        let point = Waterplane { length_m: 0.0, beam_m: 0.0 };
+        let point = Waterplane { length_m: 0.0, beam_m: 0.0, draft_m: 0.0 };
         // A point hull sits on the drawn surface: the trochoid's height over its centre, the
         // rest plane's offset included.
         let mut swell_only = sea(vec![swell]);
@@ -306,7 +398,7 @@ mod tests {
             assert!((p.pitch_rad - slope.atan()).abs() < 1e-12 && p.roll_rad.abs() < 1e-12, "{p:?}");
         }
         // A 20 m hull spans ten wavelengths of the chop: S(k L / 2) = S(10 pi) = 0.
-        let hull = Waterplane { length_m: 20.0, beam_m: 4.0 };
+        let hull = Waterplane { length_m: 20.0, beam_m: 4.0, draft_m: 0.0 };
         let with_chop = ride(&waves, 0.0, [0.0, 0.0], 0.0, hull);
         let without = ride(&sea(vec![swell]), 0.0, [0.0, 0.0], 0.0, hull);
         // (The chop moves the rest centre by 3 cm, where the swell's crest is flat: 2e-6 m.)
@@ -315,5 +407,34 @@ mod tests {
         let ahead = ride(&waves, 1.0, [3.0, 1.0], 0.4, hull);
         let astern = ride(&waves, 1.0, [3.0, 1.0], 0.4 + std::f64::consts::PI, hull);
         assert!((ahead.pitch_rad + astern.pitch_rad).abs() < 1e-12 && (ahead.heave_m - astern.heave_m).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_hull_heaves_with_the_water_below_its_natural_frequency_and_peaks_there() {
+        let buoy = Waterplane { length_m: 1.0, beam_m: 1.0, draft_m: 0.6 };
+        // Without draft, exactly the fitted plane; waves long against the draft carry it.
+        let flat = Waterplane { draft_m: 0.0, ..buoy };
+        assert_eq!(flat.heave_response(3.0), DVec2::X);
+        assert_eq!(flat.relative_heave(3.0), DVec2::ZERO);
+        let long = buoy.heave_response(std::f64::consts::TAU / 500.0);
+        assert!((long - DVec2::X).length() < 0.01, "{long:?}");
+        // The response is largest near kd = 1 (g / d = omega², its natural frequency), and lags
+        // the water there by most of a quarter turn (e^(-1) (1 - i / b): 71 degrees here).
+        let ks: Vec<f64> = (1..400).map(|i| i as f64 * 0.02 / buoy.draft_m).collect();
+        let peak = ks
+            .iter()
+            .copied()
+            .max_by(|a, b| buoy.heave_response(*a).length().total_cmp(&buoy.heave_response(*b).length()));
+        let kd = peak.unwrap() * buoy.draft_m;
+        assert!((0.8..1.2).contains(&kd), "peak at kd = {kd}");
+        let at_one = buoy.heave_response(1.0 / buoy.draft_m);
+        assert!(at_one.y < -2.0 * at_one.x.abs(), "{at_one:?}");
+        // Short waves leave it still.
+        assert!(buoy.heave_response(20.0 / buoy.draft_m).length() < 0.01);
+        // A small hull's radiation damping is rho omega³ A² / 2g over rho g A / omega: k² A e^(-2kd) / 2.
+        let k = 0.05;
+        let small = Waterplane { length_m: 0.1, beam_m: 0.1, draft_m: 0.05 };
+        let expected = 0.5 * k * k * small.area() * (-2.0 * k * small.draft_m).exp();
+        assert!((small.radiation_damping(k) / expected - 1.0).abs() < 1e-5);
     }
 }

@@ -37,10 +37,12 @@ pub struct Placement {
     pub water_plane: (DVec3, f64),
 }
 
-/// The waterplane of a model whose bounds (model space, glTF axes) are `bounds`, at `scale`.
+/// The waterplane of a model whose bounds (model space, glTF axes) are `bounds`, at `scale`: its
+/// extents along the bow (x) and across (z), and its draft, how far it reaches below its
+/// waterline (y = 0).
 pub fn waterplane(bounds: (glam::Vec3, glam::Vec3), scale: f64) -> Waterplane {
     let size = (bounds.1 - bounds.0).as_dvec3() * scale;
-    Waterplane { length_m: size.x, beam_m: size.z }
+    Waterplane { length_m: size.x, beam_m: size.z, draft_m: (-f64::from(bounds.0.y) * scale).max(0.0) }
 }
 
 /// Where `object` (its model's waterplane `plane`) stands at time `t` under `scene`'s camera,
@@ -112,6 +114,7 @@ mod tests {
             start_s: None,
             hull_length_m: None,
             wake_amplitude_m: None,
+            waterplane: None,
         }
     }
 
@@ -119,7 +122,7 @@ mod tests {
     fn a_model_stands_up_with_its_bow_along_its_heading() {
         let scene = Scene::default();
         let waves = crate::model::waves::generate(&scene);
-        let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
+        let plane = Waterplane { length_m: 4.0, beam_m: 1.5, draft_m: 0.0 };
         let mut boat = object([30.0, 10.0, 0.0]);
         boat.heading_deg = 90.0;
         let p = place(&scene, &waves, None, &boat, plane, 6.0, 0.0);
@@ -140,7 +143,7 @@ mod tests {
         let mut scene = Scene::default();
         scene.planet.radius_m = 6.36e6;
         let waves = crate::model::waves::generate(&scene);
-        let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
+        let plane = Waterplane { length_m: 4.0, beam_m: 1.5, draft_m: 0.0 };
         let buoy = object([1.0e5, 0.0, 2.0]);
         let p = place(&scene, &waves, None, &buoy, plane, 6.0, 0.0);
         let (n, w) = sea_plane_below(p.origin, 6.0, scene.planet.radius_m);
@@ -156,7 +159,7 @@ mod tests {
         let mut scene = Scene::default();
         scene.wind.speed_mps = 20.0;
         let waves = crate::model::waves::generate(&scene);
-        let plane = Waterplane { length_m: 8.0, beam_m: 3.0 };
+        let plane = Waterplane { length_m: 8.0, beam_m: 3.0, draft_m: 0.0 };
         // Fixed, 2 m up: the mean sea's plane below it.
         let post = object([40.0, 5.0, 2.0]);
         let p = place(&scene, &waves, None, &post, plane, 6.0, 3.0);
@@ -180,7 +183,7 @@ mod tests {
     fn attitude_raises_the_bow_and_the_port_side() {
         let scene = Scene::default();
         let waves = crate::model::waves::generate(&scene);
-        let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
+        let plane = Waterplane { length_m: 4.0, beam_m: 1.5, draft_m: 0.0 };
         let mut boat = object([0.0, 0.0, 0.0]);
         (boat.pitch_deg, boat.roll_deg) = (10.0, 0.0);
         let p = place(&scene, &waves, None, &boat, plane, 6.0, 0.0);
@@ -197,7 +200,7 @@ mod tests {
     fn a_distant_object_sits_on_the_sphere_along_its_normal() {
         let scene = Scene::default();
         let waves = crate::model::waves::generate(&scene);
-        let plane = Waterplane { length_m: 100.0, beam_m: 20.0 };
+        let plane = Waterplane { length_m: 100.0, beam_m: 20.0, draft_m: 0.0 };
         let r = scene.planet.radius_m;
         let ship = object([100e3, 0.0, 0.0]);
         let p = place(&scene, &waves, None, &ship, plane, 10.0, 0.0);
@@ -219,7 +222,7 @@ mod tests {
     fn a_floating_object_takes_the_waves_pose() {
         let scene = Scene::default();
         let waves = crate::model::waves::generate(&scene);
-        let plane = Waterplane { length_m: 4.0, beam_m: 1.5 };
+        let plane = Waterplane { length_m: 4.0, beam_m: 1.5, draft_m: 0.0 };
         let mut buoy = object([12.0, -3.0, 0.0]);
         buoy.motion = Motion::Floating;
         let t = 2.5;

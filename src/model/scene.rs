@@ -272,6 +272,10 @@ pub struct Object {
     /// sources::WAKE_AMPLITUDE_PER_HULL_M times the hull's length.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wake_amplitude_m: Option<f64>,
+    /// Not a key: its model's waterplane and draft (placement::waterplane), taken by Scene::load
+    /// for a floating object that stands still, whose heave radiates rings (packets::heave).
+    #[serde(skip)]
+    pub waterplane: Option<crate::model::floating::Waterplane>,
 }
 
 fn unit_scale() -> f64 {
@@ -461,17 +465,36 @@ impl Scene {
                 object.file = dir.join(&object.file);
             }
         }
-        scene.resolve_hull_lengths()?;
+        scene.resolve_hulls()?;
         Ok(scene)
     }
 
-    /// Gives each moving object without hull_length_m its model's length along its bow (the
-    /// model's x extent, times scale: placement::waterplane's length).
-    pub fn resolve_hull_lengths(&mut self) -> Result<()> {
+    /// Reads what the objects' models give the local waves, each model once: a moving object's
+    /// hull length where hull_length_m is not given (the model's x extent, times scale:
+    /// placement::waterplane's length), and a still floating object's waterplane and draft.
+    pub fn resolve_hulls(&mut self) -> Result<()> {
+        let mut bounds = std::collections::HashMap::new();
         for (i, object) in self.objects.iter_mut().enumerate() {
-            if object.hull_length_m.is_none() && object.velocity_mps != [0.0, 0.0] {
-                let model = crate::model::gltf::load(&object.file)?;
-                let length = crate::model::placement::waterplane(model.bounds, object.scale).length_m;
+            let moves = object.velocity_mps != [0.0, 0.0];
+            let wants_length = object.hull_length_m.is_none() && moves;
+            let heaves = object.motion == Motion::Floating && !moves;
+            if !(wants_length || heaves) {
+                continue;
+            }
+            let model_bounds = match bounds.get(&object.file) {
+                Some(&b) => b,
+                None => {
+                    let b = crate::model::gltf::load(&object.file)?.bounds;
+                    bounds.insert(object.file.clone(), b);
+                    b
+                }
+            };
+            let plane = crate::model::placement::waterplane(model_bounds, object.scale);
+            if heaves {
+                object.waterplane = Some(plane);
+            }
+            if wants_length {
+                let length = plane.length_m;
                 if !(length > 0.0 && length <= 1e4) {
                     return Err(Error::Scene {
                         file: object.file.display().to_string(),

@@ -6,6 +6,7 @@
 //! the packets alive at a time t (`kelvin`), as a function of t alone: no history is replayed.
 
 pub mod grid;
+pub mod heave;
 pub mod kelvin;
 pub mod sources;
 pub mod splash;
@@ -199,6 +200,33 @@ impl PacketField {
     /// The packets' height at rest position x (their vertical displacement).
     pub fn height(&self, x: DVec2) -> f64 {
         self.surface(x).displacement.z
+    }
+}
+
+/// What the sources' tests share.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::PacketField;
+    use glam::DVec2;
+
+    /// Where the field's height changes sign along `direction` from `origin`, between `from` and
+    /// `to` m, sampled at `steps` intervals and interpolated linearly.
+    pub fn zero_crossings(
+        field: &PacketField,
+        origin: DVec2,
+        direction: DVec2,
+        from: f64,
+        to: f64,
+        steps: usize,
+    ) -> Vec<f64> {
+        let at = |i: usize| from + (to - from) * i as f64 / steps as f64;
+        let heights: Vec<f64> = (0..=steps).map(|i| field.height(origin + direction * at(i))).collect();
+        heights
+            .windows(2)
+            .enumerate()
+            .filter(|(_, w)| w[0] * w[1] < 0.0)
+            .map(|(i, w)| from + (to - from) * (i as f64 + w[0] / (w[0] - w[1])) / steps as f64)
+            .collect()
     }
 }
 

@@ -1,11 +1,13 @@
-//! A scene's local waves: its `[[splash]]` events and its moving objects' wakes, and the budget
-//! of packets alive at once (`[packets]`). `Sources::field` is the packet field at a time, a
+//! A scene's local waves: its `[[splash]]` events, its moving objects' wakes and its still
+//! floating objects' rings (their models' drafts, packets::heave), and the budget of packets
+//! alive at once (`[packets]`). `Sources::field` is the packet field at a time, a
 //! function of the scene and the time alone.
 
+use super::heave::HeavingHull;
 use super::kelvin::{Wake, WakeSampling};
 use super::splash::{Splash, SplashSampling};
 use super::PacketField;
-use crate::model::scene::{Object, Scene};
+use crate::model::scene::{Motion, Object, Scene};
 use crate::model::waves::G;
 use glam::DVec2;
 use serde::Deserialize;
@@ -186,6 +188,30 @@ fn check_hull(
     Ok(())
 }
 
+/// The scene's still floating objects with a draft, on the scene's trains, that radiate anything.
+fn heaving_hulls(scene: &Scene) -> Vec<HeavingHull> {
+    let heaves = |o: &&Object| o.motion == Motion::Floating && o.velocity_mps == [0.0, 0.0];
+    let planes: Vec<_> = scene
+        .objects
+        .iter()
+        .filter(heaves)
+        .filter_map(|o| o.waterplane.filter(|p| p.draft_m > 0.0).map(|p| (o, p)))
+        .collect();
+    if planes.is_empty() {
+        return Vec::new();
+    }
+    let waves = crate::model::waves::generate(scene);
+    let eye = DVec2::new(scene.camera.x_m, scene.camera.y_m);
+    planes
+        .into_iter()
+        .map(|(o, plane)| {
+            let centre = DVec2::new(o.position_m[0], o.position_m[1]);
+            HeavingHull::new(&waves, eye, centre, o.heading_deg.to_radians(), plane)
+        })
+        .filter(|h| !h.components.is_empty())
+        .collect()
+}
+
 /// How a wake of a hull `hull` m long moving at `speed` is cut into packets.
 fn wake_sampling(hull: f64, speed: f64) -> WakeSampling {
     WakeSampling {
@@ -201,6 +227,9 @@ fn wake_sampling(hull: f64, speed: f64) -> WakeSampling {
 pub struct Sources {
     pub wakes: Vec<(Wake, WakeSampling)>,
     pub splashes: Vec<Splash>,
+    /// The still floating objects whose heave radiates rings: those with a draft (Scene::load
+    /// takes their waterplanes from their models).
+    pub hulls: Vec<HeavingHull>,
     pub max_alive: usize,
 }
 
@@ -249,6 +278,7 @@ impl Sources {
         Ok(Sources {
             wakes,
             splashes: scene.splashes.iter().map(SplashEvent::splash).collect(),
+            hulls: heaving_hulls(scene),
             max_alive: scene.packets.max_alive as usize,
         })
     }
@@ -261,7 +291,7 @@ impl Sources {
     /// Whether the scene has any local wave source (else the packet passes and terms are left
     /// out).
     pub fn is_empty(&self) -> bool {
-        self.wakes.is_empty() && self.splashes.is_empty()
+        self.wakes.is_empty() && self.splashes.is_empty() && self.hulls.is_empty()
     }
 
     /// The packets alive at time t, within the budget.
@@ -272,6 +302,9 @@ impl Sources {
         }
         for splash in &self.splashes {
             candidates.extend(splash.packets(t, &SPLASH_SAMPLING));
+        }
+        for hull in &self.hulls {
+            candidates.extend(hull.packets(t));
         }
         // No packet without amplitude takes a place in the budget.
         candidates.retain(|p| p.amplitude > 0.0);

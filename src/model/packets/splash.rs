@@ -127,6 +127,7 @@ impl Splash {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::packets::test_support::zero_crossings;
     use crate::model::packets::PacketField;
 
     fn splash() -> Splash {
@@ -194,16 +195,7 @@ mod tests {
         for radius in [12.0, 15.0, 18.0, 21.0] {
             let expected = TAU / (G * age * age / (4.0 * radius * radius));
             let (from, to) = (radius - 1.5 * expected, radius + 1.5 * expected);
-            let n = 2000;
-            let heights: Vec<f64> = (0..=n)
-                .map(|i| field.height(s.position + direction * (from + (to - from) * i as f64 / n as f64)))
-                .collect();
-            let crossings: Vec<f64> = heights
-                .windows(2)
-                .enumerate()
-                .filter(|(_, w)| w[0] * w[1] < 0.0)
-                .map(|(i, w)| from + (to - from) * (i as f64 + w[0] / (w[0] - w[1])) / n as f64)
-                .collect();
+            let crossings = zero_crossings(&field, s.position, direction, from, to, 2000);
             assert!(crossings.len() >= 4, "r {radius}: {} crossings", crossings.len());
             // Each half wavelength against the stationary phase's at its middle (the rings chirp:
             // the wavelength grows as r^2).
