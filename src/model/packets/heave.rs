@@ -11,12 +11,12 @@
 //! The hull has floated forever: the rings are steady, each a row of packets along every ray from
 //! the hull, `RINGS` of them a wavelength apart, each packet's phase the ring's at its centre.
 //! Only the trains whose rings carry the most power radiate (MAX_COMPONENTS), and only where their
-//! slope could show against the sea's (VISIBLE_SLOPE_SHARE); the packets' own waves (a wake
-//! rocking the hull) radiate nothing here, nor does a moving hull.
+//! slope could show against the sea's (VISIBLE_SLOPE_SHARE). The other sources' packets (a wake
+//! rocking the hull) leave pulses of rings (`add_pulses`); a moving hull radiates none.
 
-use super::{comb_share, Packet, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
 use crate::model::floating::{complex_product, Waterplane};
-use crate::model::waves::WaveSet;
+use crate::model::waves::{WaveSet, G};
 use glam::DVec2;
 use std::f64::consts::{PI, TAU};
 
@@ -30,10 +30,16 @@ pub const POWER_SHARE: f64 = 0.95;
 /// the first's, and the first's envelope is 0.06 of its peak at the hull's centre.
 pub const RINGS: usize = 8;
 
-/// A component radiates only where its first ring's slope amplitude k |eta| reaches this share of
-/// the trains' rms slope: ours, a hundredth, which moves a pixel's slope variance by 1e-4 of
-/// itself (a steady wind sea hides the rings of a small buoy; a calm sea shows them).
-pub const VISIBLE_SLOPE_SHARE: f64 = 0.01;
+/// A component (or a pulse) radiates only where its first ring's slope amplitude k |eta| reaches
+/// this share of the trains' rms slope: ours, a twentieth (a pattern that tilts the normals by
+/// less is lost in the sea's own; at a hundredth the preset buoys drew 5 000 packets of rings a
+/// millimetre high). A wind sea hides the steady rings of a small buoy; a wake rocking it in a
+/// light air shows its pulses.
+pub const VISIBLE_SLOPE_SHARE: f64 = 0.02;
+
+/// The most pulses of rings a hull draws at once, the strongest: a budget (a wake's crossing
+/// rocks a buoy with a handful of its components at a time, the preset harbour's with at most 5).
+pub const MAX_PULSES: usize = 16;
 
 /// One train's rings: its wavenumber and frequency, and the hull's heave against the water at its
 /// bottom at time 0 (m, complex).
@@ -54,6 +60,8 @@ pub struct HeavingHull {
     pub components: Vec<RingComponent>,
     /// The share of its whole radiated power the components carry.
     pub drawn_power_share: f64,
+    /// The trains' rms slope, against which a ring's visibility is judged.
+    pub sea_slope: f64,
 }
 
 impl HeavingHull {
@@ -62,7 +70,8 @@ impl HeavingHull {
     pub fn new(waves: &WaveSet, eye: DVec2, centre: DVec2, heading_rad: f64, plane: Waterplane) -> HeavingHull {
         let offset = centre - eye;
         let sea_slope = waves.trains.iter().map(|t| t.slope_variance().iter().sum::<f64>()).sum::<f64>().sqrt();
-        let mut hull = HeavingHull { centre, heading_rad, plane, components: Vec::new(), drawn_power_share: 0.0 };
+        let mut hull =
+            HeavingHull { centre, heading_rad, plane, components: Vec::new(), drawn_power_share: 0.0, sea_slope };
         let mut candidates: Vec<(f64, RingComponent)> = waves
             .trains
             .iter()
@@ -89,8 +98,8 @@ impl HeavingHull {
             if hull.components.len() == MAX_COMPONENTS || drawn >= POWER_SHARE * total {
                 break;
             }
-            let first = hull.field(&component, hull.first_ring(component.k), 0.0).length();
-            if component.k * first < VISIBLE_SLOPE_SHARE * sea_slope {
+            let first = hull.component_field(&component, hull.first_ring(component.k), 0.0).length();
+            if component.k * first < VISIBLE_SLOPE_SHARE * hull.sea_slope {
                 continue;
             }
             drawn += power;
@@ -119,55 +128,137 @@ impl HeavingHull {
         0.5 * self.plane.length_m.hypot(self.plane.beam_m) + TAU / k
     }
 
-    /// The rings' complex amplitude at time 0 at `r` from the centre along world angle `theta`:
-    /// the far field above, damped by the water's viscosity over its travel at the group
-    /// velocity, and never more than the heave against the water that makes it.
-    pub fn field(&self, c: &RingComponent, r: f64, theta: f64) -> DVec2 {
-        let (k, a, d) = (c.k, self.plane.area(), self.plane.draft_m);
+    /// The rings' complex amplitude at `r` from the centre along world angle `theta`, of a
+    /// component of wavenumber k and group velocity `group` whose heave against the water is `z`
+    /// (complex, at the same time): the far field above, damped by the water's viscosity over its
+    /// travel, and never more than the heave that makes it.
+    pub fn field(&self, k: f64, group: f64, z: DVec2, r: f64, theta: f64) -> DVec2 {
+        let (a, d) = (self.plane.area(), self.plane.draft_m);
         let directional = self.plane.directional(k, theta - self.heading_rad);
-        let group = 0.5 * c.omega / k;
         let damping = (-2.0 * VISCOSITY * k * k * r / group).exp();
         let magnitude = 0.5 * k * k * a * (-k * d).exp() * (2.0 / (PI * k * r)).sqrt() * damping;
         // |eta| <= |Z|: the factor on Z held to [-1, 1] (the far form grows without bound
         // towards the hull, where it no longer holds).
         let factor = (magnitude * directional).clamp(-1.0, 1.0);
         let turn = -(k * r + 0.25 * PI);
-        complex_product(c.relative, DVec2::new(turn.cos(), turn.sin())) * factor
+        complex_product(z, DVec2::new(turn.cos(), turn.sin())) * factor
     }
 
-    /// The packets alive at time t: every component's rings.
-    pub fn packets(&self, t: f64) -> Vec<Packet> {
+    /// A steady component's field at time 0 (`field` of its own heave).
+    pub fn component_field(&self, c: &RingComponent, r: f64, theta: f64) -> DVec2 {
+        self.field(c.k, 0.5 * c.omega / c.k, c.relative, r, theta)
+    }
+
+    /// The packets alive at time t: every steady component's rings, and the pulses of `driving`
+    /// (the other sources' packets at t) that have rocked the hull.
+    pub fn packets(&self, t: f64, driving: &[Packet]) -> Vec<Packet> {
         let mut packets = Vec::new();
         for c in &self.components {
             let lambda = TAU / c.k;
-            let (spacing, radial) = (lambda, 0.5 * lambda);
+            let (turn, group) = (c.omega * t, 0.5 * c.omega / c.k);
+            let z = complex_product(c.relative, DVec2::new(turn.cos(), turn.sin()));
             for n in 0..RINGS {
-                let r = self.first_ring(c.k) + spacing * n as f64;
-                // Straight crests on a curved ring: a packet's phase strays by k x² / 2r at x
-                // along the ring from its centre, where its neighbour's envelope peaks (an arc, two
-                // of its sigmas). Arcs at most sqrt(r / 2k) hold that to a quarter radian (the
-                // power 1.3% short; at sqrt(r / k), half a radian, 5%), and at most a wavelength.
-                let most = lambda.min((0.5 * r / c.k).sqrt());
-                let directions = ((TAU * r / most).ceil() as usize).max(8);
-                let arc = TAU * r / directions as f64;
-                let share = comb_share(spacing, radial) * comb_share(arc, 0.5 * arc);
-                for m in 0..directions {
-                    let theta = (m as f64 + 0.5) * TAU / directions as f64;
-                    let direction = DVec2::new(theta.cos(), theta.sin());
-                    let eta = self.field(c, r, theta);
-                    packets.push(Packet {
-                        centre: self.centre + direction * r,
-                        direction,
-                        k: c.k,
-                        amplitude: (eta.length() * share).min(STEEPEST_KA / c.k),
-                        axis: direction,
-                        sigma: [radial, 0.5 * arc],
-                        phase: eta.y.atan2(eta.x) + c.omega * t,
-                    });
-                }
+                let r = self.first_ring(c.k) + lambda * n as f64;
+                self.add_ring(&mut packets, c.k, group, z, r, 0.5 * lambda, comb_share(lambda, 0.5 * lambda));
             }
         }
+        self.add_pulses(&mut packets, driving);
         packets
+    }
+
+    /// One ring of packets of radial sigma `radial` at radius r, each `radial_share` of the field
+    /// at its centre (its row's comb share; 1 for a lone ring).
+    #[allow(clippy::too_many_arguments)]
+    fn add_ring(
+        &self,
+        packets: &mut Vec<Packet>,
+        k: f64,
+        group: f64,
+        z: DVec2,
+        r: f64,
+        radial: f64,
+        radial_share: f64,
+    ) {
+        let lambda = TAU / k;
+        // Straight crests on a curved ring: a packet's phase strays by k x² / 2r at x along the
+        // ring from its centre, where its neighbour's envelope peaks (an arc, two of its sigmas).
+        // Arcs at most sqrt(r / 2k) hold that to a quarter radian (the power 1.3% short; at
+        // sqrt(r / k), half a radian, 5%), and at most a wavelength.
+        // Directions a power of two, from +x: a pulse's growing ring doubles them now and then,
+        // its old packets' places among the new (its field then moves by the rows' 3% ripple).
+        let most = lambda.min((0.5 * r / k).sqrt());
+        let directions = ((TAU * r / most).ceil() as usize).max(8).next_power_of_two();
+        let arc = TAU * r / directions as f64;
+        let share = radial_share * comb_share(arc, 0.5 * arc);
+        for m in 0..directions {
+            let theta = m as f64 * TAU / directions as f64;
+            let direction = DVec2::new(theta.cos(), theta.sin());
+            let eta = self.field(k, group, z, r, theta);
+            packets.push(Packet {
+                centre: self.centre + direction * r,
+                direction,
+                k,
+                amplitude: (eta.length() * share).min(STEEPEST_KA / k),
+                axis: direction,
+                sigma: [radial, 0.5 * arc],
+                phase: eta.y.atan2(eta.x),
+            });
+        }
+    }
+
+    /// The pulses of rings the `driving` packets leave: a packet crossing the hull rocks it at
+    /// its frequency for as long as its envelope takes to pass, and the rings it radiates travel
+    /// at the same group velocity, so that a pulse's radius is the hull's edge plus how far the
+    /// packet's envelope has gone past the hull, and its radial profile is the envelope's along
+    /// the packet's path through the hull (retarded by its travel). Its heave is the quasi-steady
+    /// response to the envelope's peak there, at the carrier's phase at the hull now. A pulse
+    /// rises over the two sigmas before the peak reaches the hull's centre (it stays at the
+    /// hull's edge until the peak passes). The strongest MAX_PULSES that could show are drawn.
+    fn add_pulses(&self, packets: &mut Vec<Packet>, driving: &[Packet]) {
+        let edge = 0.5 * self.plane.length_m.hypot(self.plane.beam_m);
+        // (slope, k, group velocity, radius, heave against the water, radial sigma)
+        let mut pulses: Vec<(f64, f64, f64, f64, DVec2, f64)> = Vec::new();
+        for p in driving {
+            let d = p.direction;
+            // The envelope's exponent on the line through the hull's centre along d:
+            // q(s) = |b + s w|², its least at s* = -(b . w) / |w|², sigma 1 / |w| along s.
+            let rel = self.centre - p.centre;
+            let (a0, a1) = (p.axis, p.axis.perp());
+            let b = DVec2::new(rel.dot(a0) / p.sigma[0], rel.dot(a1) / p.sigma[1]);
+            let w = DVec2::new(d.dot(a0) / p.sigma[0], d.dot(a1) / p.sigma[1]);
+            let (w2, bw) = (w.length_squared(), b.dot(w));
+            let past = -bw / w2;
+            let sigma = w2.sqrt().recip();
+            let q_least = (b.length_squared() - bw * bw / w2).max(0.0);
+            // The envelope's peak along the path: beyond its reach, no pulse.
+            if q_least >= ENVELOPE_SIGMAS * ENVELOPE_SIGMAS || past < -2.0 * sigma {
+                continue;
+            }
+            let onset = {
+                let x = ((past + 2.0 * sigma) / (2.0 * sigma)).clamp(0.0, 1.0);
+                x * x * (3.0 - 2.0 * x)
+            };
+            let angle = d.y.atan2(d.x) - self.heading_rad;
+            let fitted = p.amplitude * (-0.5 * q_least).exp() * self.plane.directional(p.k, angle) * onset;
+            // The carrier's phase at the hull's centre now: phase - k d . (c - centre).
+            let psi = p.phase - p.k * d.dot(rel);
+            let z = complex_product(self.plane.relative_heave(p.k), DVec2::new(psi.cos(), psi.sin()) * fitted);
+            // Held a sigma out until the peak has gone that far: its inner tail then ends at the
+            // hull's edge instead of crossing the hull.
+            let r = edge + past.max(sigma);
+            let group = 0.5 * (G / p.k).sqrt();
+            let slope = p.k * self.field(p.k, group, z, r, self.heading_rad + 0.5 * PI).length();
+            // Faded in from the visible share to twice it: no pulse pops in or out.
+            let least = VISIBLE_SLOPE_SHARE * self.sea_slope;
+            if slope > least {
+                let x = (slope / least - 1.0).min(1.0);
+                pulses.push((slope, p.k, group, r, z * (x * x * (3.0 - 2.0 * x)), sigma));
+            }
+        }
+        pulses.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for &(_, k, group, r, z, sigma) in pulses.iter().take(MAX_PULSES) {
+            self.add_ring(packets, k, group, z, r, sigma, 1.0);
+        }
     }
 }
 
@@ -176,7 +267,7 @@ mod tests {
     use super::*;
     use crate::model::packets::test_support::zero_crossings;
     use crate::model::packets::PacketField;
-    use crate::model::waves::Train;
+    use crate::model::waves::{Train, G};
 
     const G_: f64 = 9.81;
 
@@ -192,6 +283,7 @@ mod tests {
             plane,
             components: vec![c],
             drawn_power_share: 1.0,
+            sea_slope: 0.1,
         };
         (hull, c)
     }
@@ -201,7 +293,7 @@ mod tests {
         let period = TAU / c.omega;
         (0..16)
             .map(|i| {
-                let field = PacketField::bounded(hull.packets(i as f64 * period / 16.0), usize::MAX);
+                let field = PacketField::bounded(hull.packets(i as f64 * period / 16.0, &[]), usize::MAX);
                 field.height(x).powi(2)
             })
             .sum::<f64>()
@@ -249,7 +341,7 @@ mod tests {
         // Along a ray at one time, the height's zero crossings are half a wavelength apart.
         let ray = DVec2::new(0.6, 0.8);
         let (start, end) = (hull.first_ring(c.k) + lambda, hull.first_ring(c.k) + 6.0 * lambda);
-        let field = PacketField::bounded(hull.packets(1.3), usize::MAX);
+        let field = PacketField::bounded(hull.packets(1.3, &[]), usize::MAX);
         let crossings = zero_crossings(&field, hull.centre, ray, start, end, 4000);
         let mean_gap = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
         assert!(
@@ -297,5 +389,51 @@ mod tests {
         let flat =
             HeavingHull::new(&waves, DVec2::ZERO, DVec2::new(20.0, 0.0), 0.0, Waterplane { draft_m: 0.0, ..plane });
         assert!(flat.components.is_empty());
+    }
+
+    #[test]
+    fn a_packet_crossing_the_hull_leaves_a_pulse_of_rings_that_follows_it_out() {
+        let (hull, _) = buoy(3.8);
+        let hull = HeavingHull { components: Vec::new(), sea_slope: 0.0, ..hull };
+        let edge = 0.5 * hull.plane.length_m.hypot(hull.plane.beam_m);
+        // A packet of 4 m waves travelling along +x through the hull's centre, sigma 6 m along.
+        let k = TAU / 4.0;
+        let group = 0.5 * (G / k).sqrt();
+        let driving = |t: f64| Packet {
+            centre: hull.centre + DVec2::new(-30.0 + group * t, 0.0),
+            direction: DVec2::X,
+            k,
+            amplitude: 0.05,
+            axis: DVec2::X,
+            sigma: [6.0, 6.0],
+            phase: 1.0 + (G * k).sqrt() * t,
+        };
+        let pulse = |t: f64| hull.packets(t, &[driving(t)]);
+        // Before its envelope is two sigmas from the hull, nothing.
+        assert!(pulse(0.0).is_empty());
+        // Once past, one ring whose radius is the hull's edge plus how far the peak has gone.
+        let t = (30.0 + 15.0) / group;
+        let ring = pulse(t);
+        assert!(!ring.is_empty());
+        for p in &ring {
+            let r = (p.centre - hull.centre).length();
+            assert!((r - (edge + 15.0)).abs() < 1e-9, "{r}");
+            assert!((p.sigma[0] - 6.0).abs() < 1e-9);
+        }
+        // It rises and travels smoothly: its strongest packet's amplitude changes by under 3% of
+        // its largest per fiftieth of the envelope's passage, from its onset to well past.
+        let strongest = |t: f64| pulse(t).iter().map(|p| p.amplitude).fold(0.0, f64::max);
+        let step = 6.0 / group / 50.0;
+        let times: Vec<f64> =
+            (0..).map(|i| (30.0 - 12.0) / group + step * i as f64).take_while(|&t| t < 70.0 / group).collect();
+        let amplitudes: Vec<f64> = times.iter().map(|&t| strongest(t)).collect();
+        let largest = amplitudes.iter().copied().fold(0.0, f64::max);
+        assert!(largest > 0.0);
+        for (w, t) in amplitudes.windows(2).zip(&times) {
+            assert!((w[1] - w[0]).abs() <= 0.03 * largest, "{} -> {} at {t}", w[0], w[1]);
+        }
+        // A packet that passes 30 m to the side rocks nothing.
+        let aside = |t: f64| Packet { centre: driving(t).centre + DVec2::new(0.0, 30.0), ..driving(t) };
+        assert!(hull.packets(t, &[aside(t)]).is_empty());
     }
 }

@@ -188,8 +188,12 @@ fn check_hull(
     Ok(())
 }
 
-/// The scene's still floating objects with a draft, on the scene's trains, that radiate anything.
+/// The scene's still floating objects with a draft, on the scene's trains, that radiate anything:
+/// steady rings, or (where the scene has wakes or splashes) pulses.
 fn heaving_hulls(scene: &Scene) -> Vec<HeavingHull> {
+    let rocked = !scene.wakes.is_empty()
+        || !scene.splashes.is_empty()
+        || scene.objects.iter().any(|o| o.velocity_mps != [0.0, 0.0]);
     let heaves = |o: &&Object| o.motion == Motion::Floating && o.velocity_mps == [0.0, 0.0];
     let planes: Vec<_> = scene
         .objects
@@ -208,7 +212,7 @@ fn heaving_hulls(scene: &Scene) -> Vec<HeavingHull> {
             let centre = DVec2::new(o.position_m[0], o.position_m[1]);
             HeavingHull::new(&waves, eye, centre, o.heading_deg.to_radians(), plane)
         })
-        .filter(|h| !h.components.is_empty())
+        .filter(|h| rocked || !h.components.is_empty())
         .collect()
 }
 
@@ -303,9 +307,9 @@ impl Sources {
         for splash in &self.splashes {
             candidates.extend(splash.packets(t, &SPLASH_SAMPLING));
         }
-        for hull in &self.hulls {
-            candidates.extend(hull.packets(t));
-        }
+        // The hulls' rings: steady, and the pulses the wakes and splashes rock them into.
+        let rings: Vec<_> = self.hulls.iter().flat_map(|hull| hull.packets(t, &candidates)).collect();
+        candidates.extend(rings);
         // No packet without amplitude takes a place in the budget.
         candidates.retain(|p| p.amplitude > 0.0);
         PacketField::bounded(candidates, self.max_alive)
