@@ -178,7 +178,8 @@ fn a_still_floating_buoy_radiates_rings_and_a_fixed_one_none() {
     let hull = &floating.hulls[0];
     // The model is 1 m across with 0.6 m below its waterline, scaled 3 times.
     assert!((hull.plane.draft_m - 1.8).abs() < 1e-6 && (hull.plane.length_m - 3.0).abs() < 1e-6, "{:?}", hull.plane);
-    assert!(!hull.components.is_empty() && hull.drawn_power_share > 0.5, "{hull:?}");
+    // The strongest trains whose rings could show (here 2, a fifth of its radiated power).
+    assert!(!hull.components.is_empty() && hull.drawn_power_share > 0.1, "{hull:?}");
     // Its rings circle it: every packet's carrier points away from the hull.
     let field = floating.field(2.0);
     assert!(!field.packets.is_empty());
@@ -189,4 +190,25 @@ fn a_still_floating_buoy_radiates_rings_and_a_fixed_one_none() {
     assert!(scene("motion = \"fixed\"").is_empty());
     let moving = scene("motion = \"floating\"\nvelocity_mps = [2.0, 0.0]");
     assert!(moving.hulls.is_empty() && moving.wakes.len() == 1);
+}
+
+/// The GPU's binning (count, scan, scatter, sort) leaves exactly the lists the CPU's grid makes
+/// for the same packets: every cell's start and every packet index, in packet order.
+#[test]
+fn the_gpu_bins_the_packets_as_the_cpu_grid_does() {
+    use ocean::model::packets::grid::PacketGrid;
+    use ocean::render::packets::ENTRIES_PER_PACKET;
+    use ocean::render::renderer::{Options, Renderer};
+    let gpu = gpu();
+    let scene = Scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wake_mast.toml"))).unwrap();
+    let mut renderer = Renderer::new(&gpu, &scene, 96, 64, Options::default()).unwrap();
+    renderer.render(&scene).unwrap();
+    let (starts, lists) = renderer.read_packet_lists().unwrap().expect("the scene has local waves");
+    let field = renderer.packet_field().unwrap();
+    let grid = PacketGrid::new(&field.packets, ENTRIES_PER_PACKET * scene.packets.max_alive as usize);
+    let (cpu_starts, cpu_lists) = grid.lists();
+    assert!(cpu_lists.len() > 10_000, "{} entries", cpu_lists.len());
+    assert_eq!(starts, cpu_starts, "the cells' starts");
+    assert!(lists == cpu_lists, "the lists differ at {:?}", lists.iter().zip(&cpu_lists).position(|(a, b)| a != b));
+    assert_eq!(gpu.validation_counts().error_total(), 0);
 }

@@ -142,7 +142,8 @@ impl<'g> PacketBuffers<'g> {
         let storage = B::STORAGE_BUFFER;
         let read = B::STORAGE_BUFFER | B::UNIFORM_TEXEL_BUFFER;
         let packets = Buffer::new(gpu, "packets", packet_bytes, read, Location::Gpu)?;
-        let cells = Buffer::new(gpu, "packet cells", 4 * cell_words, read, Location::Gpu)?;
+        // Copied out by Renderer::read_packet_lists.
+        let cells = Buffer::new(gpu, "packet cells", 4 * cell_words, read | B::TRANSFER_SRC, Location::Gpu)?;
         Ok(PacketBuffers {
             texels: PacketTexels::new(&packets, &cells, "packets")?,
             upload: Buffer::new(gpu, "packets upload", packet_bytes * slots as u64, storage, Location::Upload)?,

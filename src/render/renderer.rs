@@ -38,11 +38,12 @@ use crate::render::sun_shadow::CasterBox;
 use crate::render::timeline::{CpuSpans, GpuFrame, Submission};
 use crate::vk::barrier::{Access, Tracker};
 use crate::vk::clock::{host_now_ns, DeviceClock};
-use crate::vk::commands::Wait;
+use crate::vk::buffer::Buffer;
+use crate::vk::commands::{Commands, Wait};
 use crate::vk::device::HDR_FORMAT;
 use crate::vk::external::{ldr_encodes_srgb, HostImage, ImageState};
 use crate::vk::gpu::Gpu;
-use crate::vk::memory::MemoryReport;
+use crate::vk::memory::{Location, MemoryReport};
 use ash::vk;
 
 /// Passes of a host's own a frame's profile has room for (embed::Ocean::record_host_pass).
@@ -922,6 +923,45 @@ impl<'g> Renderer<'g> {
     /// The last prepared frame's packets (None without local waves).
     pub fn packet_stats(&self) -> Option<PacketStats> {
         self.last_packets
+    }
+
+    /// The cells' lists the GPU's binning left for the last frame: each cell's start in the lists
+    /// (one more start than cells) and the lists' packet indices, as model::packets::grid::
+    /// PacketGrid::lists has them (None without local waves). Waits for the device; for tests.
+    pub fn read_packet_lists(&mut self) -> Result<Option<(Vec<u32>, Vec<u32>)>> {
+        self.wait_idle()?;
+        let (Some(buffers), Some(stats)) = (&self.resources.packets, self.last_packets) else { return Ok(None) };
+        let starts_bytes = 4 * (u64::from(stats.cells) + 1);
+        let lists_bytes = 4 * stats.entries as u64;
+        let usage = vk::BufferUsageFlags::TRANSFER_DST;
+        let readback =
+            Buffer::new(self.gpu, "packet lists readback", starts_bytes + lists_bytes, usage, Location::Readback)?;
+        let commands = Commands::new(&self.gpu.device, "packet lists readback")?;
+        let (device, cmd) = (&self.gpu.device.raw, commands.cmd);
+        commands.begin()?;
+        let mut tracker = Tracker::default();
+        // The binning wrote them last; the copy reads them, the host the copy.
+        tracker.buffer(&buffers.cells, Access::ComputeStorageWrite);
+        tracker.buffer(&buffers.cells, Access::TransferRead);
+        tracker.buffer(&readback, Access::TransferWrite);
+        tracker.flush(device, cmd);
+        let lists_at = 4 * u64::from(crate::model::packets::grid::MAX_CELLS + 1);
+        let regions = [
+            vk::BufferCopy { src_offset: 0, dst_offset: 0, size: starts_bytes },
+            vk::BufferCopy { src_offset: lists_at, dst_offset: starts_bytes, size: lists_bytes.max(4) },
+        ];
+        let count = if lists_bytes > 0 { 2 } else { 1 };
+        // SAFETY: both buffers are live and in transfer states (flushed above); the regions lie
+        // inside both (the lists hold `entries` words after MAX_CELLS + 1 starts; the readback
+        // is sized for them).
+        unsafe { device.cmd_copy_buffer(cmd, buffers.cells.raw, readback.raw, &regions[..count]) };
+        tracker.buffer(&readback, Access::HostRead);
+        tracker.flush(device, cmd);
+        commands.submit(&[], None)?;
+        commands.wait()?;
+        let mut words: Vec<u32> = readback.read(((starts_bytes + lists_bytes) / 4) as usize)?;
+        let lists = words.split_off((starts_bytes / 4) as usize);
+        Ok(Some((words, lists)))
     }
 
     /// The last prepared frame's wave packets, in the eye's frame (None without local waves).
