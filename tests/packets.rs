@@ -200,7 +200,8 @@ fn the_gpu_bins_the_packets_as_the_cpu_grid_does() {
     use ocean::render::packets::ENTRIES_PER_PACKET;
     use ocean::render::renderer::{Options, Renderer};
     let gpu = gpu();
-    let scene = Scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wake_mast.toml"))).unwrap();
+    let scene =
+        Scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wake_mast.toml"))).unwrap();
     let mut renderer = Renderer::new(&gpu, &scene, 96, 64, Options::default()).unwrap();
     renderer.render(&scene).unwrap();
     let (starts, lists) = renderer.read_packet_lists().unwrap().expect("the scene has local waves");
