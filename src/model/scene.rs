@@ -298,7 +298,10 @@ pub enum Motion {
 pub const MAX_OBJECTS: usize = 4096;
 
 /// How far from the world's origin an object may stand: the camera's own range.
-const MAX_OBJECT_DISTANCE_M: f64 = 1e7;
+pub(crate) const MAX_OBJECT_DISTANCE_M: f64 = 1e7;
+
+/// The fastest a hull may move along each axis (m/s): the water speed record is 142 m/s.
+pub(crate) const MAX_SPEED_MPS: f64 = 150.0;
 
 /// The scales an object may take: from a millimetre's thousandth of a 1 m model to a 1 m model
 /// blown up to 1000 km.
@@ -656,9 +659,7 @@ impl Scene {
 impl Object {
     fn validate(&self) -> Result<(), String> {
         let d = MAX_OBJECT_DISTANCE_M;
-        for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
-            in_range(&format!("position_m.{axis}"), v, Bound::Closed(-d), Bound::Closed(d))?;
-        }
+        each_in_range("position_m", &self.position_m[..2], Bound::Closed(-d), Bound::Closed(d))?;
         // Up to a mountain's height over the sea; down to a wreck's depth.
         in_range("position_m.z", self.position_m[2], Bound::Closed(-1e4), Bound::Closed(1e4))?;
         finite_angle("heading_deg", self.heading_deg)?;
@@ -666,10 +667,7 @@ impl Object {
         in_range("roll_deg", self.roll_deg, Bound::Closed(-180.0), Bound::Closed(180.0))?;
         let (lo, hi) = OBJECT_SCALES;
         in_range("scale", self.scale, Bound::Closed(lo), Bound::Closed(hi))?;
-        // The water speed record is 142 m/s.
-        for (axis, &v) in ["x", "y"].iter().zip(&self.velocity_mps) {
-            in_range(&format!("velocity_mps.{axis}"), v, Bound::Closed(-150.0), Bound::Closed(150.0))?;
-        }
+        each_in_range("velocity_mps", &self.velocity_mps, Bound::Closed(-MAX_SPEED_MPS), Bound::Closed(MAX_SPEED_MPS))?;
         crate::model::packets::sources::validate_wake(self)
     }
 
@@ -702,13 +700,22 @@ fn finite_angle(key: &str, value: f64) -> Result<(), String> {
     }
 }
 
-enum Bound {
+#[derive(Clone, Copy)]
+pub(crate) enum Bound {
     Open(f64),
     Closed(f64),
 }
 
+/// in_range for each component of a vector key, named key.x, key.y (and key.z).
+pub(crate) fn each_in_range(key: &str, values: &[f64], lo: Bound, hi: Bound) -> Result<(), String> {
+    for (axis, &v) in ["x", "y", "z"].iter().zip(values) {
+        in_range(&format!("{key}.{axis}"), v, lo, hi)?;
+    }
+    Ok(())
+}
+
 /// Checks lo (<|<=) value (<|<=) hi; NaN fails every comparison and so is rejected too.
-fn in_range(key: &str, value: f64, lo: Bound, hi: Bound) -> Result<(), String> {
+pub(crate) fn in_range(key: &str, value: f64, lo: Bound, hi: Bound) -> Result<(), String> {
     let (lo_ok, lo_text) = match lo {
         Bound::Open(b) => (value > b, format!("({b}")),
         Bound::Closed(b) => (value >= b, format!("[{b}")),

@@ -7,7 +7,8 @@ use super::heave::HeavingHull;
 use super::kelvin::{Wake, WakeSampling};
 use super::splash::{Splash, SplashSampling};
 use super::PacketField;
-use crate::model::scene::{Motion, Object, Scene};
+use crate::model::scene::Bound::Closed;
+use crate::model::scene::{each_in_range, Motion, Object, Scene, MAX_OBJECT_DISTANCE_M, MAX_SPEED_MPS};
 use crate::model::waves::G;
 use glam::DVec2;
 use serde::Deserialize;
@@ -78,16 +79,8 @@ pub struct WakeEvent {
 
 impl WakeEvent {
     pub fn validate(&self) -> Result<(), String> {
-        for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
-            if !(-1e7..=1e7).contains(&v) {
-                return Err(format!("position_m.{axis} = {v} is out of range [-1e7, 1e7]"));
-            }
-        }
-        for (axis, &v) in ["x", "y"].iter().zip(&self.velocity_mps) {
-            if !(-150.0..=150.0).contains(&v) {
-                return Err(format!("velocity_mps.{axis} = {v} is out of range [-150, 150]"));
-            }
-        }
+        each_in_range("position_m", &self.position_m, Closed(-MAX_OBJECT_DISTANCE_M), Closed(MAX_OBJECT_DISTANCE_M))?;
+        each_in_range("velocity_mps", &self.velocity_mps, Closed(-MAX_SPEED_MPS), Closed(MAX_SPEED_MPS))?;
         if DVec2::from(self.velocity_mps).length() == 0.0 {
             return Err("velocity_mps = [0, 0]: a wake needs a moving hull".into());
         }
@@ -130,11 +123,7 @@ fn in_band(what: &str, shortest: f64, longest: f64) -> Result<(), String> {
 
 impl SplashEvent {
     pub fn validate(&self) -> Result<(), String> {
-        for (axis, &v) in ["x", "y"].iter().zip(&self.position_m) {
-            if !(-1e7..=1e7).contains(&v) {
-                return Err(format!("position_m.{axis} = {v} is out of range [-1e7, 1e7]"));
-            }
-        }
+        each_in_range("position_m", &self.position_m, Closed(-MAX_OBJECT_DISTANCE_M), Closed(MAX_OBJECT_DISTANCE_M))?;
         if !(self.time_s >= 0.0 && self.time_s <= 1e9) {
             return Err(format!("time_s = {} is out of range [0, 1e9] (a splash's clock starts at 0)", self.time_s));
         }
