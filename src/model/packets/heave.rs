@@ -366,6 +366,8 @@ mod tests {
         assert!((ratio - 1.0).abs() < 0.1, "<eta^2> r at the sixth ring over the third: {ratio:.3}");
     }
 
+    /// A 6 m boat of 0.9 m draft beam-on to a 5.7 m train (its heave resonance) radiates it, and
+    /// not the 200 m swell that carries it.
     #[test]
     fn a_hull_radiates_the_trains_it_moves_against_and_not_the_long_ones() {
         let train = |lambda: f64, amplitude: f64| {
@@ -381,21 +383,26 @@ mod tests {
             }
         };
         let waves = WaveSet {
-            trains: vec![train(200.0, 0.5), train(3.8, 0.05)],
+            trains: vec![train(200.0, 0.5), train(5.7, 0.05)],
             wind_direction: [1.0, 0.0],
             sigma2: [0.0; 2],
             mean_height_offset: 0.0,
             packet_crest_m: 0.0,
             packet_longest_m: 0.0,
         };
-        let plane = Waterplane { length_m: 1.0, beam_m: 1.0, draft_m: 0.6 };
-        let hull = HeavingHull::new(&waves, DVec2::ZERO, DVec2::new(20.0, 0.0), 0.0, plane);
+        let plane = Waterplane { length_m: 6.0, beam_m: 2.2, draft_m: 0.9 };
+        let hull = HeavingHull::new(&waves, DVec2::ZERO, DVec2::new(20.0, 0.0), 0.5 * PI, plane);
         assert_eq!(hull.components.len(), 1, "{hull:?}");
-        assert!((hull.components[0].k - TAU / 3.8).abs() < 1e-12);
+        assert!((hull.components[0].k - TAU / 5.7).abs() < 1e-12);
         assert!(hull.drawn_power_share > 0.99);
         // Without draft it rides the water exactly and radiates nothing.
-        let flat =
-            HeavingHull::new(&waves, DVec2::ZERO, DVec2::new(20.0, 0.0), 0.0, Waterplane { draft_m: 0.0, ..plane });
+        let flat = HeavingHull::new(
+            &waves,
+            DVec2::ZERO,
+            DVec2::new(20.0, 0.0),
+            0.5 * PI,
+            Waterplane { draft_m: 0.0, ..plane },
+        );
         assert!(flat.components.is_empty());
     }
 
