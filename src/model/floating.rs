@@ -43,8 +43,10 @@ pub struct Waterplane {
 pub const VISCOUS_HEAVE_DAMPING: f64 = 0.1;
 
 /// Directions over a quarter turn for the waterplane's mean squared directional factor (its
-/// square is even about both axes).
-const DIRECTIONS: usize = 64;
+/// square is even about both axes): k times the longer side of them, about four a lobe of the
+/// sinc, within these (a buoy on its waves takes the fewest; every hull on every train, every
+/// frame, takes them).
+const DIRECTIONS: (usize, usize) = (8, 64);
 
 impl Waterplane {
     /// The rectangle's area (m²).
@@ -62,8 +64,10 @@ impl Waterplane {
 
     /// The directional factor's square averaged over all directions, by the midpoint rule.
     pub fn mean_directional2(&self, k: f64) -> f64 {
-        let step = 0.5 * std::f64::consts::PI / DIRECTIONS as f64;
-        (0..DIRECTIONS).map(|i| self.directional(k, (i as f64 + 0.5) * step).powi(2)).sum::<f64>() / DIRECTIONS as f64
+        let longer = self.length_m.max(self.beam_m).max(0.0);
+        let n = ((k * longer).ceil() as usize).clamp(DIRECTIONS.0, DIRECTIONS.1);
+        let step = 0.5 * std::f64::consts::PI / n as f64;
+        (0..n).map(|i| self.directional(k, (i as f64 + 0.5) * step).powi(2)).sum::<f64>() / n as f64
     }
 
     /// The heave's radiation damping over the stiffness times omega, B omega / (rho g A), at

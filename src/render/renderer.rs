@@ -931,6 +931,10 @@ impl<'g> Renderer<'g> {
     pub fn read_packet_lists(&mut self) -> Result<Option<(Vec<u32>, Vec<u32>)>> {
         self.wait_idle()?;
         let (Some(buffers), Some(stats)) = (&self.resources.packets, self.last_packets) else { return Ok(None) };
+        // Without packets the binning wrote nothing this frame: the lists are empty.
+        if stats.alive == 0 {
+            return Ok(Some((vec![0], Vec::new())));
+        }
         let starts_bytes = 4 * (u64::from(stats.cells) + 1);
         let lists_bytes = 4 * stats.entries as u64;
         let usage = vk::BufferUsageFlags::TRANSFER_DST;

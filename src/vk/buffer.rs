@@ -93,6 +93,7 @@ impl<'g> Buffer<'g> {
     /// the matching TEXEL_BUFFER usage; its texels must fit the device's maxTexelBufferElements.
     pub fn texel_view(&self, format: vk::Format, texel_bytes: u64, name: &str) -> Result<Owned<'g, vk::BufferView>> {
         let texels = self.size / texel_bytes;
+        assert!(texels > 0, "a texel view of {name} needs a buffer of at least one {texel_bytes}-byte texel");
         let limit = u64::from(self.gpu.device.properties.limits.max_texel_buffer_elements);
         if texels > limit {
             return Err(Error::MissingFeature {

@@ -25,9 +25,9 @@ use std::f64::consts::{PI, TAU};
 pub const MAX_COMPONENTS: usize = 4;
 pub const POWER_SHARE: f64 = 0.95;
 
-/// Rings of packets along each ray, a wavelength apart (their radial sigma half that) from a
-/// wavelength past the hull's edge: the far field at the last, 8 wavelengths out, is a third of
-/// the first's, and the first's envelope is 0.06 of its peak at the hull's centre.
+/// Rings of packets along each ray, a wavelength apart (their radial sigma half that), the first
+/// where its envelope's reach ends at the hull's edge: the far field at the last, seven
+/// wavelengths further, is about a third of the first's.
 pub const RINGS: usize = 8;
 
 /// A component (or a pulse) radiates only where its first ring's slope amplitude k |eta| could
@@ -38,6 +38,9 @@ pub const RINGS: usize = 8;
 /// a glassy sea shows a rocked boat's.
 pub const VISIBLE_SLOPE_SHARE: f64 = 0.2;
 pub const MIN_VISIBLE_SLOPE: f64 = 1e-3;
+
+/// The most packets one ring takes around the hull.
+pub const MAX_RING_DIRECTIONS: usize = 512;
 
 /// The most pulses of rings a hull draws at once, the strongest: a budget (a wake's crossing
 /// rocks a buoy with a handful of its components at a time, the preset harbour's with at most 5).
@@ -100,7 +103,7 @@ impl HeavingHull {
             if hull.components.len() == MAX_COMPONENTS || drawn >= POWER_SHARE * total {
                 break;
             }
-            let first = hull.component_field(&component, hull.first_ring(component.k), 0.0).length();
+            let first = hull.strongest_field(&component, hull.first_ring(component.k));
             if component.k * first < hull.least_visible_slope(component.k) {
                 continue;
             }
@@ -131,9 +134,11 @@ impl HeavingHull {
         (VISIBLE_SLOPE_SHARE * band.sqrt()).max(MIN_VISIBLE_SLOPE)
     }
 
-    /// The radius of a component's first ring: a wavelength past the waterplane's half diagonal.
+    /// The radius of a component's first ring: its envelope's reach (ENVELOPE_SIGMAS of its half
+    /// wavelength sigma) past the waterplane's half diagonal, so that no ring reaches under the
+    /// hull and rocks it in turn (floating::ride_with_packets).
     pub fn first_ring(&self, k: f64) -> f64 {
-        0.5 * self.plane.length_m.hypot(self.plane.beam_m) + TAU / k
+        0.5 * self.plane.length_m.hypot(self.plane.beam_m) + ENVELOPE_SIGMAS * 0.5 * TAU / k
     }
 
     /// The rings' complex amplitude at `r` from the centre along world angle `theta`, of a
@@ -150,6 +155,12 @@ impl HeavingHull {
         let factor = (magnitude * directional).clamp(-1.0, 1.0);
         let turn = -(k * r + 0.25 * PI);
         complex_product(z, DVec2::new(turn.cos(), turn.sin())) * factor
+    }
+
+    /// A component's field at radius r in the direction it radiates most (of eight around the
+    /// hull, from its bow), its magnitude.
+    pub fn strongest_field(&self, c: &RingComponent, r: f64) -> f64 {
+        (0..8).map(|i| self.component_field(c, r, self.heading_rad + i as f64 * PI / 8.0).length()).fold(0.0, f64::max)
     }
 
     /// A steady component's field at time 0 (`field` of its own heave).
@@ -195,7 +206,9 @@ impl HeavingHull {
         // Directions a power of two, from +x: a pulse's growing ring doubles them now and then,
         // its old packets' places among the new (its field then moves by the rows' 3% ripple).
         let most = lambda.min((0.5 * r / k).sqrt());
-        let directions = ((TAU * r / most).ceil() as usize).max(8).next_power_of_two();
+        // At most MAX_RING_DIRECTIONS: a pulse far out (its phase error then k arc² / 2r, 0.2
+        // radians 100 wavelengths out) is faint by the time it needs more.
+        let directions = ((TAU * r / most).ceil() as usize).clamp(8, MAX_RING_DIRECTIONS).next_power_of_two();
         let arc = TAU * r / directions as f64;
         let share = radial_share * comb_share(arc, 0.5 * arc);
         for m in 0..directions {
@@ -251,9 +264,9 @@ impl HeavingHull {
             // The carrier's phase at the hull's centre now: phase - k d . (c - centre).
             let psi = p.phase - p.k * d.dot(rel);
             let z = complex_product(self.plane.relative_heave(p.k), DVec2::new(psi.cos(), psi.sin()) * fitted);
-            // Held a sigma out until the peak has gone that far: its inner tail then ends at the
-            // hull's edge instead of crossing the hull.
-            let r = edge + past.max(sigma);
+            // Held its envelope's reach out until the peak has gone that far: its inner tail
+            // ends at the hull's edge, never under the hull (which it would rock in turn).
+            let r = edge + past.max(ENVELOPE_SIGMAS * sigma);
             let group = 0.5 * (G / p.k).sqrt();
             let slope = p.k * self.field(p.k, group, z, r, self.heading_rad + 0.5 * PI).length();
             // Faded in from the least visible slope to three times it: no pulse pops in or out.
@@ -426,13 +439,14 @@ mod tests {
         let pulse = |t: f64| hull.packets(t, &[driving(t)]);
         // Before its envelope is two sigmas from the hull, nothing.
         assert!(pulse(0.0).is_empty());
-        // Once past, one ring whose radius is the hull's edge plus how far the peak has gone.
-        let t = (30.0 + 15.0) / group;
+        // Once past by more than its reach, one ring whose radius is the hull's edge plus how far
+        // the peak has gone.
+        let t = (30.0 + 25.0) / group;
         let ring = pulse(t);
         assert!(!ring.is_empty());
         for p in &ring {
             let r = (p.centre - hull.centre).length();
-            assert!((r - (edge + 15.0)).abs() < 1e-9, "{r}");
+            assert!((r - (edge + 25.0)).abs() < 1e-9, "{r}");
             assert!((p.sigma[0] - 6.0).abs() < 1e-9);
         }
         // It rises and travels smoothly: its strongest packet's amplitude changes by under 5% of
