@@ -42,9 +42,10 @@ pub const MIN_VISIBLE_SLOPE: f64 = 1e-3;
 /// The most packets one ring takes around the hull.
 pub const MAX_RING_DIRECTIONS: usize = 512;
 
-/// The most pulses of rings a hull draws at once, the strongest: a budget (a wake's crossing
-/// rocks a buoy with a handful of its components at a time, the preset harbour's with at most 5).
-pub const MAX_PULSES: usize = 16;
+/// The most pulses of rings a hull draws at once, the strongest: a budget, far above the few a
+/// wake's crossing makes at a time (the preset harbour's at most 5), so that a pulse's rank
+/// never decides whether it is drawn (that would pop it in and out).
+pub const MAX_PULSES: usize = 64;
 
 /// One train's rings: its wavenumber and frequency, and the hull's heave against the water at its
 /// bottom at time 0 (m, complex).
