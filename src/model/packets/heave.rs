@@ -10,9 +10,10 @@
 //! from the heave, rho g cg k³ A² e^(−2kd) <S²> |Z|² / 2 (the unit test holds the packets to it).
 //! The hull has floated forever: the rings are steady, each a row of packets along every ray from
 //! the hull, `RINGS` of them a wavelength apart, each packet's phase the ring's at its centre.
-//! Only the trains whose rings carry the most power radiate (MAX_COMPONENTS), and only where their
-//! slope could show against the sea's at their scale (VISIBLE_SLOPE_SHARE). The other sources' packets (a wake
-//! rocking the hull) leave pulses of rings (`add_pulses`); a moving hull radiates none.
+//! Only the trains whose rings carry the most power radiate (MAX_COMPONENTS), and only where
+//! their slope could show against the sea's at their scale (VISIBLE_SLOPE_SHARE). The other
+//! sources' packets (a wake rocking the hull) leave pulses of rings (`add_pulses`); a moving hull
+//! radiates none.
 
 use super::{comb_share, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
 use crate::model::floating::{complex_product, Waterplane};
@@ -33,7 +34,7 @@ pub const RINGS: usize = 8;
 /// A component (or a pulse) radiates only where its first ring's slope amplitude k |eta| could
 /// show: at least VISIBLE_SLOPE_SHARE of the trains' rms slope within an octave of its
 /// wavelength either way (a pattern is masked by the sea's own at its scale, little by ripples
-/// far shorter or swell far longer; ours, a tenth), and at least MIN_VISIBLE_SLOPE (ours: 1e-3
+/// far shorter or swell far longer; ours, a fifth), and at least MIN_VISIBLE_SLOPE (ours: 1e-3
 /// turns a reflection by 0.11 degrees, a fifth of the sun's disc). A storm hides a buoy's rings;
 /// a glassy sea shows a rocked boat's.
 pub const VISIBLE_SLOPE_SHARE: f64 = 0.2;
@@ -71,10 +72,9 @@ pub struct HeavingHull {
 }
 
 impl HeavingHull {
-    /// The hull at `centre` (world) on `waves`, whose phases count from `eye` (the camera's
-    /// horizontal position, as placement::place has them).
-    pub fn new(waves: &WaveSet, eye: DVec2, centre: DVec2, heading_rad: f64, plane: Waterplane) -> HeavingHull {
-        let offset = centre - eye;
+    /// The hull at `centre` on `waves`, both in a frame whose origin the trains' phases count
+    /// from (sources::heaving_hulls takes the world's, so that the eye's place changes nothing).
+    pub fn new(waves: &WaveSet, centre: DVec2, heading_rad: f64, plane: Waterplane) -> HeavingHull {
         let sea_slopes = waves.trains.iter().map(|t| (t.k, t.slope_variance().iter().sum::<f64>())).collect();
         let mut hull =
             HeavingHull { centre, heading_rad, plane, components: Vec::new(), drawn_power_share: 0.0, sea_slopes };
@@ -86,7 +86,7 @@ impl HeavingHull {
                 // a₀'s phasor: the train at the hull's centre times the waterplane's average.
                 let angle = d.y.atan2(d.x) - heading_rad;
                 let fitted = train.amplitude * plane.directional(train.k, angle);
-                let psi = train.phase0 - train.k * d.dot(offset);
+                let psi = train.phase0 - train.k * d.dot(centre);
                 let a0 = DVec2::new(psi.cos(), psi.sin()) * fitted;
                 let relative = complex_product(plane.relative_heave(train.k), a0);
                 let component = RingComponent { k: train.k, omega: train.omega, relative };
@@ -291,14 +291,12 @@ mod tests {
     use crate::model::packets::PacketField;
     use crate::model::waves::{Train, G};
 
-    const G_: f64 = 9.81;
-
     /// A 1 m buoy of 0.6 m draft and one component of wavelength `lambda` heaving 5 cm against
     /// the water.
     fn buoy(lambda: f64) -> (HeavingHull, RingComponent) {
         let plane = Waterplane { length_m: 1.0, beam_m: 1.0, draft_m: 0.6 };
         let k = TAU / lambda;
-        let c = RingComponent { k, omega: (G_ * k).sqrt(), relative: DVec2::new(0.03, -0.04) };
+        let c = RingComponent { k, omega: (G * k).sqrt(), relative: DVec2::new(0.03, -0.04) };
         let hull = HeavingHull {
             centre: DVec2::new(5.0, -3.0),
             heading_rad: 0.4,
@@ -392,7 +390,7 @@ mod tests {
                 direction: [1.0, 0.0],
                 angle_from_wind: 0.0,
                 amplitude,
-                omega: (G_ * k).sqrt(),
+                omega: (G * k).sqrt(),
                 phase0: 0.3,
             }
         };
@@ -405,18 +403,12 @@ mod tests {
             packet_longest_m: 0.0,
         };
         let plane = Waterplane { length_m: 6.0, beam_m: 2.2, draft_m: 0.9 };
-        let hull = HeavingHull::new(&waves, DVec2::ZERO, DVec2::new(20.0, 0.0), 0.5 * PI, plane);
+        let hull = HeavingHull::new(&waves, DVec2::new(20.0, 0.0), 0.5 * PI, plane);
         assert_eq!(hull.components.len(), 1, "{hull:?}");
         assert!((hull.components[0].k - TAU / 5.7).abs() < 1e-12);
         assert!(hull.drawn_power_share > 0.99);
         // Without draft it rides the water exactly and radiates nothing.
-        let flat = HeavingHull::new(
-            &waves,
-            DVec2::ZERO,
-            DVec2::new(20.0, 0.0),
-            0.5 * PI,
-            Waterplane { draft_m: 0.0, ..plane },
-        );
+        let flat = HeavingHull::new(&waves, DVec2::new(20.0, 0.0), 0.5 * PI, Waterplane { draft_m: 0.0, ..plane });
         assert!(flat.components.is_empty());
     }
 

@@ -193,13 +193,17 @@ fn heaving_hulls(scene: &Scene) -> Vec<HeavingHull> {
     if planes.is_empty() {
         return Vec::new();
     }
-    let waves = crate::model::waves::generate(scene);
-    let eye = DVec2::new(scene.camera.x_m, scene.camera.y_m);
+    // The trains with their phases counted from the world's origin, not the eye: the rings are
+    // then the same bits wherever the camera goes (the renderer compares the sources a scene
+    // gives with its own every frame).
+    let mut at_origin = scene.clone();
+    (at_origin.camera.x_m, at_origin.camera.y_m) = (0.0, 0.0);
+    let waves = crate::model::waves::generate(&at_origin);
     planes
         .into_iter()
         .map(|(o, plane)| {
             let centre = DVec2::new(o.position_m[0], o.position_m[1]);
-            HeavingHull::new(&waves, eye, centre, o.heading_deg.to_radians(), plane)
+            HeavingHull::new(&waves, centre, o.heading_deg.to_radians(), plane)
         })
         .filter(|h| rocked || !h.components.is_empty())
         .collect()
