@@ -139,7 +139,12 @@ impl HeavingHull {
     /// wavelength sigma) past the waterplane's half diagonal, so that no ring reaches under the
     /// hull and rocks it in turn (floating::ride_with_packets).
     pub fn first_ring(&self, k: f64) -> f64 {
-        0.5 * self.plane.length_m.hypot(self.plane.beam_m) + ENVELOPE_SIGMAS * 0.5 * TAU / k
+        self.edge() + ENVELOPE_SIGMAS * 0.5 * TAU / k
+    }
+
+    /// How far the hull reaches from its centre: its waterplane's half diagonal (m).
+    fn edge(&self) -> f64 {
+        0.5 * self.plane.length_m.hypot(self.plane.beam_m)
     }
 
     /// The rings' complex amplitude at `r` from the centre along world angle `theta`, of a
@@ -237,7 +242,7 @@ impl HeavingHull {
     /// rises over the two sigmas before the peak reaches the hull's centre (it stays at the
     /// hull's edge until the peak passes). The strongest MAX_PULSES that could show are drawn.
     fn add_pulses(&self, packets: &mut Vec<Packet>, driving: &[Packet]) {
-        let edge = 0.5 * self.plane.length_m.hypot(self.plane.beam_m);
+        let edge = self.edge();
         // (slope, k, group velocity, radius, heave against the water, radial sigma)
         let mut pulses: Vec<(f64, f64, f64, f64, DVec2, f64)> = Vec::new();
         for p in driving {
@@ -416,7 +421,7 @@ mod tests {
     fn a_packet_crossing_the_hull_leaves_a_pulse_of_rings_that_follows_it_out() {
         let (hull, _) = buoy(3.8);
         let hull = HeavingHull { components: Vec::new(), ..hull };
-        let edge = 0.5 * hull.plane.length_m.hypot(hull.plane.beam_m);
+        let edge = hull.edge();
         // A packet of 4 m waves travelling along +x through the hull's centre, sigma 6 m along.
         let k = TAU / 4.0;
         let group = 0.5 * (G / k).sqrt();
