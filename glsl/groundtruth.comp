@@ -87,7 +87,7 @@ void add_packet(uint index, vec2 x, inout Surface s) {
     Packet p = truth_packets[index];
     vec2 rel = x - p.centre_k.xy;
     float u = dot(rel, p.envelope.xy), v = dot(rel, p.envelope.zw);
-    if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS) return;
+    if (!packet_reaches(u, v)) return;
     vec3 e = packet_envelope(u, v);
     float a = p.wave.x * e.x;
     vec2 grad = p.wave.x * (e.y * p.envelope.xy + e.z * p.envelope.zw);

@@ -14,27 +14,34 @@ struct Packet {
 const uint MAX_PACKET_CELLS = 65536u;   // grid::MAX_CELLS
 // Where the lists start in the cells' buffer: after the MAX_PACKET_CELLS + 1 starts.
 const uint PACKET_LISTS = MAX_PACKET_CELLS + 1u;
-// A packet's envelope: exp(-r^2 / 2) on its normalized ellipse, tapered to 0 by a smoothstep from
-// PACKET_TAPER to PACKET_SIGMAS sigmas (packets::ENVELOPE_TAPER, ENVELOPE_SIGMAS).
-const float PACKET_SIGMAS = 3.25;
-const float PACKET_TAPER = 2.75;
+// A packet's envelope: exp(-u^2 / 2) exp(-v^2 / 2) on its normalized axes, each factor tapered
+// to 0 by a smoothstep from PACKET_TAPER to PACKET_SIGMAS sigmas (packets::ENVELOPE_TAPER,
+// ENVELOPE_SIGMAS): it reaches PACKET_SIGMAS along each axis.
+const float PACKET_SIGMAS = 2.3;
+const float PACKET_TAPER = 1.8;
 
-// The envelope at normalized coordinates (u, v) and its derivatives in them (model::packets::
-// tapered_envelope is its twin); 0 from PACKET_SIGMAS out. r >= PACKET_TAPER > 0 where the taper
-// divides by it.
+// Whether normalized coordinates (u, v) lie within a packet's reach.
+bool packet_reaches(float u, float v) {
+    return max(abs(u), abs(v)) < PACKET_SIGMAS;
+}
+
+// One axis's taper at |t| = a, and its derivative in a: 1 - smoothstep(PACKET_TAPER,
+// PACKET_SIGMAS, a) within the reach.
+vec2 packet_taper(float a) {
+    if (a <= PACKET_TAPER) return vec2(1.0, 0.0);
+    const float width = PACKET_SIGMAS - PACKET_TAPER;
+    float s = min((a - PACKET_TAPER) / width, 1.0);
+    return vec2(1.0 - s * s * (3.0 - 2.0 * s), -6.0 * s * (1.0 - s) / width);
+}
+
+// The envelope at normalized coordinates (u, v) within its reach, and its derivatives in them
+// (model::packets::tapered_envelope is its twin).
 vec3 packet_envelope(float u, float v) {
-    float r2 = u * u + v * v;
-    if (r2 >= PACKET_SIGMAS * PACKET_SIGMAS) return vec3(0.0);
-    float g = exp(-0.5 * r2);   // r2 < 10.6: no underflow
-    float w = 1.0, dw_over_r = 0.0;
-    if (r2 > PACKET_TAPER * PACKET_TAPER) {
-        float r = sqrt(r2);
-        const float width = PACKET_SIGMAS - PACKET_TAPER;
-        float t = (r - PACKET_TAPER) / width;
-        w = 1.0 - t * t * (3.0 - 2.0 * t);
-        dw_over_r = -6.0 * t * (1.0 - t) / (width * r);
-    }
-    return vec3(g * w, g * u * (dw_over_r - w), g * v * (dw_over_r - w));
+    float g = exp(-0.5 * (u * u + v * v));   // u^2 + v^2 < 2 PACKET_SIGMAS^2 = 10.6: no underflow
+    vec2 tu = packet_taper(abs(u)), tv = packet_taper(abs(v));
+    // d/du of g(u) w(|u|) = g (w' sign(u) - u w).
+    float du = tu.y * sign(u) - u * tu.x, dv = tv.y * sign(v) - v * tv.x;
+    return g * vec3(tu.x * tv.x, du * tv.x, tu.x * dv);
 }
 
 #endif

@@ -51,7 +51,7 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
         float u = dot(rel, envelope.xy), v = dot(rel, envelope.zw);
         vec2 k_turns = centre_k.zw;
         float weight = resolution_weight(s, k_turns, steps, inv_ramp, 1.0);
-        if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS || weight <= 0.0) continue;
+        if (!packet_reaches(u, v) || weight <= 0.0) continue;
         vec4 wave = packet_texel(index, 2);
         float h = weight * wave.x * packet_envelope(u, v).x;
         vec2 dir = k_turns * inversesqrt(dot(k_turns, k_turns));   // |k| >= 1e-4 turns/m: the model's band
@@ -70,7 +70,7 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     vec4 centre_k = packet_texel(index, 0), envelope = packet_texel(index, 1);
     vec2 rel = x - centre_k.xy;
     float u = dot(rel, envelope.xy), v = dot(rel, envelope.zw);
-    if (u * u + v * v >= PACKET_SIGMAS * PACKET_SIGMAS) return;
+    if (!packet_reaches(u, v)) return;
     vec4 wave = packet_texel(index, 2);
     vec2 k_turns = centre_k.zw;
     float wn = resolves ? normal_weight(s, k_turns) : 0.0;

@@ -1,16 +1,17 @@
 //! The cells a frame's packets are binned into: a grid of square cells over the rest plane
 //! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope's
-//! bounding box (its ellipse of ENVELOPE_SIGMAS) overlaps it, so that a pixel or a grid vertex reads only
+//! bounding box (its rectangle of ENVELOPE_SIGMAS) overlaps it, so that a pixel or a grid vertex reads only
 //! the packets that reach it. The GPU bins them itself (glsl/packet_bins.comp) from the ranges of
 //! cells computed here; `lists` is the same binning on the CPU, for the ground truth and the tests.
 
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
 
-/// The tapered envelope's steepest slope per unit of amplitude, times sigma: the Gaussian's
-/// exp(-1/2), plus a bound on the taper's, its largest derivative (1.5 over its 0.5 sigmas) times
-/// the Gaussian at the taper's start, exp(-2.75^2 / 2).
-const ENVELOPE_STEEPEST: f64 = 0.6065 + 3.0 * 0.0228;
+/// The tapered envelope's steepest slope per unit of amplitude, times sigma: 0.6080674 along an
+/// axis at 1.93 sigmas, in the taper (the Gaussian's own, exp(-1/2) at one sigma, is 0.6065),
+/// sampled every 2.3e-6 sigmas, rounded up; across the plane, where the other axis's factor is at
+/// most 1, no steeper (sampled every 2e-3 sigmas).
+const ENVELOPE_STEEPEST: f64 = 0.608_1;
 
 /// Cells per side at most: 65 536 cells, whose starts the GPU's one-workgroup scan covers.
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
@@ -38,10 +39,11 @@ pub struct PacketGrid {
     pub slope: f64,
 }
 
-/// The half-extents along x and y of the bounding box of a packet's envelope ellipse.
+/// The half-extents along x and y of the bounding box of a packet's envelope: a rectangle
+/// reaching ENVELOPE_SIGMAS sigmas along each of its axes.
 fn half_extent(p: &Packet) -> DVec2 {
     let (a, [s0, s1]) = (p.axis, p.sigma);
-    ENVELOPE_SIGMAS * DVec2::new((a.x * s0).hypot(a.y * s1), (a.y * s0).hypot(a.x * s1))
+    ENVELOPE_SIGMAS * DVec2::new(a.x.abs() * s0 + a.y.abs() * s1, a.y.abs() * s0 + a.x.abs() * s1)
 }
 
 impl PacketGrid {

@@ -257,8 +257,9 @@ impl HeavingHull {
             let past = -bw / w2;
             let sigma = w2.sqrt().recip();
             let q_least = (b.length_squared() - bw * bw / w2).max(0.0);
-            // The envelope's peak along the path: beyond its reach, no pulse.
-            if q_least >= ENVELOPE_SIGMAS * ENVELOPE_SIGMAS || past < -2.0 * sigma {
+            // The envelope's peak along the path: beyond its reach (the circle through its
+            // square's corners), no pulse.
+            if q_least >= 2.0 * ENVELOPE_SIGMAS * ENVELOPE_SIGMAS || past < -2.0 * sigma {
                 continue;
             }
             let onset = {

@@ -376,7 +376,9 @@ mod tests {
         // on its track behind the start beyond the packets' reach (their envelopes' tails) is
         // still.
         let reach = field.packets.iter().map(|p| p.sigma[0].max(p.sigma[1])).fold(0.0, f64::max);
-        let before = started.position(10.0) - DVec2::new(crate::model::packets::ENVELOPE_SIGMAS * reach + 1.0, 0.0);
+        // (Its rectangle, ENVELOPE_SIGMAS sigmas along each axis, reaches sqrt(2) times that at a corner.)
+        let reach = crate::model::packets::ENVELOPE_SIGMAS * std::f64::consts::SQRT_2 * reach;
+        let before = started.position(10.0) - DVec2::new(reach + 1.0, 0.0);
         assert!(field.height(before).abs() < 1e-6 * w.amplitude_m, "{}", field.height(before));
         assert!(field.packets.iter().all(|p| p.centre.x >= started.position(10.0).x - 1e-9));
     }

@@ -22,10 +22,11 @@ pub const DEPTH_PER_RADIUS: f64 = 0.25;
 /// k exp(-k^2 R^2 / 2), peaks at k R = 1 and holds 99.97% of itself between these.
 const K_R_RANGE: (f64, f64) = (0.05, 4.0);
 
-/// The largest value of a row of unit Gaussians spaced two sigmas apart, each times its share
-/// 2 / sqrt(2 pi) (their mean is 1): at a centre, (1 + 2 exp(-2) + 2 exp(-8) + ...) 2 / sqrt(2 pi)
-/// = 1.0144. The rings' packets are such rows radially and along the ring.
-const SUM_PEAK: f64 = 1.014_4;
+/// The largest value of a row of unit envelopes spaced two sigmas apart, each times its share
+/// 2 / ENVELOPE_LINE_INTEGRAL (their mean is 1): midway between two, 2 exp(-1/2) 2 / 2.402307 =
+/// 1.009913 (the next ones, three sigmas out, are past the reach), rounded up. The rings'
+/// packets are such rows radially and along the ring, and the envelope is their product.
+const SUM_PEAK: f64 = 1.009_92;
 
 /// A splash: a crater of `radius_m` at `position` at `time_s`.
 #[derive(Clone, Copy, Debug, PartialEq)]
