@@ -3,10 +3,10 @@
 // is the CPU's twin), in five steps (push constant `step`), each a dispatch behind a barrier:
 //   0: every cell's counter to 0 (one invocation per cell);
 //   1: each packet copied from the slot's upload window and counted into the cells of its
-//      range (one per packet);
+//      range that its rectangle meets (one per packet);
 //   2: the counts' exclusive prefix sum, each cell's start (one workgroup), the counters set to
 //      the starts;
-//   3: each packet's index written at its cells' counters (one per packet);
+//   3: each packet's index written at those cells' counters (one per packet);
 //   4: each cell's list sorted by packet index (one per cell): the atomics' order varies from
 //      run to run, and the sums the shaders form in list order should not.
 #include "frame.glsl"
@@ -30,6 +30,21 @@ uvec4 cell_range(Packet p) {
     return uvec4(first & 0xffffu, first >> 16, last & 0xffffu, last >> 16);
 }
 
+// Whether packet p's rectangle meets cell (x, y): grid::Footprint::meets, its twin to the bit
+// (precise: no operation fused, each rounded in the same order; Vulkan rounds +, - and *
+// correctly), so that these lists are the CPU's.
+bool cell_meets(Packet p, uint x, uint y) {
+    precise float side = frame.packet_grid.w;
+    precise float half_side = 0.5 * side;
+    precise float rx = (frame.packet_grid.x + (float(x) + 0.5) * side) - p.centre_k.x;
+    precise float ry = (frame.packet_grid.y + (float(y) + 0.5) * side) - p.centre_k.y;
+    precise float u = rx * p.envelope.x + ry * p.envelope.y;
+    precise float v = rx * p.envelope.z + ry * p.envelope.w;
+    precise float reach_u = PACKET_SIGMAS + half_side * (abs(p.envelope.x) + abs(p.envelope.y));
+    precise float reach_v = PACKET_SIGMAS + half_side * (abs(p.envelope.z) + abs(p.envelope.w));
+    return abs(u) < reach_u && abs(v) < reach_v;
+}
+
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint cols = frame.packet_dims.x;
@@ -43,7 +58,8 @@ void main() {
         packets[i] = p;
         uvec4 r = cell_range(p);
         for (uint y = r.y; y <= r.w; ++y)
-            for (uint x = r.x; x <= r.z; ++x) atomicAdd(counters[y * cols + x], 1u);
+            for (uint x = r.x; x <= r.z; ++x)
+                if (cell_meets(p, x, y)) atomicAdd(counters[y * cols + x], 1u);
     } else if (call.step == 2u) {
         // Invocation t sums cells [t n, t n + n), n = CELLS_PER_INVOCATION; the group's partial
         // sums are scanned in shared memory, then each invocation writes its cells' starts.
@@ -70,9 +86,11 @@ void main() {
         if (t == GROUP - 1u) cells[cell_count] = partial[t];
     } else if (call.step == 3u) {
         if (i >= packet_count) return;
-        uvec4 r = cell_range(upload[call.first + i]);
+        Packet p = upload[call.first + i];
+        uvec4 r = cell_range(p);
         for (uint y = r.y; y <= r.w; ++y)
-            for (uint x = r.x; x <= r.z; ++x) cells[PACKET_LISTS + atomicAdd(counters[y * cols + x], 1u)] = i;
+            for (uint x = r.x; x <= r.z; ++x)
+                if (cell_meets(p, x, y)) cells[PACKET_LISTS + atomicAdd(counters[y * cols + x], 1u)] = i;
     } else {
         if (i >= cell_count) return;
         // Insertion sort of the cell's run: runs are a few dozen packets.

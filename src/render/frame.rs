@@ -83,8 +83,8 @@ pub struct FrameUniforms {
     /// format's largest value and far-plane depth (embed::Ocean; zero outside a host's frame).
     pub host_clip: [[f32; 4]; 4],
     pub host: [f32; 4],
-    /// The wave packets' cells: the corner of cell (0, 0) (camera-relative) and 1 / the cell's
-    /// side; their columns, rows and the packets' count (render::packets).
+    /// The wave packets' cells: the corner of cell (0, 0) (camera-relative), 1 / the cell's side
+    /// and the side; their columns, rows and the packets' count (render::packets).
     pub packet_grid: [f32; 4],
     pub packet_dims: [u32; 4],
 }

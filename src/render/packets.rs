@@ -3,7 +3,7 @@
 //! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
 
 use crate::error::{Error, Result};
-use crate::model::packets::grid::{PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE};
+use crate::model::packets::grid::{Footprint, PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE};
 use crate::model::packets::sources::Sources;
 use crate::model::packets::{Packet, PacketField};
 use crate::vk::buffer::Buffer;
@@ -33,12 +33,13 @@ pub struct GpuPacket {
 pub const ENTRIES_PER_PACKET: usize = 32;
 
 impl GpuPacket {
-    fn new(p: &Packet, range: [u32; 4]) -> GpuPacket {
+    /// Packet `p`, its rectangle `footprint` (the grid's, to the bit) and its cells `range`.
+    fn new(p: &Packet, footprint: &Footprint, range: [u32; 4]) -> GpuPacket {
         let k = p.direction * (p.k / TAU);
-        let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
+        let [cx, cy] = footprint.centre;
         GpuPacket {
-            centre_k: [p.centre.x, p.centre.y, k.x, k.y].map(|v| v as f32),
-            envelope: [along.x, along.y, across.x, across.y].map(|v| v as f32),
+            centre_k: [cx, cy, k.x as f32, k.y as f32],
+            envelope: footprint.axes,
             wave: [p.amplitude as f32, (p.phase / TAU).rem_euclid(1.0) as f32],
             cells: [range[0] | range[1] << 16, range[2] | range[3] << 16],
         }
@@ -64,7 +65,9 @@ impl FramePackets {
     pub fn with_cells(sources: &Sources, t: f64, eye: DVec2, max_entries: usize, per_side: u32) -> FramePackets {
         let field = sources.field(t).relative_to(eye);
         let grid = PacketGrid::with_side(&field.packets, max_entries, per_side);
-        let gpu = field.packets.iter().zip(&grid.ranges).map(|(p, &r)| GpuPacket::new(p, r)).collect();
+        let gpu = (field.packets.iter().zip(&grid.footprints).zip(&grid.ranges))
+            .map(|((p, f), &r)| GpuPacket::new(p, f, r))
+            .collect();
         FramePackets { field, grid, gpu }
     }
 
@@ -72,7 +75,8 @@ impl FramePackets {
     pub fn uniforms(&self) -> ([f32; 4], [u32; 4]) {
         let g = &self.grid;
         let inverse_cell = if g.cell_m > 0.0 { 1.0 / g.cell_m } else { 0.0 };
-        ([g.origin.x as f32, g.origin.y as f32, inverse_cell as f32, 0.0], [g.cols, g.rows, self.gpu.len() as u32, 0])
+        let ([x, y], side) = g.origin_and_side_f32();
+        ([x, y, inverse_cell as f32, side], [g.cols, g.rows, self.gpu.len() as u32, 0])
     }
 }
 

@@ -17,6 +17,40 @@ const ENVELOPE_STEEPEST: f64 = 0.608_1;
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
 pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
 
+/// A packet's rectangle as the GPU holds it (single precision: glsl/packet_data.glsl's centre
+/// and envelope), for the exact test of a cell against it, the same on both sides.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Footprint {
+    /// The envelope's centre (m).
+    pub centre: [f32; 2],
+    /// Its first axis over its sigma, then the second's (1/m).
+    pub axes: [f32; 4],
+}
+
+impl Footprint {
+    pub fn of(p: &Packet) -> Footprint {
+        let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
+        Footprint {
+            centre: [p.centre.x as f32, p.centre.y as f32],
+            axes: [along.x, along.y, across.x, across.y].map(|v| v as f32),
+        }
+    }
+
+    /// Whether the square cell of half side `half` about `cell` meets the rectangle. Their
+    /// separating axes are x and y (the cell range's box) and the rectangle's own two, on which
+    /// the cell reaches half (|a.x| + |a.y|) past its centre's projection (in sigmas). Each
+    /// operation rounded in this order, as glsl/packet_bins.comp `cell_meets` (precise, correctly
+    /// rounded in Vulkan): the GPU's lists are the CPU's to the entry.
+    pub fn meets(&self, cell: [f32; 2], half: f32) -> bool {
+        let (c, a) = (self.centre, self.axes);
+        let (rx, ry) = (cell[0] - c[0], cell[1] - c[1]);
+        let u = rx * a[0] + ry * a[1];
+        let v = rx * a[2] + ry * a[3];
+        let reach = ENVELOPE_SIGMAS as f32;
+        u.abs() < reach + half * (a[0].abs() + a[1].abs()) && v.abs() < reach + half * (a[2].abs() + a[3].abs())
+    }
+}
+
 /// The grid of one frame's packets.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PacketGrid {
@@ -26,8 +60,11 @@ pub struct PacketGrid {
     pub cell_m: f64,
     pub cols: u32,
     pub rows: u32,
-    /// Each packet's cells, inclusive: first column, first row, last column, last row.
+    /// The cells of each packet's bounding box, inclusive: first column, first row, last column,
+    /// last row. A packet is listed in those its rectangle meets (`Footprint::meets`).
     pub ranges: Vec<[u32; 4]>,
+    /// Each packet's rectangle, as the GPU tests it.
+    pub footprints: Vec<Footprint>,
     /// The number of (cell, packet) pairs: the lists' total length.
     pub entries: usize,
     /// The largest sum of the amplitudes of the packets that overlap one cell (m): no packet
@@ -80,27 +117,40 @@ impl PacketGrid {
         let cell_of = |x: f64, n: u32| ((x / cell_m).floor().max(0.0) as u32).min(n - 1);
         let mut sums = vec![0.0f64; (cols * rows) as usize];
         let mut slopes = vec![0.0f64; (cols * rows) as usize];
-        let mut entries = 0;
-        let ranges: Vec<[u32; 4]> = packets
-            .iter()
-            .map(|p| {
-                let h = half_extent(p);
-                let (a, b) = (p.centre - h - origin, p.centre + h - origin);
-                let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
-                let slope = p.amplitude * (p.k + ENVELOPE_STEEPEST / p.sigma[0].min(p.sigma[1]));
-                for y in r[1]..=r[3] {
-                    for x in r[0]..=r[2] {
-                        sums[(y * cols + x) as usize] += p.amplitude;
-                        slopes[(y * cols + x) as usize] += slope;
-                    }
-                }
-                entries += ((r[2] - r[0] + 1) * (r[3] - r[1] + 1)) as usize;
-                r
-            })
-            .collect();
-        let crest_m = sums.iter().copied().fold(0.0, f64::max);
-        let slope = slopes.iter().copied().fold(0.0, f64::max);
-        PacketGrid { origin, cell_m, cols, rows, ranges, entries, crest_m, slope }
+        let mut grid = PacketGrid { origin, cell_m, cols, rows, ..Default::default() };
+        for p in packets {
+            let h = half_extent(p);
+            let (a, b) = (p.centre - h - origin, p.centre + h - origin);
+            let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
+            let footprint = Footprint::of(p);
+            let slope = p.amplitude * (p.k + ENVELOPE_STEEPEST / p.sigma[0].min(p.sigma[1]));
+            for (x, y) in grid.cells_met(r, &footprint) {
+                sums[(y * cols + x) as usize] += p.amplitude;
+                slopes[(y * cols + x) as usize] += slope;
+                grid.entries += 1;
+            }
+            grid.ranges.push(r);
+            grid.footprints.push(footprint);
+        }
+        grid.crest_m = sums.iter().copied().fold(0.0, f64::max);
+        grid.slope = slopes.iter().copied().fold(0.0, f64::max);
+        grid
+    }
+
+    /// The corner of cell (0, 0) and a cell's side, in single precision (as the GPU has them:
+    /// FrameUniforms::packet_grid).
+    pub fn origin_and_side_f32(&self) -> ([f32; 2], f32) {
+        ([self.origin.x as f32, self.origin.y as f32], self.cell_m as f32)
+    }
+
+    /// The cells of box `range` that `footprint` meets, row by row.
+    fn cells_met<'a>(&self, range: [u32; 4], footprint: &'a Footprint) -> impl Iterator<Item = (u32, u32)> + 'a {
+        let (origin, side) = self.origin_and_side_f32();
+        let half = 0.5 * side;
+        (range[1]..=range[3]).flat_map(move |y| (range[0]..=range[2]).map(move |x| (x, y))).filter(move |&(x, y)| {
+            let centre = [origin[0] + (x as f32 + 0.5) * side, origin[1] + (y as f32 + 0.5) * side];
+            footprint.meets(centre, half)
+        })
     }
 
     /// The cell holding rest position x, if the grid covers it.
@@ -115,11 +165,9 @@ impl PacketGrid {
     pub fn lists(&self) -> (Vec<u32>, Vec<u32>) {
         let cells = (self.cols * self.rows) as usize;
         let mut starts = vec![0u32; cells + 1];
-        for r in &self.ranges {
-            for y in r[1]..=r[3] {
-                for x in r[0]..=r[2] {
-                    starts[(y * self.cols + x) as usize + 1] += 1;
-                }
+        for (r, f) in self.ranges.iter().zip(&self.footprints) {
+            for (x, y) in self.cells_met(*r, f) {
+                starts[(y * self.cols + x) as usize + 1] += 1;
             }
         }
         for i in 0..cells {
@@ -127,13 +175,11 @@ impl PacketGrid {
         }
         let mut cursor = starts.clone();
         let mut entries = vec![0u32; self.entries];
-        for (i, r) in self.ranges.iter().enumerate() {
-            for y in r[1]..=r[3] {
-                for x in r[0]..=r[2] {
-                    let c = (y * self.cols + x) as usize;
-                    entries[cursor[c] as usize] = i as u32;
-                    cursor[c] += 1;
-                }
+        for (i, (r, f)) in self.ranges.iter().zip(&self.footprints).enumerate() {
+            for (x, y) in self.cells_met(*r, f) {
+                let c = (y * self.cols + x) as usize;
+                entries[cursor[c] as usize] = i as u32;
+                cursor[c] += 1;
             }
         }
         (starts, entries)
@@ -180,6 +226,39 @@ mod tests {
             }
         }
         assert!(checked > 10_000, "{checked}");
+    }
+
+    /// The reach the CPU tests cells with is the GPU's (glsl/packet_data.glsl's literal 2.3,
+    /// rounded once to single precision), and a cell is listed only where the rectangle meets it.
+    #[test]
+    fn cells_are_listed_only_where_the_rectangle_meets_them() {
+        assert_eq!(ENVELOPE_SIGMAS as f32, 2.3f32);
+        // A thin packet along the diagonal: its box holds cells off the diagonal that the
+        // rectangle misses.
+        let p = Packet {
+            centre: DVec2::ZERO,
+            direction: DVec2::X,
+            k: 1.0,
+            amplitude: 0.1,
+            axis: DVec2::new(1.0, 1.0).normalize(),
+            sigma: [4.0, 0.1],
+            phase: 0.0,
+        };
+        let spread = [p, Packet { centre: DVec2::new(100.0, 100.0), ..p }];
+        let grid = PacketGrid::with_side(&spread, usize::MAX, 32);
+        let (starts, entries) = grid.lists();
+        let listed = |x: DVec2| {
+            let c = grid.cell(x).unwrap() as usize;
+            entries[starts[c] as usize..starts[c + 1] as usize].contains(&0)
+        };
+        let cell = grid.cell_m;
+        let in_box = |x: DVec2| {
+            let (c, r) = (grid.cell(x).unwrap(), grid.ranges[0]);
+            (r[0]..=r[2]).contains(&(c % grid.cols)) && (r[1]..=r[3]).contains(&(c / grid.cols))
+        };
+        let off = [DVec2::new(0.9, -0.9) * cell, DVec2::new(-0.9, 0.9) * cell];
+        assert!(listed(DVec2::splat(0.2 * cell)) && listed(DVec2::splat(-0.2 * cell)));
+        assert!(off.iter().all(|&x| in_box(x) && !listed(x)), "{grid:?}");
     }
 
     /// Coarser cells where the lists would not fit, and the crest bound is a real bound.
