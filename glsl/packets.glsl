@@ -39,7 +39,7 @@ uvec2 packet_run(vec2 x) {
 }
 
 // The packets' displacement at rest position x, each at the grid's weight (as `displacement`);
-// a packet the grid does not resolve (weight 0) costs its envelope box test alone.
+// a packet the grid does not resolve (weight 0) costs its reach test alone.
 vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
     vec3 d = vec3(0.0);
     uvec2 run = packet_run(x);

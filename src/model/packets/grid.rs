@@ -207,7 +207,7 @@ mod tests {
             .collect()
     }
 
-    /// Every point a packet's envelope box reaches lies in a cell that lists it.
+    /// Every point a packet's envelope reaches lies in a cell that lists it.
     #[test]
     fn every_packet_is_listed_wherever_it_reaches() {
         let ps = packets();
