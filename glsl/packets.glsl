@@ -93,7 +93,7 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     float unresolved2 = (1.0 - wn * wn) * kae * kae;
     r.sigma2 += wind_axes2(dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
     if (GLINTS) r.curvature += 0.5 * k2 * (4.0 * PI * PI) * unresolved2;
-    count_train(wn > 0.0);
+    count_packet();
 }
 
 // The packets at rest position x, read from its cell's list.

@@ -22,10 +22,16 @@ layout(constant_id = 5) const bool BACKGROUND = true;
 // sea is seen: the sky's code is left out (a CPU driver would run it for every pixel, masked). A
 // pixel the grid left uncovered there takes the mean plane's point.
 layout(constant_id = 6) const bool SEA_ONLY = false;
-// Profiling: counts the sea pixels and the trains evaluated for them (and those with a weight)
-// into TrainCounts (src/render/resources.rs). Off, the driver drops the counting code.
+// Profiling: counts the sea pixels, the trains evaluated for them (and those with a weight) and
+// the wave packets' terms into TrainCounts (src/render/resources.rs). Off, the driver drops the
+// counting code.
 layout(constant_id = 7) const bool COUNT_TRAINS = false;
-layout(set = 0, binding = 4, std430) restrict buffer TrainCounts { uint sea_pixels; uint trains_evaluated; uint trains_weighted; } counts;
+layout(set = 0, binding = 4, std430) restrict buffer TrainCounts {
+    uint sea_pixels;
+    uint trains_evaluated;
+    uint trains_weighted;
+    uint packet_terms;
+} counts;
 #define COUNTS_TRAINS
 #include "waves.glsl"
 #ifdef TRAIN_BLOCKS
@@ -522,5 +528,6 @@ void main() {
         atomicAdd(counts.sea_pixels, 1u);
         atomicAdd(counts.trains_evaluated, resolves ? trains_evaluated : 0u);
         atomicAdd(counts.trains_weighted, resolves ? trains_weighted : 0u);
+        atomicAdd(counts.packet_terms, packet_terms);
     }
 }

@@ -126,19 +126,26 @@ vec3 displacement(vec2 x, SampleScale s, vec2 steps) {
     return d;
 }
 
-// Trains evaluated at this invocation, and those of them with a weight (profiling: counted only
-// where the includer asks, COUNTS_TRAINS with its specialization constant COUNT_TRAINS).
+// Trains evaluated at this invocation, those of them with a weight, and the wave packets' terms
+// (profiling: counted only where the includer asks, COUNTS_TRAINS with its specialization
+// constant COUNT_TRAINS).
 #ifdef COUNTS_TRAINS
 uint trains_evaluated = 0u;
 uint trains_weighted = 0u;
+uint packet_terms = 0u;
 void count_train(bool weighted) {
     if (COUNT_TRAINS) {
         trains_evaluated += 1u;
         trains_weighted += weighted ? 1u : 0u;
     }
 }
+// A wave packet within its reach at the pixel, its terms added (glsl/packets.glsl).
+void count_packet() {
+    if (COUNT_TRAINS) packet_terms += 1u;
+}
 #else
 void count_train(bool weighted) {}
+void count_packet() {}
 #endif
 
 // Resolved slopes and the slope variance left for the BRDF, at one pixel.

@@ -171,6 +171,20 @@ fn counting_trains_leaves_the_picture_alone_and_counts_what_the_pixels_resolve()
     // A second frame counts afresh (the host zeroes the counters).
     counted.render(&scene).unwrap();
     assert_eq!(counted.train_counts().unwrap(), Some(counts));
+    assert_eq!(counts.packet_terms, 0, "no local waves, no packet terms");
+    // A splash's rings: each pixel they reach counts the packets whose reach holds it, at most
+    // every packet alive; the picture is again the same.
+    let mut splash = scene.clone();
+    splash.splashes = Scene::parse("[[splash]]\nposition_m = [30.0, 0.0]\ntime_s = 0.0\nradius_m = 1.0\n", "splash")
+        .unwrap()
+        .splashes;
+    splash.render.time_s = 4.0;
+    let mut plain = Renderer::new(&gpu, &splash, 128, 96, Options::default()).unwrap();
+    let mut counted = Renderer::new(&gpu, &splash, 128, 96, counting).unwrap();
+    assert_eq!(plain.render(&splash).unwrap().ldr, counted.render(&splash).unwrap().ldr, "counting changes no pixel");
+    let counts = counted.train_counts().unwrap().unwrap();
+    let alive = counted.packet_stats().expect("the splash's packets").alive as u64;
+    assert!(counts.packet_terms > 0 && counts.packet_terms < counts.sea_pixels * alive, "{counts:?}, {alive} packets");
     assert_eq!(gpu.validation_counts().error_total(), 0);
 }
 

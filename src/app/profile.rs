@@ -11,6 +11,8 @@ use crate::measure::floor::{delivered_gflops, shade_work};
 use crate::measure::samples::{new_run_id, TimedScene};
 use crate::model::scene::Scene;
 use crate::output::trace::{Trace, Track};
+use crate::render::passes::packets::PacketBinsPass;
+use crate::render::renderer::PacketStats;
 use crate::render::timeline::{Alignment, CpuSpans, GpuFrame, Span};
 use crate::vk::clock::host_now_ns;
 use crate::vk::gpu::Gpu;
@@ -69,6 +71,36 @@ pub struct Derived {
     pub delivered_gflops: Option<f64>,
     pub shade_floor_ms: Option<f64>,
     pub shade_over_floor: Option<f64>,
+    /// The frame's wave packets and what they cost (None without local waves).
+    pub packets: Option<PacketCost>,
+}
+
+/// A frame's wave packets: how many, their cells' lists, the binning's time per packet and per
+/// list entry, and the shading pass's packet terms per sea pixel (what a pixel's cost grows with).
+#[derive(Debug, Serialize)]
+pub struct PacketCost {
+    pub alive: usize,
+    pub cells: u32,
+    pub entries: usize,
+    pub entries_per_packet: f64,
+    pub bins_us_per_packet: Option<f64>,
+    pub bins_ns_per_entry: Option<f64>,
+    pub terms_per_sea_pixel: Option<f64>,
+}
+
+impl PacketCost {
+    fn new(stats: PacketStats, bins_ms: Option<f64>, counts: Option<TrainCounts>) -> PacketCost {
+        let per = |n: usize| bins_ms.filter(|_| n > 0).map(|ms| ms * 1e6 / n as f64);
+        PacketCost {
+            alive: stats.alive,
+            cells: stats.cells,
+            entries: stats.entries,
+            entries_per_packet: stats.entries as f64 / stats.alive.max(1) as f64,
+            bins_us_per_packet: per(stats.alive).map(|ns| ns * 1e-3),
+            bins_ns_per_entry: per(stats.entries),
+            terms_per_sea_pixel: counts.map(|c| c.packet_terms_per_sea_pixel()),
+        }
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -191,7 +223,7 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
         notes.push(format!("{}: {}", gpu.device.name, alignment.describe()));
     }
     // One more frame, specialized to count the trains the shading pass evaluates.
-    let counts = count_trains(gpu, scene, width, height, shading)?;
+    let (counts, packet_stats) = count_trains(gpu, scene, width, height, shading)?;
     let passes: Vec<PassProfile> = timed
         .frames_ms
         .iter()
@@ -199,7 +231,8 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
         .map(|(name, samples)| pass_profile(name, samples, last_stats.get(name).copied()))
         .collect();
     let total = pass_profile("total", &timed.frames_ms["total"], None);
-    let shade_median = passes.iter().find(|p| p.name == "shade").map(|p| p.median_ms);
+    let median = |name: &str| passes.iter().find(|p| p.name == name).map(|p| p.median_ms);
+    let shade_median = median("shade");
     let floor_ms = gflops.map(|g| shade_work(scene, &wave_set, width, height).gflop / g * 1e3);
     let derived = Derived {
         train_counts: counts,
@@ -208,6 +241,7 @@ fn profile_checked(gpu: &Gpu, request: &ProfileRequest, mut setup: CpuSpans, ori
         delivered_gflops: gflops,
         shade_floor_ms: floor_ms,
         shade_over_floor: shade_median.zip(floor_ms).filter(|(_, f)| *f > 0.0).map(|(s, f)| s / f),
+        packets: packet_stats.map(|p| PacketCost::new(p, median(PacketBinsPass::NAME), counts)),
     };
     trace.note("clock", json!(alignment.describe()));
     trace.note("device", json!(gpu.device.name));
@@ -297,20 +331,19 @@ fn pass_profile(name: &str, samples: &[f64], stats: Option<PipelineStatistics>) 
     }
 }
 
-/// One frame with the shading pass specialized to count (None when nothing is shaded).
+/// One frame with the shading pass specialized to count (no counts when nothing is shaded), and
+/// its wave packets (None without local waves).
 fn count_trains(
     gpu: &Gpu,
     scene: &Scene,
     width: u32,
     height: u32,
     mut shading: Shading,
-) -> Result<Option<TrainCounts>> {
-    if shading.shader.draws_nothing() {
-        return Ok(None);
-    }
-    shading.shader.count_trains = true;
+) -> Result<(Option<TrainCounts>, Option<PacketStats>)> {
+    shading.shader.count_trains = !shading.shader.draws_nothing();
     shading.statistics = false;
     let mut host = OffscreenHost::new(gpu, scene, width, height, shading)?;
     host.render(scene)?;
-    host.ocean().train_counts()
+    let counts = if shading.shader.count_trains { host.ocean().train_counts()? } else { None };
+    Ok((counts, host.ocean().packet_stats()))
 }

@@ -284,6 +284,9 @@ pub struct TrainCounts {
     pub sea_pixels: u64,
     pub trains_evaluated: u64,
     pub trains_weighted: u64,
+    /// Wave packets within their reach at a sea pixel, their terms added (every sea pixel's:
+    /// where it resolves nothing too, their variance in the BRDF).
+    pub packet_terms: u64,
 }
 
 impl TrainCounts {
@@ -293,6 +296,10 @@ impl TrainCounts {
 
     pub fn weighted_per_sea_pixel(&self) -> f64 {
         self.trains_weighted as f64 / self.sea_pixels.max(1) as f64
+    }
+
+    pub fn packet_terms_per_sea_pixel(&self) -> f64 {
+        self.packet_terms as f64 / self.sea_pixels.max(1) as f64
     }
 }
 
@@ -544,8 +551,9 @@ impl<'g> Renderer<'g> {
         if !self.counts_trains {
             return Ok(None);
         }
-        let c: Vec<u32> = self.resources.train_counts.read(3)?;
-        Ok(Some(TrainCounts { sea_pixels: c[0] as u64, trains_evaluated: c[1] as u64, trains_weighted: c[2] as u64 }))
+        let c: Vec<u32> = self.resources.train_counts.read(4)?;
+        let [sea_pixels, trains_evaluated, trains_weighted, packet_terms] = [c[0], c[1], c[2], c[3]].map(u64::from);
+        Ok(Some(TrainCounts { sea_pixels, trains_evaluated, trains_weighted, packet_terms }))
     }
 
     /// The CPU's steps of the last `render` (scene and waves, recording, submit, the fence, readback).

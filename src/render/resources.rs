@@ -224,7 +224,7 @@ pub struct Resources<'g> {
 /// Rays per side of the aerial perspective's camera volume, and slices along each.
 pub const AERIAL_SIZE: u32 = 32;
 
-/// Bytes of the train counters: sea pixels, trains evaluated, trains with a weight, unused.
+/// Bytes of the train counters: sea pixels, trains evaluated, trains with a weight, packet terms.
 pub const TRAIN_COUNTS_BYTES: u64 = 16;
 
 pub struct Readback<'g> {
