@@ -18,7 +18,11 @@ layout(set = 0, binding = 1, std430) readonly buffer Upload { Packet upload[]; }
 layout(set = 0, binding = 2, std430) writeonly buffer Packets { Packet packets[]; };
 layout(set = 0, binding = 3, std430) buffer Cells { uint cells[]; };
 layout(set = 0, binding = 4, std430) buffer Counters { uint counters[]; };
-layout(push_constant) uniform Step { uint step; uint first; } call;   // first: the slot's window
+// first: the slot's window; room: the lists' length, which the CPU's count of the entries
+// (grid::PacketGrid::entries, the same test) keeps them within. Should a device round the
+// rectangle's test otherwise (Vulkan also allows rounding towards zero), the starts are held
+// within the room and a list's entries past it dropped: no write or read leaves the lists.
+layout(push_constant) uniform Step { uint step; uint first; uint room; } call;
 
 const uint GROUP = 256u;
 const uint CELLS_PER_INVOCATION = MAX_PACKET_CELLS / GROUP;
@@ -79,18 +83,21 @@ void main() {
         uint start = partial[t] - sum;
         for (uint c = begin; c < end; ++c) {
             uint count = counters[c];
-            cells[c] = start;
+            cells[c] = min(start, call.room);
             counters[c] = start;
             start += count;
         }
-        if (t == GROUP - 1u) cells[cell_count] = partial[t];
+        if (t == GROUP - 1u) cells[cell_count] = min(partial[t], call.room);
     } else if (call.step == 3u) {
         if (i >= packet_count) return;
         Packet p = upload[call.first + i];
         uvec4 r = cell_range(p);
         for (uint y = r.y; y <= r.w; ++y)
-            for (uint x = r.x; x <= r.z; ++x)
-                if (cell_meets(p, x, y)) cells[PACKET_LISTS + atomicAdd(counters[y * cols + x], 1u)] = i;
+            for (uint x = r.x; x <= r.z; ++x) {
+                if (!cell_meets(p, x, y)) continue;
+                uint slot = atomicAdd(counters[y * cols + x], 1u);
+                if (slot < call.room) cells[PACKET_LISTS + slot] = i;
+            }
     } else {
         if (i >= cell_count) return;
         // Insertion sort of the cell's run: runs are a few dozen packets.

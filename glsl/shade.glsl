@@ -528,6 +528,7 @@ void main() {
         atomicAdd(counts.sea_pixels, 1u);
         atomicAdd(counts.trains_evaluated, resolves ? trains_evaluated : 0u);
         atomicAdd(counts.trains_weighted, resolves ? trains_weighted : 0u);
+        // 32-bit sums: a 4K frame wraps past about 500 trains or packet terms a pixel.
         atomicAdd(counts.packet_terms, packet_terms);
     }
 }

@@ -15,7 +15,7 @@
 //! sources' packets (a wake rocking the hull) leave pulses of rings (`add_pulses`); a moving hull
 //! radiates none.
 
-use super::{comb_share, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, tapered_envelope, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
 use crate::model::floating::{complex_product, Waterplane};
 use crate::model::waves::{WaveSet, G};
 use glam::DVec2;
@@ -247,8 +247,9 @@ impl HeavingHull {
         let mut pulses: Vec<(f64, f64, f64, f64, DVec2, f64)> = Vec::new();
         for p in driving {
             let d = p.direction;
-            // The envelope's exponent on the line through the hull's centre along d:
-            // q(s) = |b + s w|², its least at s* = -(b . w) / |w|², sigma 1 / |w| along s.
+            // The hull's path through the envelope, in sigmas along its axes: b + s w at s metres
+            // along d from the hull's centre, nearest the packet's centre at s* = -(b . w) / |w|²
+            // (how far the envelope has gone past the hull), sigma 1 / |w| along s.
             let rel = self.centre - p.centre;
             let (a0, a1) = (p.axis, p.axis.perp());
             let b = DVec2::new(rel.dot(a0) / p.sigma[0], rel.dot(a1) / p.sigma[1]);
@@ -256,10 +257,12 @@ impl HeavingHull {
             let (w2, bw) = (w.length_squared(), b.dot(w));
             let past = -bw / w2;
             let sigma = w2.sqrt().recip();
-            let q_least = (b.length_squared() - bw * bw / w2).max(0.0);
-            // The envelope's peak along the path: beyond its reach (the circle through its
-            // square's corners), no pulse.
-            if q_least >= 2.0 * ENVELOPE_SIGMAS * ENVELOPE_SIGMAS || past < -2.0 * sigma {
+            // The envelope on the path where it passes nearest the packet's centre: its peak there
+            // (exactly, for a path along an axis, as a ring's own packets travel). Beyond its reach,
+            // no pulse.
+            let nearest = b + past * w;
+            let (peak, _, _) = tapered_envelope(nearest.x, nearest.y);
+            if peak <= 0.0 || past < -2.0 * sigma {
                 continue;
             }
             let onset = {
@@ -267,7 +270,7 @@ impl HeavingHull {
                 x * x * (3.0 - 2.0 * x)
             };
             let angle = d.y.atan2(d.x) - self.heading_rad;
-            let fitted = p.amplitude * (-0.5 * q_least).exp() * self.plane.directional(p.k, angle) * onset;
+            let fitted = p.amplitude * peak * self.plane.directional(p.k, angle) * onset;
             // The carrier's phase at the hull's centre now: phase - k d . (c - centre).
             let psi = p.phase - p.k * d.dot(rel);
             let z = complex_product(self.plane.relative_heave(p.k), DVec2::new(psi.cos(), psi.sin()) * fitted);

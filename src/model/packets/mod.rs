@@ -289,7 +289,7 @@ mod tests {
                 sum += 0.5 * (p.amplitude * e).powi(2) * step * step;
             }
         }
-        // The taper removes under 0.1% (ENVELOPE_SIGMAS).
+        // energy() counts the taper's cut, 1.1% (ENVELOPE_SQUARE_SHARE).
         assert!((sum / p.energy() - 1.0).abs() < 1e-3, "{sum} {}", p.energy());
     }
 

@@ -19,8 +19,8 @@ const UPLOAD_BINDING: u32 = 1;
 const PACKETS_BINDING: u32 = 2;
 const CELLS_BINDING: u32 = 3;
 const COUNTERS_BINDING: u32 = 4;
-/// The step and the slot's first packet in the upload window.
-const PUSH_BYTES: u32 = 8;
+/// The step, the slot's first packet in the upload window and the lists' room (entries).
+const PUSH_BYTES: u32 = 12;
 /// Invocations per workgroup (glsl/packet_bins.comp's local size).
 const BIN_GROUP: u32 = 256;
 
@@ -96,7 +96,7 @@ impl Pass for PacketBinsPass<'_> {
                 rec.tracker.buffer(&p.cells, Access::ComputeStorageReadWrite);
                 rec.tracker.flush(device, cmd);
             }
-            self.bindings.push_compute_words(cmd, &[step as u32, first]);
+            self.bindings.push_compute_words(cmd, &[step as u32, first, p.max_entries as u32]);
             // SAFETY: as above.
             unsafe { device.cmd_dispatch(cmd, group_count, 1, 1) };
         }
