@@ -53,16 +53,16 @@ layout(push_constant) uniform Tile {
     float lipschitz;    // bound on the surface's height slope, for safe marching steps
     float ior;          // refractive index of sea water
     uint seed;
-    uint max_march;     // marching steps of the camera ray, within the per-invocation loop budget
+    uint max_march;     // loop iterations the camera ray's march may spend (`intersect`)
     uint bounces;       // how many times a reflected ray may meet the sea again and be shaded there
-    uint bounce_march;  // marching steps all reflected rays of a sample share
+    uint bounce_march;  // loop iterations all reflected rays' marches of a sample share
     float sun_cos_kernel;    // cos of the cone the reflected sun's energy is spread over (its estimate)
     float sun_kernel_scale;  // the sun disc's solid angle over the cone's (<= 1)
     uvec2 region_origin;     // the pixels traced: the first and how many (the buffer holds these);
     uvec2 region_size;       // two uvec2, not a uvec4, to keep TilePush's 4-byte alignment
 } tile;
 
-const int NEWTON_STEPS = 2;
+const int NEWTON_STEPS = 2;   // src/measure/groundtruth.rs NEWTON_STEPS
 
 struct Surface {
     vec3 d;        // displacement
@@ -99,6 +99,11 @@ void add_packet(uint index, vec2 x, inout Surface s) {
     s.grad_z += grad * sc.y + k * (a * sc.x);
 }
 
+// Loop iterations the surface evaluations have run (trains and packets): a marching step charges
+// what its own evaluations spent, so a ray over short cell lists takes more steps than one over
+// the longest.
+uint surface_iterations = 0u;
+
 // The packets whose cell holds x, eight an iteration (the loop budget counts iterations; sixteen
 // took lavapipe two minutes to compile). The truth's cells are its own (finer than the frame's):
 // their lists start after their count's starts.
@@ -108,10 +113,11 @@ void add_packets(vec2 x, inout Surface s) {
     if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return;
     uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);
     uint lists = frame.packet_dims.x * frame.packet_dims.y + 1u;
-    uint end = lists + truth_packet_cells[cell + 1u];
+    uint begin = lists + truth_packet_cells[cell], end = lists + truth_packet_cells[cell + 1u];
     // Each run is padded to whole iterations with a packet that reaches nowhere
     // (src/measure/groundtruth.rs): no bound check per packet.
-    for (uint i = lists + truth_packet_cells[cell]; i < end; i += 8u) {
+    surface_iterations += (end - begin) / 8u;
+    for (uint i = begin; i < end; i += 8u) {
 #define ADD_PACKET(j) add_packet(truth_packet_cells[i + j], x, s);
         ADD_PACKET(0u) ADD_PACKET(1u) ADD_PACKET(2u) ADD_PACKET(3u) ADD_PACKET(4u) ADD_PACKET(5u) ADD_PACKET(6u)
         ADD_PACKET(7u)
@@ -126,6 +132,7 @@ Surface surface(vec2 x) {
     s.d = vec3(0.0);
     s.j = mat2(0.0);
     s.grad_z = vec2(0.0);
+    surface_iterations += tile.wave_count / 8u;
     for (uint i = 0u; i < tile.wave_count; i += 8u) {
         // Written out, not an inner loop: the budget would count each of its iterations.
         add_train(exact_waves[i], x, s);
@@ -186,12 +193,14 @@ vec2 level_and_rate(vec3 p, vec3 r) {
 // per step dt, rate the ray's climb over the rest sphere (level_and_rate, which only grows along
 // the ray), so dt = g / (L |r.xy| - rate) does not cross the surface when L holds; should a step
 // still land below it (or below every trough, or run out of steps going down), bisection on the
-// bracket finds the crossing. `steps` is what the march may still take (a sample's reflected
-// rays share one pool); it is left with what remains. `unfinished`: the march ran out of steps
+// bracket finds the crossing. `budget` is the loop iterations the march may still spend (a
+// sample's reflected rays share one pool), each step charged its own (its evaluations' trains and
+// packets, and itself; the last may overrun by one step, which the pool's reserve holds); it is
+// left with what remains. `unfinished`: the march ran out of steps
 // before deciding (a miss then counts as leaving, a bracket's bisection may find a later
 // crossing than the first): the report counts such rays. (Results travel as floats, control
 // flow has one exit.)
-float intersect(vec3 o, vec3 r, float t0, inout uint steps, out Surface s_hit, out bool unfinished) {
+float intersect(vec3 o, vec3 r, float t0, inout uint budget, out Surface s_hit, out bool unfinished) {
     float height = frame.cam_forward.w, R = frame.planet.x, slab = tile.slab;
     bool from_eye = o == vec3(0.0);
     float t = t0;
@@ -211,8 +220,9 @@ float intersect(vec3 o, vec3 r, float t0, inout uint steps, out Surface s_hit, o
     Surface s = surface(x);
     float t_above = t;        // last point known above the surface
     float t_below = -1.0;     // first point known below it, once bracketed
-    uint it = 0u;
-    for (; it < steps && searching > 0.0; ++it) {
+    uint spent = 0u;
+    while (spent < budget && searching > 0.0) {
+        uint before = surface_iterations;
         vec3 p = o + t * r;
         vec2 level = level_and_rate(p, r);
         float closing = tile.lipschitz * length(r.xy) - level.y;
@@ -234,8 +244,11 @@ float intersect(vec3 o, vec3 r, float t0, inout uint steps, out Surface s_hit, o
                 t += g / closing;
             }
         }
+        // The step itself, its Newton loop's (src/measure/groundtruth.rs NEWTON_STEPS) and its
+        // evaluations'.
+        spent += 1u + uint(NEWTON_STEPS) + (surface_iterations - before);
     }
-    steps -= it;
+    budget -= min(spent, budget);
     unfinished = searching > 0.0;
     // Going down and out of steps: a point below every trough brackets the crossing: from the eye
     // the troughs' sphere, elsewhere the level's tangent (kept only where it does lie below).
@@ -315,7 +328,7 @@ Sample shade_hit(vec3 r, float t, Surface s) {
     o.cut_off = 0.0;
     o.unfinished = 0.0;
     o.camera_unfinished = false;
-    uint pool = tile.bounce_march;   // the marching steps all reflected rays share
+    uint pool = tile.bounce_march;   // the marching iterations all reflected rays share
     vec3 p = t * r;
     vec3 dir = r;
     float w = 1.0;
@@ -380,9 +393,9 @@ Sample shade_hit(vec3 r, float t, Surface s) {
 Sample shade_sample(vec3 ray) {
     vec3 r = normalize(ray);
     Surface s;
-    uint steps = tile.max_march;
+    uint budget = tile.max_march;
     bool unfinished;
-    float t = intersect(vec3(0.0), r, 0.0, steps, s, unfinished);
+    float t = intersect(vec3(0.0), r, 0.0, budget, s, unfinished);
     bool walk_unfinished;
     ObjectHit object = object_hit(vec3(0.0), r, 0.0, t >= 0.0 ? t : 3.0e38, walk_unfinished);
     Sample o;

@@ -55,7 +55,8 @@ struct TilePush {
 /// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
 /// LP_MAX_TGSI_LOOP_ITERATIONS), past which every loop silently stops.
 const LOOP_BUDGET: u32 = 65535;
-/// Marching steps of the camera ray where the budget allows (the reflected rays share the rest).
+/// Marching steps of the camera ray where the budget allows, at the longest lists (the reflected
+/// rays share the rest).
 const MAX_MARCH: u32 = 4096;
 
 /// Trains the shader's surface loop adds per iteration (glsl/groundtruth.comp `surface`): the
@@ -66,6 +67,10 @@ const PACKETS_PER_ITERATION: u32 = 8;
 /// The ground truth's packet cells a side at most: finer than a frame's (whose GPU scan takes
 /// grid::MAX_CELLS_PER_SIDE), for shorter lists where the packets are small.
 const TRUTH_CELLS_PER_SIDE: u32 = 512;
+
+/// Newton steps that invert the displacement at each evaluation of the gap (glsl/groundtruth.comp
+/// `invert`): each a loop iteration of its own.
+const NEWTON_STEPS: u32 = 2;
 
 /// Bisection steps after a bracketed crossing (glsl/groundtruth.comp).
 const BISECTION_STEPS: u32 = 16;
@@ -127,17 +132,27 @@ impl Sampling {
     }
 }
 
-/// Marching steps that keep one sample within the loop budget: (camera ray, all reflected rays
-/// together). The camera ray and the `bounces + 1` reflected rays may each end in a bisection;
-/// every step (and bisection step) evaluates the surface three times (two Newton steps and the
-/// result), each a loop over the trains eight at a time (`iterations` per evaluation). The camera
-/// ray, which may have to skim hundreds of metres of crests at grazing view, gets two thirds of
-/// the steps; the reflected rays share the rest in the order they are traced, so the first
-/// reflection, which decides the reflected sun and sky, may use what the rarer later ones do not.
-/// A ray that runs out is counted in the report (`unfinished_*`), never taken silently as a miss.
+/// Loop iterations one surface evaluation costs where the cells' lists are `packet_run` long:
+/// the trains eight at a time and the packets eight at a time (glsl/groundtruth.comp `surface`).
+fn evaluation_iterations(wave_count: u32, packet_run: u32) -> u32 {
+    wave_count.div_ceil(TRAINS_PER_ITERATION as u32) + packet_run.div_ceil(PACKETS_PER_ITERATION)
+}
+
+/// The loop iterations one sample's marches may spend within the loop budget: (camera ray, all
+/// reflected rays together). Every marching step (and bisection step) evaluates the surface three
+/// times (NEWTON_STEPS Newton steps, each a loop iteration, and the result); a march charges each
+/// step what it spent (itself, its Newton loop's and its own
+/// evaluations' trains and its own cells' packets, glsl/groundtruth.comp `intersect`), so over
+/// short lists it takes more steps than over the longest, `packet_run`, at which the rest is
+/// reserved: the camera ray and the `bounces + 1` reflected rays may each end in a bisection,
+/// and each march may overrun its pool by one step. The camera ray, which may have to skim
+/// hundreds of metres of crests at grazing view, gets two thirds of the pool; the reflected rays
+/// share the rest in the order they are traced, so the first reflection, which decides the
+/// reflected sun and sky, may use what the rarer later ones do not. A ray that runs out is
+/// counted in the report (`unfinished_*`), never taken silently as a miss.
 fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, objects: bool) -> Result<(u32, u32)> {
-    let iterations = wave_count.div_ceil(TRAINS_PER_ITERATION as u32) + packet_run.div_ceil(PACKETS_PER_ITERATION);
-    let per_eval = 3 * iterations + 1;
+    let iterations = evaluation_iterations(wave_count, packet_run);
+    let per_eval = (NEWTON_STEPS + 1) * iterations + 1 + NEWTON_STEPS;
     let rays = bounces + 2;
     // The physical sky's loops: one sky ray and one aerial path per sample at most.
     let air = if physical { (truth_sky::SKY_STEPS + truth_sky::AERIAL_STEPS) as u32 } else { 0 };
@@ -145,17 +160,18 @@ fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, 
     // at an object its sky (physical: a sky ray each for the mirrored sky below and the sky).
     let walks =
         if objects { truth_objects::BVH_VISITS * truth_objects::walks_per_sample(bounces) + 2 * air } else { 0 };
-    let fixed = rays * (BISECTION_STEPS + 2) * per_eval + 4 * iterations + 64 + air + walks;
-    let steps = LOOP_BUDGET.saturating_sub(fixed) / per_eval;
-    // Fewer than MIN_MARCH steps a ray cannot cross the slab: refused rather than cut short.
-    if steps < MIN_MARCH * (bounces + 2) {
+    let fixed = rays * (BISECTION_STEPS + 3) * per_eval + 4 * iterations + 64 + air + walks;
+    let pool = LOOP_BUDGET.saturating_sub(fixed);
+    // Fewer than MIN_MARCH steps (at the longest lists) a ray cannot cross the slab: refused
+    // rather than cut short.
+    if pool / per_eval < MIN_MARCH * rays {
         return Err(Error::Argument(format!(
             "the ground truth cannot trace waves.count = {wave_count} with --bounces {bounces}: a sample's loops \
              would pass the {LOOP_BUDGET} iterations an invocation may run; use fewer trains or bounces"
         )));
     }
-    let primary = (steps * 2 / 3).clamp(MIN_MARCH, MAX_MARCH);
-    Ok((primary, steps - primary))
+    let primary = (pool * 2 / 3).clamp(MIN_MARCH * per_eval, MAX_MARCH * per_eval);
+    Ok((primary, pool - primary))
 }
 
 /// Probes of the marching slope's bound, and its margin over their steepest.
@@ -961,12 +977,21 @@ mod tests {
 
     #[test]
     fn the_loop_budget_fits_every_scene_and_names_what_it_cannot_trace() {
+        // In steps at the evaluation's cost (the pools are loop iterations).
+        let per_eval = |waves: u32, run: u32| (NEWTON_STEPS + 1) * evaluation_iterations(waves, run) + 1 + NEWTON_STEPS;
+        let steps = |waves: u32, iterations: u32| iterations / per_eval(waves, 0);
         let limit = crate::model::scene::MAX_WAVES;
         let (camera, reflected) = march_budget(limit, 0, MAX_BOUNCES, true, true).unwrap();
+        let (camera, reflected) = (steps(limit, camera), steps(limit, reflected));
         assert!(camera > reflected && reflected >= MIN_MARCH * 8, "{camera}, {reflected}");
-        // The default scene's march: a thousand steps and more for the camera ray.
+        // The default scene's march: about 1 450 steps for the camera ray.
         let (camera, reflected) = march_budget(60, 0, DEFAULT_BOUNCES, true, true).unwrap();
-        assert!(camera >= 1500 && reflected >= 750, "{camera}, {reflected}");
+        let (camera, reflected) = (steps(60, camera), steps(60, reflected));
+        assert!(camera >= 1400 && reflected >= 700, "{camera}, {reflected}");
+        // Over lists shorter than the longest a march takes more steps than the longest allows.
+        let (camera, _) = march_budget(60, 256, DEFAULT_BOUNCES, true, false).unwrap();
+        let (at_longest, over_none) = (camera / per_eval(60, 256), steps(60, camera));
+        assert!(at_longest >= MIN_MARCH && over_none > 3 * at_longest, "{at_longest} {over_none}");
         let e = march_budget(4096, 0, 3, true, false).unwrap_err().to_string();
         assert!(e.contains("waves.count = 4096") && e.contains("--bounces 3"), "{e}");
     }
