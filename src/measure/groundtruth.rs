@@ -138,6 +138,12 @@ fn evaluation_iterations(wave_count: u32, packet_run: u32) -> u32 {
     wave_count.div_ceil(TRAINS_PER_ITERATION as u32) + packet_run.div_ceil(PACKETS_PER_ITERATION)
 }
 
+/// Loop iterations one marching (or bisection) step costs where the cells' lists are
+/// `packet_run` long: itself, its Newton loop and its NEWTON_STEPS + 1 surface evaluations.
+fn step_iterations(wave_count: u32, packet_run: u32) -> u32 {
+    (NEWTON_STEPS + 1) * evaluation_iterations(wave_count, packet_run) + 1 + NEWTON_STEPS
+}
+
 /// The loop iterations one sample's marches may spend within the loop budget: (camera ray, all
 /// reflected rays together). Every marching step (and bisection step) evaluates the surface three
 /// times (NEWTON_STEPS Newton steps, each a loop iteration, and the result); a march charges each
@@ -152,7 +158,7 @@ fn evaluation_iterations(wave_count: u32, packet_run: u32) -> u32 {
 /// counted in the report (`unfinished_*`), never taken silently as a miss.
 fn march_budget(wave_count: u32, packet_run: u32, bounces: u32, physical: bool, objects: bool) -> Result<(u32, u32)> {
     let iterations = evaluation_iterations(wave_count, packet_run);
-    let per_eval = (NEWTON_STEPS + 1) * iterations + 1 + NEWTON_STEPS;
+    let per_eval = step_iterations(wave_count, packet_run);
     let rays = bounces + 2;
     // The physical sky's loops: one sky ray and one aerial path per sample at most.
     let air = if physical { (truth_sky::SKY_STEPS + truth_sky::AERIAL_STEPS) as u32 } else { 0 };
@@ -978,8 +984,7 @@ mod tests {
     #[test]
     fn the_loop_budget_fits_every_scene_and_names_what_it_cannot_trace() {
         // In steps at the evaluation's cost (the pools are loop iterations).
-        let per_eval = |waves: u32, run: u32| (NEWTON_STEPS + 1) * evaluation_iterations(waves, run) + 1 + NEWTON_STEPS;
-        let steps = |waves: u32, iterations: u32| iterations / per_eval(waves, 0);
+        let steps = |waves: u32, iterations: u32| iterations / step_iterations(waves, 0);
         let limit = crate::model::scene::MAX_WAVES;
         let (camera, reflected) = march_budget(limit, 0, MAX_BOUNCES, true, true).unwrap();
         let (camera, reflected) = (steps(limit, camera), steps(limit, reflected));
@@ -990,7 +995,7 @@ mod tests {
         assert!(camera >= 1400 && reflected >= 700, "{camera}, {reflected}");
         // Over lists shorter than the longest a march takes more steps than the longest allows.
         let (camera, _) = march_budget(60, 256, DEFAULT_BOUNCES, true, false).unwrap();
-        let (at_longest, over_none) = (camera / per_eval(60, 256), steps(60, camera));
+        let (at_longest, over_none) = (camera / step_iterations(60, 256), steps(60, camera));
         assert!(at_longest >= MIN_MARCH && over_none > 3 * at_longest, "{at_longest} {over_none}");
         let e = march_budget(4096, 0, 3, true, false).unwrap_err().to_string();
         assert!(e.contains("waves.count = 4096") && e.contains("--bounces 3"), "{e}");

@@ -1,8 +1,9 @@
 //! The cells a frame's packets are binned into: a grid of square cells over the rest plane
 //! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope's
 //! rectangle (ENVELOPE_SIGMAS along each axis) meets it (`Footprint::meets`; its bounding box
-//! bounds the cells tested), so that a pixel or a grid vertex reads only the packets that reach it. The GPU bins them itself (glsl/packet_bins.comp) from the ranges of
-//! cells computed here; `lists` is the same binning on the CPU, for the ground truth and the tests.
+//! bounds the cells tested), so that a pixel or a grid vertex reads only the packets that reach
+//! it. The GPU bins them itself (glsl/packet_bins.comp) from the ranges of cells computed here;
+//! `lists` is the same binning on the CPU, for the ground truth and the tests.
 
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
