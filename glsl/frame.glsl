@@ -45,7 +45,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
                            // z: the host's far-plane depth (0 reversed Z, 1 standard); w: unused
     vec4 packet_grid;      // the wave packets' cells (glsl/packets.glsl): xy the corner of cell (0, 0)
                            // (m, camera-relative), z 1 / the cell's side (1/m), w the side (m)
-    uvec4 packet_dims;     // x, y: columns and rows of cells; z: packets; w: unused
+    uvec4 packet_dims;     // x, y: columns and rows of cells; z: packets; w: tiles
 } frame;
 
 // Whether the full method draws the reflected sun's glints (glsl/glints.glsl) instead of its

@@ -1,70 +1,59 @@
 #version 450
-// Bins the frame's packets into the cells of their grid (model::packets::grid, whose `lists`
-// is the CPU's twin), in five steps (push constant `step`), each a dispatch behind a barrier:
-//   0: every cell's counter to 0 (one invocation per cell);
-//   1: each packet copied from the slot's upload window and counted into the cells of its
-//      range that its rectangle meets (one per packet);
-//   2: the counts' exclusive prefix sum, each cell's start (one workgroup), the counters set to
-//      the starts;
-//   3: each packet's index written at those cells' counters (one per packet);
-//   4: each cell's list sorted by packet index (one per cell): the atomics' order varies from
-//      run to run, and the sums the shaders form in list order should not.
+// Bins the frame's packets (copied from the slot's upload window by a transfer) into the cells of
+// their grid (model::packets::grid, whose `lists` is the CPU's twin), in three steps (push
+// constant `step`), each a dispatch behind a barrier:
+//   0: each cell's count of the packets whose rectangle meets it, from its tile's list (one
+//      workgroup per tile of TILE x TILE cells, one invocation per cell);
+//   1: the counts' exclusive prefix sum, each cell's start (one workgroup);
+//   2: each cell's list written from its tile's list, as step 0.
+// A tile's list is in packet order (the CPU's grid::PacketGrid::tile_packets, in the slot's tile
+// window), so every cell's list is too: no atomics, no sort, the same lists on every run.
 #include "frame.glsl"
 #include "packet_data.glsl"
 
-layout(local_size_x = 256) in;   // passes/packets.rs BIN_GROUP
+const uint TILE = 4u;   // grid::TILE_CELLS
+layout(local_size_x = 16) in;   // TILE * TILE: a workgroup a tile
 
-layout(set = 0, binding = 1, std430) readonly buffer Upload { Packet upload[]; };
-layout(set = 0, binding = 2, std430) writeonly buffer Packets { Packet packets[]; };
 layout(set = 0, binding = 3, std430) buffer Cells { uint cells[]; };
 layout(set = 0, binding = 4, std430) buffer Counters { uint counters[]; };
-// first: the slot's window; room: the lists' length, which the CPU's count of the entries
-// (grid::PacketGrid::entries, the same test) keeps them within. Should a device round the
-// rectangle's test otherwise (Vulkan also allows rounding towards zero), the starts are held
-// within the room and a list's entries past it dropped: no write or read leaves the lists.
-layout(push_constant) uniform Step { uint step; uint first; uint room; } call;
+// Each slot's tiles: MAX_PACKET_TILES + 1 starts, then the lists (render/packets.rs), an entry
+// a packet's index and its cell range within the tile (grid::tile_entry).
+layout(set = 0, binding = 5, std430) readonly buffer Tiles { uint tiles[]; };
+// The frame's packets as the drawing passes read them, three texels a packet (render/packets.rs
+// PacketTexels): a texel fetch gathers across SIMD lanes where a CPU driver loads a storage
+// buffer's struct lane by lane and word by word.
+layout(set = 0, binding = 6) uniform samplerBuffer packet_texels;
+// room: the lists' length, which the CPU's count of the entries (grid::PacketGrid::entries, the
+// same test) keeps them within. Should a device round the rectangle's test otherwise (Vulkan
+// also allows rounding towards zero), the starts are held within the room and a list's entries
+// past it dropped: no write or read leaves the lists. tile_first: the slot's tile window (words).
+layout(push_constant) uniform Step { uint step; uint room; uint tile_first; } call;
 
-const uint GROUP = 256u;
+const uint GROUP = TILE * TILE;
+const uint MAX_PACKET_TILES = MAX_PACKET_CELLS / GROUP;   // grid::MAX_TILES
 const uint CELLS_PER_INVOCATION = MAX_PACKET_CELLS / GROUP;
+const uint INDEX_BITS = 24u;   // grid::TILE_INDEX_BITS
 shared uint partial[GROUP];
 
-// A packet's cells: first column and row, last column and row.
-uvec4 cell_range(Packet p) {
-    uint first = floatBitsToUint(p.wave.z), last = floatBitsToUint(p.wave.w);
-    return uvec4(first & 0xffffu, first >> 16, last & 0xffffu, last >> 16);
-}
-
-// Whether packet p's rectangle meets cell (x, y): grid::Footprint::meets, its twin to the bit
-// (precise: no operation fused, each rounded in the same order; Vulkan rounds +, - and *
-// correctly), so that these lists are the CPU's.
-bool cell_meets(Packet p, uint x, uint y) {
+// Whether the rectangle of the packet centred at `centre` with axes `envelope` meets cell (x, y):
+// grid::Footprint::meets, its twin to the bit (precise: no operation fused, each rounded in the
+// same order; Vulkan rounds +, - and * correctly), so that these lists are the CPU's.
+bool cell_meets(vec2 centre, vec4 envelope, uint x, uint y) {
     precise float side = frame.packet_grid.w;
     precise float half_side = 0.5 * side;
-    precise float rx = (frame.packet_grid.x + (float(x) + 0.5) * side) - p.centre_k.x;
-    precise float ry = (frame.packet_grid.y + (float(y) + 0.5) * side) - p.centre_k.y;
-    precise float u = rx * p.envelope.x + ry * p.envelope.y;
-    precise float v = rx * p.envelope.z + ry * p.envelope.w;
-    precise float reach_u = PACKET_SIGMAS + half_side * (abs(p.envelope.x) + abs(p.envelope.y));
-    precise float reach_v = PACKET_SIGMAS + half_side * (abs(p.envelope.z) + abs(p.envelope.w));
+    precise float rx = (frame.packet_grid.x + (float(x) + 0.5) * side) - centre.x;
+    precise float ry = (frame.packet_grid.y + (float(y) + 0.5) * side) - centre.y;
+    precise float u = rx * envelope.x + ry * envelope.y;
+    precise float v = rx * envelope.z + ry * envelope.w;
+    precise float reach_u = PACKET_SIGMAS + half_side * (abs(envelope.x) + abs(envelope.y));
+    precise float reach_v = PACKET_SIGMAS + half_side * (abs(envelope.z) + abs(envelope.w));
     return abs(u) < reach_u && abs(v) < reach_v;
 }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    uint cols = frame.packet_dims.x;
-    uint cell_count = cols * frame.packet_dims.y;
-    uint packet_count = frame.packet_dims.z;
-    if (call.step == 0u) {
-        if (i < cell_count) counters[i] = 0u;
-    } else if (call.step == 1u) {
-        if (i >= packet_count) return;
-        Packet p = upload[call.first + i];
-        packets[i] = p;
-        uvec4 r = cell_range(p);
-        for (uint y = r.y; y <= r.w; ++y)
-            for (uint x = r.x; x <= r.z; ++x)
-                if (cell_meets(p, x, y)) atomicAdd(counters[y * cols + x], 1u);
-    } else if (call.step == 2u) {
+    uint cols = frame.packet_dims.x, rows = frame.packet_dims.y;
+    uint cell_count = cols * rows;
+    if (call.step == 1u) {
         // Invocation t sums cells [t n, t n + n), n = CELLS_PER_INVOCATION; the group's partial
         // sums are scanned in shared memory, then each invocation writes its cells' starts.
         uint t = gl_LocalInvocationID.x, begin = t * CELLS_PER_INVOCATION;
@@ -82,31 +71,33 @@ void main() {
         }
         uint start = partial[t] - sum;
         for (uint c = begin; c < end; ++c) {
-            uint count = counters[c];
             cells[c] = min(start, call.room);
-            counters[c] = start;
-            start += count;
+            start += counters[c];
         }
         if (t == GROUP - 1u) cells[cell_count] = min(partial[t], call.room);
-    } else if (call.step == 3u) {
-        if (i >= packet_count) return;
-        Packet p = upload[call.first + i];
-        uvec4 r = cell_range(p);
-        for (uint y = r.y; y <= r.w; ++y)
-            for (uint x = r.x; x <= r.z; ++x) {
-                if (!cell_meets(p, x, y)) continue;
-                uint slot = atomicAdd(counters[y * cols + x], 1u);
-                if (slot < call.room) cells[PACKET_LISTS + slot] = i;
-            }
-    } else {
-        if (i >= cell_count) return;
-        // Insertion sort of the cell's run: runs are a few dozen packets.
-        uint begin = PACKET_LISTS + cells[i], end = PACKET_LISTS + cells[i + 1u];
-        for (uint a = begin + 1u; a < end; ++a) {
-            uint v = cells[a];
-            uint b = a;
-            for (; b > begin && cells[b - 1u] > v; --b) cells[b] = cells[b - 1u];
-            cells[b] = v;
-        }
+        return;
     }
+    // Steps 0 and 2: this invocation's cell (lx, ly) of the workgroup's tile, and the tile's list.
+    uint tiles_x = (cols + TILE - 1u) / TILE, tile = gl_WorkGroupID.x;
+    uint lx = gl_LocalInvocationID.x % TILE, ly = gl_LocalInvocationID.x / TILE;
+    uint x = tile % tiles_x * TILE + lx, y = tile / tiles_x * TILE + ly;
+    bool inside = x < cols && y < rows;
+    uint cell = y * cols + x;
+    bool writes = call.step == 2u && inside;
+    uint n = writes ? cells[cell] : 0u, last = writes ? cells[cell + 1u] : 0u;
+    uint list = call.tile_first + MAX_PACKET_TILES + 1u;
+    uint begin = tiles[call.tile_first + tile], end = tiles[call.tile_first + tile + 1u];
+    for (uint j = begin; j < end; ++j) {
+        uint entry = tiles[list + j];
+        uint i = entry & ((1u << INDEX_BITS) - 1u);
+        // The packet's cell range within the tile: the CPU tests no cell outside it.
+        uvec4 range = (uvec4(entry) >> (uvec4(0u, 2u, 4u, 6u) + INDEX_BITS)) & 3u;
+        if (!inside || lx < range.x || ly < range.y || lx > range.z || ly > range.w) continue;
+        vec2 centre = texelFetch(packet_texels, 3 * int(i)).xy;
+        vec4 envelope = texelFetch(packet_texels, 3 * int(i) + 1);
+        if (!cell_meets(centre, envelope, x, y)) continue;
+        if (writes && n < last) cells[PACKET_LISTS + n] = i;
+        ++n;
+    }
+    if (call.step == 0u && inside) counters[cell] = n;
 }

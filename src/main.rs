@@ -937,12 +937,15 @@ fn run(cli: Cli) -> ocean::Result<()> {
             if let Some(p) = &r.derived.packets {
                 let opt = |v: Option<f64>, unit: &str| v.map_or("-".to_owned(), |v| format!("{v:.2} {unit}"));
                 ocean::say!(
-                    "packets: {} alive, {} list entries in {} cells ({:.1} a packet); binning {} a packet, {} an entry; {} packet terms per sea pixel",
+                    "packets: {} alive, {} list entries in {} cells ({:.1} a packet), binned by {} tiles listing {}; binning {} a packet, {} a tile, {} an entry; {} packet terms per sea pixel",
                     p.alive,
                     p.entries,
                     p.cells,
                     p.entries_per_packet,
+                    p.tiles,
+                    p.tile_entries,
                     opt(p.bins_us_per_packet, "us"),
+                    opt(p.bins_us_per_tile, "us"),
                     opt(p.bins_ns_per_entry, "ns"),
                     p.terms_per_sea_pixel.map_or("-".to_owned(), |t| format!("{t:.1}"))
                 );

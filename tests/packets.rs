@@ -197,7 +197,7 @@ fn a_buoy_rocked_by_a_splash_radiates_rings_and_a_fixed_one_none() {
     assert!(moving.hulls.is_empty() && moving.wakes.len() == 1);
 }
 
-/// The GPU's binning (count, scan, scatter, sort) leaves exactly the lists the CPU's grid makes
+/// The GPU's binning (tiles' counts, scan, tiles' writes) leaves exactly the lists the CPU's grid makes
 /// for the same packets: every cell's start and every packet index, in packet order.
 #[test]
 fn the_gpu_bins_the_packets_as_the_cpu_grid_does() {

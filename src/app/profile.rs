@@ -75,15 +75,18 @@ pub struct Derived {
     pub packets: Option<PacketCost>,
 }
 
-/// A frame's wave packets: how many, their cells' lists, the binning's time per packet and per
-/// list entry, and the shading pass's packet terms per sea pixel (what a pixel's cost grows with).
+/// A frame's wave packets: how many, their cells' lists and the tiles that bin them, the binning's
+/// time per packet, per tile and per list entry, and the shading pass's packet terms per sea pixel (what a pixel's cost grows with).
 #[derive(Debug, Serialize)]
 pub struct PacketCost {
     pub alive: usize,
     pub cells: u32,
     pub entries: usize,
     pub entries_per_packet: f64,
+    pub tiles: u32,
+    pub tile_entries: usize,
     pub bins_us_per_packet: Option<f64>,
+    pub bins_us_per_tile: Option<f64>,
     pub bins_ns_per_entry: Option<f64>,
     pub terms_per_sea_pixel: Option<f64>,
 }
@@ -96,7 +99,10 @@ impl PacketCost {
             cells: stats.cells,
             entries: stats.entries,
             entries_per_packet: stats.entries as f64 / stats.alive.max(1) as f64,
+            tiles: stats.tiles,
+            tile_entries: stats.tile_entries,
             bins_us_per_packet: per(stats.alive).map(|ns| ns * 1e-3),
+            bins_us_per_tile: per(stats.tiles as usize).map(|ns| ns * 1e-3),
             bins_ns_per_entry: per(stats.entries),
             terms_per_sea_pixel: counts.map(|c| c.packet_terms_per_sea_pixel()),
         }

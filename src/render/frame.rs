@@ -84,7 +84,7 @@ pub struct FrameUniforms {
     pub host_clip: [[f32; 4]; 4],
     pub host: [f32; 4],
     /// The wave packets' cells: the corner of cell (0, 0) (camera-relative), 1 / the cell's side
-    /// and the side; their columns, rows and the packets' count (render::packets).
+    /// and the side; their columns, rows, the packets' count and the tiles' (render::packets).
     pub packet_grid: [f32; 4],
     pub packet_dims: [u32; 4],
 }

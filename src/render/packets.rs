@@ -3,7 +3,7 @@
 //! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
 
 use crate::error::{Error, Result};
-use crate::model::packets::grid::{Footprint, PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE};
+use crate::model::packets::grid::{Footprint, PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE, MAX_TILES, TILE_ROOM_SHARE};
 use crate::model::packets::sources::Sources;
 use crate::model::packets::{Packet, PacketField};
 use crate::vk::buffer::Buffer;
@@ -76,7 +76,7 @@ impl FramePackets {
         let g = &self.grid;
         let inverse_cell = if g.cell_m > 0.0 { 1.0 / g.cell_m } else { 0.0 };
         let ([x, y], side) = g.origin_and_side_f32();
-        ([x, y, inverse_cell as f32, side], [g.cols, g.rows, self.gpu.len() as u32, 0])
+        ([x, y, inverse_cell as f32, side], [g.cols, g.rows, self.gpu.len() as u32, g.tiles()])
     }
 }
 
@@ -113,12 +113,16 @@ pub struct PacketBuffers<'g> {
     pub texels: PacketTexels<'g>,
     /// Each frame slot's packets, written by the CPU: `max_alive` of them a slot.
     pub upload: Buffer<'g>,
-    /// The frame's packets, copied from the slot's window by the binning.
+    /// The frame's packets, copied from the slot's window by the binning (a transfer).
     pub packets: Buffer<'g>,
     /// Each cell's start in the lists (MAX_CELLS + 1 of them), then the lists.
     pub cells: Buffer<'g>,
     /// The binning's per-cell counters.
     pub counters: Buffer<'g>,
+    /// Each frame slot's tiles' lists, written by the CPU: MAX_TILES + 1 starts, then the lists
+    /// (grid::PacketGrid::tile_starts and tile_packets), `tile_words` a slot.
+    pub tile_upload: Buffer<'g>,
+    pub tile_words: usize,
     pub max_alive: usize,
     /// The lists' room (entries).
     pub max_entries: usize,
@@ -129,6 +133,7 @@ impl<'g> PacketBuffers<'g> {
         use vk::BufferUsageFlags as B;
         let packet_bytes = std::mem::size_of::<GpuPacket>() as u64 * max_alive as u64;
         let max_entries = ENTRIES_PER_PACKET * max_alive;
+        let tile_words = MAX_TILES as usize + 1 + max_entries / TILE_ROOM_SHARE;
         let cell_words = MAX_CELLS as u64 + 1 + max_entries as u64;
         // The cells' view is the longest (4 bytes a texel): a budget whose lists it cannot hold is
         // refused by its key, with the most this device takes.
@@ -144,16 +149,21 @@ impl<'g> PacketBuffers<'g> {
             });
         }
         let storage = B::STORAGE_BUFFER;
-        let read = B::STORAGE_BUFFER | B::UNIFORM_TEXEL_BUFFER;
-        let packets = Buffer::new(gpu, "packets", packet_bytes, read, Location::Gpu)?;
-        // Copied out by Renderer::read_packet_lists.
-        let cells = Buffer::new(gpu, "packet cells", 4 * cell_words, read | B::TRANSFER_SRC, Location::Gpu)?;
+        // Copied in from the slot's window by the binning, read as texels.
+        let packets =
+            Buffer::new(gpu, "packets", packet_bytes, B::TRANSFER_DST | B::UNIFORM_TEXEL_BUFFER, Location::Gpu)?;
+        // Written by the binning, read as texels, copied out by Renderer::read_packet_lists.
+        let cell_usage = B::STORAGE_BUFFER | B::UNIFORM_TEXEL_BUFFER | B::TRANSFER_SRC;
+        let cells = Buffer::new(gpu, "packet cells", 4 * cell_words, cell_usage, Location::Gpu)?;
+        let tile_bytes = 4 * (tile_words * slots as usize) as u64;
         Ok(PacketBuffers {
             texels: PacketTexels::new(&packets, &cells, "packets")?,
-            upload: Buffer::new(gpu, "packets upload", packet_bytes * slots as u64, storage, Location::Upload)?,
+            upload: Buffer::new(gpu, "packets upload", packet_bytes * slots as u64, B::TRANSFER_SRC, Location::Upload)?,
             packets,
             cells,
             counters: Buffer::new(gpu, "packet counters", 4 * MAX_CELLS as u64, storage, Location::Gpu)?,
+            tile_upload: Buffer::new(gpu, "packet tiles upload", tile_bytes, storage, Location::Upload)?,
+            tile_words,
             max_alive,
             max_entries,
         })
@@ -164,11 +174,22 @@ impl<'g> PacketBuffers<'g> {
         (slot * self.max_alive) as u32
     }
 
-    /// Writes a frame's packets into `slot`'s window (the slot's last frame is done).
+    /// The first word of `slot`'s window in `tile_upload`.
+    pub fn tile_first(&self, slot: usize) -> u32 {
+        (slot * self.tile_words) as u32
+    }
+
+    /// Writes a frame's packets and its tiles' lists into `slot`'s windows (the slot's last
+    /// frame is done).
     pub fn write(&self, slot: usize, packets: &FramePackets) -> Result<()> {
-        debug_assert!(packets.gpu.len() <= self.max_alive && packets.grid.entries <= self.max_entries);
+        let grid = &packets.grid;
+        debug_assert!(packets.gpu.len() <= self.max_alive && grid.entries <= self.max_entries);
+        debug_assert!(MAX_TILES as usize + 1 + grid.tile_packets.len() <= self.tile_words);
         let offset = std::mem::size_of::<GpuPacket>() as u64 * self.first(slot) as u64;
-        self.upload.write_at(offset, &packets.gpu)
+        self.upload.write_at(offset, &packets.gpu)?;
+        let tiles = 4 * self.tile_first(slot) as u64;
+        self.tile_upload.write_at(tiles, &grid.tile_starts)?;
+        self.tile_upload.write_at(tiles + 4 * (MAX_TILES as u64 + 1), &grid.tile_packets)
     }
 }
 

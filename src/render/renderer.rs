@@ -148,9 +148,11 @@ impl Default for Options {
 pub struct PacketStats {
     /// Packets drawn.
     pub alive: usize,
-    /// Their cells and the lists' length.
+    /// Their cells and the lists' length; the tiles that bin the cells and their lists' length.
     pub cells: u32,
     pub entries: usize,
+    pub tiles: u32,
+    pub tile_entries: usize,
     /// The energy of the packets the budget (packets.max_alive) left out, over all the sources
     /// made (Packet::energy, m^4).
     pub dropped_energy_share: f64,
@@ -741,6 +743,8 @@ impl<'g> Renderer<'g> {
                 alive: p.gpu.len(),
                 cells: p.grid.cols * p.grid.rows,
                 entries: p.grid.entries,
+                tiles: p.grid.tiles(),
+                tile_entries: p.grid.tile_packets.len(),
                 dropped_energy_share: if total > 0.0 { p.field.dropped_energy / total } else { 0.0 },
                 crest_m: p.grid.crest_m,
             });
@@ -910,6 +914,7 @@ impl<'g> Renderer<'g> {
             planar_drawn: false,
             packets: data.uniforms.packet_dims[2],
             packet_cells: data.uniforms.packet_dims[0] * data.uniforms.packet_dims[1],
+            packet_tiles: data.uniforms.packet_dims[3],
         }
     }
 

@@ -2,8 +2,12 @@
 //! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope's
 //! rectangle (ENVELOPE_SIGMAS along each axis) meets it (`Footprint::meets`; its bounding box
 //! bounds the cells tested), so that a pixel or a grid vertex reads only the packets that reach
-//! it. The GPU bins them itself (glsl/packet_bins.comp) from the ranges of cells computed here;
-//! `lists` is the same binning on the CPU, for the ground truth and the tests.
+//! it. Square tiles of TILE_CELLS x TILE_CELLS cells each list, in packet order, the packets that
+//! meet any of their cells, each with the part of its cell range inside the tile: the GPU bins the
+//! packets into the cells itself (glsl/packet_bins.comp), one workgroup a tile testing its cells
+//! against the tile's list, so that every cell's list comes out in packet order with no atomics
+//! and no sort (the same on every run and device). `lists` is
+//! the same binning on the CPU, for the ground truth and the tests.
 
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
@@ -17,6 +21,23 @@ const ENVELOPE_STEEPEST: f64 = 0.608_1;
 /// Cells per side at most: 65 536 cells, whose starts the GPU's one-workgroup scan covers.
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
 pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
+
+/// A tile's side in cells: one GPU workgroup of TILE_CELLS^2 invocations bins a tile. Four: the
+/// cells' tests a tile's list costs grow with its area, its entries with its perimeter (measured
+/// on `wake_mast`'s binning: 6.6 ms with tiles of 8 cells, 4.8 ms with 4).
+pub const TILE_CELLS: u32 = 4;
+/// A tile entry: the packet's index in its low TILE_INDEX_BITS bits (packets::sources::MAX_PACKETS
+/// fits), then its cell range within the tile, first column and row and last column and row, two
+/// bits each (0 to TILE_CELLS - 1): the GPU tests only those cells, as the CPU does.
+pub const TILE_INDEX_BITS: u32 = 24;
+const _: () = assert!(super::sources::MAX_PACKETS <= 1 << TILE_INDEX_BITS);
+pub const MAX_TILES_PER_SIDE: u32 = MAX_CELLS_PER_SIDE / TILE_CELLS;
+pub const MAX_TILES: u32 = MAX_TILES_PER_SIDE * MAX_TILES_PER_SIDE;
+
+/// The tiles' lists have this share of the cells' room: a tile entry has at least one cell entry,
+/// and a packet meeting more than (room per packet / TILE_ROOM_SHARE) tiles on average meets
+/// many more cells, past the cells' own room.
+pub const TILE_ROOM_SHARE: usize = 4;
 
 /// A packet's rectangle as the GPU holds it (single precision: glsl/packet_data.glsl's centre
 /// and envelope), for the exact test of a cell against it, the same on both sides.
@@ -68,6 +89,12 @@ pub struct PacketGrid {
     pub footprints: Vec<Footprint>,
     /// The number of (cell, packet) pairs: the lists' total length.
     pub entries: usize,
+    /// Each tile's start in `tile_packets` (one more start than tiles, the last the total), tiles
+    /// row by row, `tiles()` of them.
+    pub tile_starts: Vec<u32>,
+    /// The packets that meet at least one cell of each tile, in packet order within a tile: each
+    /// its index and its range within the tile (`tile_entry`).
+    pub tile_packets: Vec<u32>,
     /// The largest sum of the amplitudes of the packets that overlap one cell (m): no packet
     /// crest rises higher over the rest plane, nor a trough sinks lower.
     pub crest_m: f64,
@@ -86,8 +113,9 @@ fn half_extent(p: &Packet) -> DVec2 {
 
 impl PacketGrid {
     /// The grid over `packets`, the finest of square cells at most MAX_CELLS_PER_SIDE to a side
-    /// whose lists hold at most `max_entries` pairs (coarser cells, fewer pairs: each cell side
-    /// doubled until they fit). Empty without packets.
+    /// whose lists hold at most `max_entries` pairs and whose tiles' lists at most
+    /// max_entries / TILE_ROOM_SHARE (coarser cells, fewer pairs: each cell side doubled until
+    /// they fit). Empty without packets.
     pub fn new(packets: &[Packet], max_entries: usize) -> PacketGrid {
         Self::with_side(packets, max_entries, MAX_CELLS_PER_SIDE)
     }
@@ -105,7 +133,8 @@ impl PacketGrid {
         let mut cell_m = size.max_element() / per_side as f64;
         loop {
             let grid = Self::with_cells(packets, lo, size, cell_m, per_side);
-            if grid.entries <= max_entries || grid.cols * grid.rows == 1 {
+            let fits = grid.entries <= max_entries && grid.tile_packets.len() <= max_entries / TILE_ROOM_SHARE;
+            if fits || grid.cols * grid.rows == 1 {
                 return grid;
             }
             cell_m *= 2.0;
@@ -119,7 +148,11 @@ impl PacketGrid {
         let mut sums = vec![0.0f64; (cols * rows) as usize];
         let mut slopes = vec![0.0f64; (cols * rows) as usize];
         let mut grid = PacketGrid { origin, cell_m, cols, rows, ..Default::default() };
-        for p in packets {
+        let tiles_x = cols.div_ceil(TILE_CELLS);
+        // (tile, packet) pairs in packet order; `last` drops a packet's repeats in a tile.
+        let mut tile_pairs = Vec::new();
+        let mut last = vec![u32::MAX; grid.tiles() as usize];
+        for (i, p) in packets.iter().enumerate() {
             let h = half_extent(p);
             let (a, b) = (p.centre - h - origin, p.centre + h - origin);
             let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
@@ -129,13 +162,24 @@ impl PacketGrid {
                 sums[(y * cols + x) as usize] += p.amplitude;
                 slopes[(y * cols + x) as usize] += slope;
                 grid.entries += 1;
+                let tile = (y / TILE_CELLS * tiles_x + x / TILE_CELLS) as usize;
+                if last[tile] != i as u32 {
+                    last[tile] = i as u32;
+                    tile_pairs.push((tile as u32, tile_entry(i as u32, r, x / TILE_CELLS, y / TILE_CELLS)));
+                }
             }
             grid.ranges.push(r);
             grid.footprints.push(footprint);
         }
+        (grid.tile_starts, grid.tile_packets) = group_by_key(grid.tiles() as usize, &tile_pairs);
         grid.crest_m = sums.iter().copied().fold(0.0, f64::max);
         grid.slope = slopes.iter().copied().fold(0.0, f64::max);
         grid
+    }
+
+    /// The tiles covering the grid (partial ones at its far edges included).
+    pub fn tiles(&self) -> u32 {
+        self.cols.div_ceil(TILE_CELLS) * self.rows.div_ceil(TILE_CELLS)
     }
 
     /// The corner of cell (0, 0) and a cell's side, in single precision (as the GPU has them:
@@ -164,27 +208,39 @@ impl PacketGrid {
     /// Every cell's list, on the CPU: the start of each cell's run in `entries` (one more start
     /// than cells, the last the total), and the packets' indices, in packet order within a cell.
     pub fn lists(&self) -> (Vec<u32>, Vec<u32>) {
-        let cells = (self.cols * self.rows) as usize;
-        let mut starts = vec![0u32; cells + 1];
-        for (r, f) in self.ranges.iter().zip(&self.footprints) {
-            for (x, y) in self.cells_met(*r, f) {
-                starts[(y * self.cols + x) as usize + 1] += 1;
-            }
-        }
-        for i in 0..cells {
-            starts[i + 1] += starts[i];
-        }
-        let mut cursor = starts.clone();
-        let mut entries = vec![0u32; self.entries];
-        for (i, (r, f)) in self.ranges.iter().zip(&self.footprints).enumerate() {
-            for (x, y) in self.cells_met(*r, f) {
-                let c = (y * self.cols + x) as usize;
-                entries[cursor[c] as usize] = i as u32;
-                cursor[c] += 1;
-            }
-        }
-        (starts, entries)
+        let pairs: Vec<(u32, u32)> = (self.ranges.iter().zip(&self.footprints).enumerate())
+            .flat_map(|(i, (r, f))| self.cells_met(*r, f).map(move |(x, y)| (y * self.cols + x, i as u32)))
+            .collect();
+        group_by_key((self.cols * self.rows) as usize, &pairs)
     }
+}
+
+/// Packet `index`'s entry in tile (tx, ty): its index and its cell `range` clipped to the tile,
+/// in the tile's own cells (TILE_INDEX_BITS).
+pub fn tile_entry(index: u32, range: [u32; 4], tx: u32, ty: u32) -> u32 {
+    debug_assert!(index < 1 << TILE_INDEX_BITS && TILE_CELLS == 4);
+    let local = |v: u32, t: u32| v.clamp(t * TILE_CELLS, t * TILE_CELLS + TILE_CELLS - 1) - t * TILE_CELLS;
+    let bounds = [local(range[0], tx), local(range[1], ty), local(range[2], tx), local(range[3], ty)];
+    bounds.iter().enumerate().fold(index, |word, (i, &b)| word | b << (TILE_INDEX_BITS + 2 * i as u32))
+}
+
+/// (key, value) pairs grouped by key, a counting sort that keeps their order within a key: each
+/// key's start among the values (one more start than `keys`, the last the total), and the values.
+fn group_by_key(keys: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
+    let mut starts = vec![0u32; keys + 1];
+    for &(key, _) in pairs {
+        starts[key as usize + 1] += 1;
+    }
+    for i in 0..keys {
+        starts[i + 1] += starts[i];
+    }
+    let mut cursor = starts.clone();
+    let mut values = vec![0u32; pairs.len()];
+    for &(key, value) in pairs {
+        values[cursor[key as usize] as usize] = value;
+        cursor[key as usize] += 1;
+    }
+    (starts, values)
 }
 
 #[cfg(test)]
@@ -227,6 +283,32 @@ mod tests {
             }
         }
         assert!(checked > 10_000, "{checked}");
+    }
+
+    /// A tile lists, in packet order, exactly the packets its cells list.
+    #[test]
+    fn a_tile_lists_the_packets_of_its_cells_in_order() {
+        let ps = packets();
+        let grid = PacketGrid::new(&ps, usize::MAX);
+        let (starts, entries) = grid.lists();
+        let tiles_x = grid.cols.div_ceil(TILE_CELLS);
+        assert_eq!(grid.tile_starts.len(), grid.tiles() as usize + 1);
+        for tile in 0..grid.tiles() {
+            let (tx, ty) = (tile % tiles_x, tile / tiles_x);
+            let mut of_cells: Vec<u32> = (ty * TILE_CELLS..((ty + 1) * TILE_CELLS).min(grid.rows))
+                .flat_map(|y| (tx * TILE_CELLS..((tx + 1) * TILE_CELLS).min(grid.cols)).map(move |x| y * grid.cols + x))
+                .flat_map(|c| entries[starts[c as usize] as usize..starts[c as usize + 1] as usize].to_vec())
+                .collect();
+            of_cells.sort_unstable();
+            of_cells.dedup();
+            let listed: Vec<u32> = grid.tile_packets
+                [grid.tile_starts[tile as usize] as usize..grid.tile_starts[tile as usize + 1] as usize]
+                .iter()
+                .map(|e| e & ((1 << TILE_INDEX_BITS) - 1))
+                .collect();
+            assert_eq!(listed, of_cells, "tile {tile}");
+        }
+        assert!(grid.tiles() > 4 && grid.tile_packets.len() > ps.len(), "{} {}", grid.tiles(), grid.tile_packets.len());
     }
 
     /// The reach the CPU tests cells with is the GPU's (glsl/packet_data.glsl's literal 2.3,

@@ -51,9 +51,10 @@ pub struct Frame {
     /// Whether the host drew its objects mirrored into the planar images this frame
     /// (passes/planar.rs), which the shading pass then reads.
     pub planar_drawn: bool,
-    /// The frame's wave packets and their grid's cells (0 and 0 without).
+    /// The frame's wave packets, their grid's cells and its tiles (0, 0 and 0 without).
     pub packets: u32,
     pub packet_cells: u32,
+    pub packet_tiles: u32,
 }
 
 /// The host's attachments a frame draws into (passes/composite.rs).

@@ -1,12 +1,14 @@
-//! Packet bins: the frame's wave packets copied from its slot's upload window and binned into
-//! the cells of their grid (glsl/packet_bins.comp's five steps, each a dispatch behind a barrier
-//! from its declared accesses), so that the grid's vertices and the pixels read only the packets
-//! that reach them (glsl/packets.glsl). First in the frame: the sun's view of the grid, which a
-//! host may record ahead of the frame, displaces the packets too.
+//! Packet bins: the frame's wave packets copied from its slot's upload window (a transfer) and
+//! binned into the cells of their grid, a workgroup per tile of cells testing them against the
+//! tile's list (glsl/packet_bins.comp's three steps, each a dispatch behind a barrier from its
+//! declared accesses), so that the grid's vertices and the pixels read only the packets that
+//! reach them (glsl/packets.glsl). First in the frame: the sun's view of the grid, which a host
+//! may record ahead of the frame, displaces the packets too.
 
 use super::{Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::model::packets::grid::MAX_CELLS;
+use crate::model::packets::grid::{MAX_CELLS, MAX_TILES};
+use crate::render::packets::GpuPacket;
 use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
 use crate::vk::barrier::{Access, Tracker};
@@ -15,14 +17,12 @@ use crate::vk::owned::Owned;
 use crate::vk::pipeline::{compute_pipeline, Bindings};
 use ash::vk;
 
-const UPLOAD_BINDING: u32 = 1;
-const PACKETS_BINDING: u32 = 2;
 const CELLS_BINDING: u32 = 3;
 const COUNTERS_BINDING: u32 = 4;
-/// The step, the slot's first packet in the upload window and the lists' room (entries).
+const TILES_BINDING: u32 = 5;
+const PACKET_TEXELS_BINDING: u32 = 6;
+/// The step, the lists' room (entries) and the slot's first word in the tiles' upload window.
 const PUSH_BYTES: u32 = 12;
-/// Invocations per workgroup (glsl/packet_bins.comp's local size).
-const BIN_GROUP: u32 = 256;
 
 pub struct PacketBinsPass<'g> {
     bindings: Bindings<'g>,
@@ -42,18 +42,18 @@ impl<'g> PacketBinsPass<'g> {
             Self::NAME,
             &[
                 (FRAME_BINDING, D::UNIFORM_BUFFER_DYNAMIC, compute),
-                (UPLOAD_BINDING, D::STORAGE_BUFFER, compute),
-                (PACKETS_BINDING, D::STORAGE_BUFFER, compute),
                 (CELLS_BINDING, D::STORAGE_BUFFER, compute),
                 (COUNTERS_BINDING, D::STORAGE_BUFFER, compute),
+                (TILES_BINDING, D::STORAGE_BUFFER, compute),
+                (PACKET_TEXELS_BINDING, PACKET_READ_TYPE, compute),
             ],
             PUSH_BYTES,
         )?;
         super::write_frame_uniforms(&bindings, r, false);
-        bindings.write_buffer(UPLOAD_BINDING, D::STORAGE_BUFFER, p.upload.raw);
-        bindings.write_buffer(PACKETS_BINDING, D::STORAGE_BUFFER, p.packets.raw);
         bindings.write_buffer(CELLS_BINDING, D::STORAGE_BUFFER, p.cells.raw);
         bindings.write_buffer(COUNTERS_BINDING, D::STORAGE_BUFFER, p.counters.raw);
+        bindings.write_buffer(TILES_BINDING, D::STORAGE_BUFFER, p.tile_upload.raw);
+        bindings.write_texel_buffer(PACKET_TEXELS_BINDING, PACKET_READ_TYPE, p.texels.packets.raw);
         let pipeline = compute_pipeline(device, bindings.layout(), shaders::PACKET_BINS_COMP, Self::NAME)?;
         Ok(Some(PacketBinsPass { bindings, pipeline }))
     }
@@ -66,37 +66,46 @@ impl Pass for PacketBinsPass<'_> {
 
     fn declare(&self, r: &Resources, _f: &Frame, t: &mut Tracker) {
         let Some(p) = &r.packets else { return };
-        t.buffer(&p.upload, Access::ComputeStorageRead);
-        t.buffer(&p.packets, Access::ComputeStorageWrite);
+        t.buffer(&p.upload, Access::TransferRead);
+        t.buffer(&p.packets, Access::TransferWrite);
+        t.buffer(&p.tile_upload, Access::ComputeStorageRead);
         t.buffer(&p.counters, Access::ComputeStorageWrite);
         t.buffer(&p.cells, Access::ComputeStorageWrite);
     }
 
     fn record(&self, rec: &mut Recorder, r: &Resources) {
         let Some(p) = &r.packets else { return };
-        let (packets, cells) = (rec.frame.packets, rec.frame.packet_cells);
+        let (packets, cells, tiles) = (rec.frame.packets, rec.frame.packet_cells, rec.frame.packet_tiles);
         if packets == 0 {
             return;
         }
-        debug_assert!(cells <= MAX_CELLS);
+        debug_assert!(cells <= MAX_CELLS && tiles <= MAX_TILES);
         let (device, cmd) = (&rec.device.raw, rec.cmd);
-        // SAFETY: outside a rendering scope; the set was made for this pipeline's layout and the
-        // pass's buffers were declared.
+        let packet_bytes = std::mem::size_of::<GpuPacket>() as u64;
+        let copy = vk::BufferCopy {
+            src_offset: packet_bytes * u64::from(p.first(rec.frame.slot)),
+            dst_offset: 0,
+            size: packet_bytes * u64::from(packets),
+        };
+        // SAFETY: outside a rendering scope; both buffers are in transfer states (declared); the
+        // slot's window holds `packets` packets (PacketBuffers::write) and `packets` as many.
+        unsafe { device.cmd_copy_buffer(cmd, p.upload.raw, p.packets.raw, &[copy]) };
+        rec.tracker.buffer(&p.packets, Access::ComputeSampled);
+        rec.tracker.flush(device, cmd);
+        // SAFETY: as above; the set was made for this pipeline's layout and the pass's buffers
+        // were declared.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw) };
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
-        let first = p.first(rec.frame.slot);
-        let groups = |n: u32| n.div_ceil(BIN_GROUP);
-        // Steps 0 to 4 (glsl/packet_bins.comp): clear, count, scan, scatter, sort.
-        for (step, group_count) in
-            [groups(cells), groups(packets), 1, groups(packets), groups(cells)].into_iter().enumerate()
-        {
+        let tile_first = p.tile_first(rec.frame.slot);
+        // Steps 0 to 2 (glsl/packet_bins.comp): count, scan, write.
+        for (step, group_count) in [tiles, 1, tiles].into_iter().enumerate() {
             if step > 0 {
-                // Each step reads and writes what the one before wrote.
+                // The scan reads the counts, the writing the starts.
                 rec.tracker.buffer(&p.counters, Access::ComputeStorageReadWrite);
                 rec.tracker.buffer(&p.cells, Access::ComputeStorageReadWrite);
                 rec.tracker.flush(device, cmd);
             }
-            self.bindings.push_compute_words(cmd, &[step as u32, first, p.max_entries as u32]);
+            self.bindings.push_compute_words(cmd, &[step as u32, p.max_entries as u32, tile_first]);
             // SAFETY: as above.
             unsafe { device.cmd_dispatch(cmd, group_count, 1, 1) };
         }
