@@ -82,7 +82,7 @@ void add_train(vec4 w, vec2 x, inout Surface s) {
 }
 
 // A packet's displacement and its derivatives (model::packets::Packet::add_to): the carrier's
-// and its envelope's (tapered to 0 at PACKET_SIGMAS).
+// and its envelope's (0 from PACKET_SIGMAS out).
 void add_packet(uint index, vec2 x, inout Surface s) {
     Packet p = truth_packets[index];
     vec2 rel = x - p.centre_k.xy;

@@ -12,11 +12,10 @@
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
 
-/// The tapered envelope's steepest slope per unit of amplitude, times sigma: 0.6080674 along an
-/// axis at 1.93 sigmas, in the taper (the Gaussian's own, exp(-1/2) at one sigma, is 0.6065),
-/// sampled every 2.3e-6 sigmas, rounded up; across the plane, where the other axis's factor is at
-/// most 1, no steeper (sampled every 2e-3 sigmas).
-const ENVELOPE_STEEPEST: f64 = 0.608_1;
+/// The envelope's steepest slope per unit of amplitude, times sigma: the window's, 6 x (1 - x) / 2
+/// at its largest (x = 1/2, one sigma out), 3/4; across the plane the other axis's factor is at
+/// most 1.
+const ENVELOPE_STEEPEST: f64 = 0.75;
 
 /// Cells per side at most: 65 536 cells, whose starts the GPU's one-workgroup scan covers.
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
@@ -311,11 +310,11 @@ mod tests {
         assert!(grid.tiles() > 4 && grid.tile_packets.len() > ps.len(), "{} {}", grid.tiles(), grid.tile_packets.len());
     }
 
-    /// The reach the CPU tests cells with is the GPU's (glsl/packet_data.glsl's literal 2.3,
+    /// The reach the CPU tests cells with is the GPU's (glsl/packet_data.glsl's literal 2.0,
     /// rounded once to single precision), and a cell is listed only where the rectangle meets it.
     #[test]
     fn cells_are_listed_only_where_the_rectangle_meets_them() {
-        assert_eq!(ENVELOPE_SIGMAS as f32, 2.3f32);
+        assert_eq!(ENVELOPE_SIGMAS as f32, 2.0f32);
         // A thin packet along the diagonal: its box holds cells off the diagonal that the
         // rectangle misses.
         let p = Packet {

@@ -15,7 +15,7 @@
 //! sources' packets (a wake rocking the hull) leave pulses of rings (`add_pulses`); a moving hull
 //! radiates none.
 
-use super::{comb_share, tapered_envelope, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, envelope_at, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
 use crate::model::floating::{complex_product, Waterplane};
 use crate::model::waves::{WaveSet, G};
 use glam::DVec2;
@@ -261,7 +261,7 @@ impl HeavingHull {
             // (exactly, for a path along an axis, as a ring's own packets travel). Beyond its reach,
             // no pulse.
             let nearest = b + past * w;
-            let (peak, _, _) = tapered_envelope(nearest.x, nearest.y);
+            let (peak, _, _) = envelope_at(nearest.x, nearest.y);
             if peak <= 0.0 || past < -2.0 * sigma {
                 continue;
             }

@@ -205,7 +205,7 @@ impl Wake {
                 // have drifted apart). Never zero: an envelope divides by it.
                 let across = (0.5 * lateral).max(0.5 * caustic).max(1e-6 * lambda);
                 let field = if r > 0.0 { (f0 * field2(c, r)).sqrt() } else { f64::INFINITY };
-                // The chain's Gaussians, two sigmas apart (flat within 1.4%), and the neighbouring
+                // The chain's windows, two sigmas apart (a partition of unity), and the neighbouring
                 // components' `lateral` apart. Two sigmas, not one: a packet near the object
                 // reaches half as far ahead of it.
                 let along = 0.5 * v * dt;

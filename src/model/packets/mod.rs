@@ -23,60 +23,51 @@ pub const STEEPEST_KA: f64 = std::f64::consts::PI * 0.142;
 /// exp(-2 nu k^2 t) (Lamb, Hydrodynamics, 1932, section 348).
 pub const VISCOSITY: f64 = 1.05e-6;
 
-/// A packet's envelope reaches this far along each of its axes, in sigmas: the envelope is a
-/// product of one-dimensional Gaussians exp(-u^2 / 2) exp(-v^2 / 2), each tapered to 0 by a
-/// smoothstep from ENVELOPE_TAPER to here, so nothing is cut off. A product, so that a lattice of
-/// packets sums to the product of its rows' sums and a row's share (`comb_share`) holds in two
-/// dimensions too (with a round taper the lattice's mean fell 3% below its rows', its power 7%).
-/// Its reach sets how many packets a point reads, reach^2 of a lattice two sigmas apart: 5.3 here
-/// against 8.3 for the round 3.25-sigma envelope drawn before (docs/bench/packets.md). A row two
-/// sigmas apart sums within 2.2% below and 1.0% above its mean (1.7% and 2.0% before).
-pub const ENVELOPE_SIGMAS: f64 = 2.3;
-pub const ENVELOPE_TAPER: f64 = 1.8;
+/// A packet's envelope reaches this far along each of its axes, in sigmas: along each axis it is
+/// the window w(t) = 1 - smoothstep(0, 2, |t|) = 1 - 3 (t/2)^2 + 2 |t/2|^3, and the envelope their
+/// product w(u) w(v). A row of windows two sigmas apart is a partition of unity (w(t) + w(t - 2) =
+/// 1, as smoothstep(x) + smoothstep(1 - x) = 1): a chain of equal packets sums to one flat train,
+/// where Gaussians two sigmas apart rippled by 2%. A product, so that a lattice sums to the
+/// product of its rows' sums and a row's share (`comb_share`) holds in two dimensions too. Its
+/// reach sets how many packets a point reads, reach^2 of a lattice two sigmas apart: 4, against
+/// 5.3 for the tapered Gaussians reaching 2.3 sigmas drawn before (docs/bench/packets.md), and a
+/// polynomial has no exponential to evaluate. Sigma is the half-width at half the peak, w(1) = 1/2.
+pub const ENVELOPE_SIGMAS: f64 = 2.0;
 
-/// The envelope's square integrated over the plane, over the Gaussian's pi sigma_1 sigma_2 (the
-/// square of its row's share, 0.9946612, by the midpoint rule over 200 000 steps).
-pub const ENVELOPE_SQUARE_SHARE: f64 = 0.989_351;
+/// The envelope's square integrated over the plane, over sigma_1 sigma_2: the window's own,
+/// integral of w^2 over [-2, 2] = 4 (13/35), squared.
+pub const ENVELOPE_SQUARE_INTEGRAL: f64 = (52.0 / 35.0) * (52.0 / 35.0);
 
-/// One axis's tapered Gaussian at t sigmas and its derivative: exp(-t^2 / 2) times
-/// 1 - smoothstep(ENVELOPE_TAPER, ENVELOPE_SIGMAS, |t|); 0 from ENVELOPE_SIGMAS out.
-fn tapered_axis(t: f64) -> (f64, f64) {
-    let a = t.abs();
-    if a >= ENVELOPE_SIGMAS {
+/// The window along one axis at t sigmas and its derivative: 1 - smoothstep(0, ENVELOPE_SIGMAS,
+/// |t|); 0 from ENVELOPE_SIGMAS out.
+fn window(t: f64) -> (f64, f64) {
+    let x = t.abs() / ENVELOPE_SIGMAS;
+    if x >= 1.0 {
         return (0.0, 0.0);
     }
-    let g = (-0.5 * t * t).exp();
-    let (mut w, mut dw) = (1.0, 0.0);
-    if a > ENVELOPE_TAPER {
-        let width = ENVELOPE_SIGMAS - ENVELOPE_TAPER;
-        let s = (a - ENVELOPE_TAPER) / width;
-        w = 1.0 - s * s * (3.0 - 2.0 * s);
-        dw = -6.0 * s * (1.0 - s) / width * t.signum();
-    }
-    (g * w, g * (dw - t * w))
+    (1.0 - x * x * (3.0 - 2.0 * x), -6.0 * x * (1.0 - x) / ENVELOPE_SIGMAS * t.signum())
 }
 
 /// The envelope at normalized coordinates (u, v) (sigmas along each axis) and its derivatives in
-/// them: the product of each axis's tapered Gaussian (glsl/packet_data.glsl `packet_envelope` is
-/// its twin).
-pub fn tapered_envelope(u: f64, v: f64) -> (f64, f64, f64) {
-    let ((eu, du), (ev, dv)) = (tapered_axis(u), tapered_axis(v));
+/// them: the product of each axis's window (glsl/packet_data.glsl `packet_envelope` is its twin).
+pub fn envelope_at(u: f64, v: f64) -> (f64, f64, f64) {
+    let ((eu, du), (ev, dv)) = (window(u), window(v));
     (eu * ev, du * ev, eu * dv)
 }
 
-/// The tapered envelope's integral along an axis through its centre, in sigmas: the Gaussian's
-/// sqrt(2 pi) = 2.5066 less the taper's cut (4.2%), by the midpoint rule over 200 000 steps.
-pub const ENVELOPE_LINE_INTEGRAL: f64 = 2.402_307;
+/// The envelope's integral along an axis through its centre, in sigmas: the window's, exactly 2
+/// (half its support, a partition of unity two sigmas apart).
+pub const ENVELOPE_LINE_INTEGRAL: f64 = 2.0;
 
 /// A packet's share of the field its row makes: envelopes of sigma `sigma`, `spacing` apart and
-/// in phase, sum to ENVELOPE_LINE_INTEGRAL sigma / spacing times one; at most the whole (a packet
-/// alone).
+/// in phase, sum to ENVELOPE_LINE_INTEGRAL sigma / spacing times one on average (exactly one
+/// everywhere two sigmas apart); at most the whole (a packet alone).
 pub fn comb_share(spacing: f64, sigma: f64) -> f64 {
     (spacing / (ENVELOPE_LINE_INTEGRAL * sigma)).min(1.0)
 }
 
 /// One packet at the field's time: a carrier of wavenumber k travelling along `direction`, under a
-/// Gaussian envelope whose axes are `axis` and its perpendicular.
+/// smooth envelope (`envelope_at`) whose axes are `axis` and its perpendicular.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Packet {
     /// The envelope's centre (m, the trains' horizontal frame).
@@ -89,7 +80,8 @@ pub struct Packet {
     pub amplitude: f64,
     /// Unit: the envelope's first axis (a wake's chain of packets lies along it).
     pub axis: DVec2,
-    /// The envelope's standard deviations along `axis` and across it (m).
+    /// The envelope's half-widths at half its peak along `axis` and across it (m): it reaches
+    /// ENVELOPE_SIGMAS of them.
     pub sigma: [f64; 2],
     /// The carrier's phase at the centre (rad): at rest position x it is
     /// phase - k direction . (x - centre), as a train's omega t - k . x + phase0.
@@ -111,10 +103,9 @@ impl Packet {
     }
 
     /// Its wave energy over rho g (m^4): the phase-averaged 1/2 a^2 E^2 integrated over the
-    /// envelope, 1/2 a^2 pi sigma_1 sigma_2 ENVELOPE_SQUARE_SHARE.
+    /// envelope, 1/2 a^2 sigma_1 sigma_2 ENVELOPE_SQUARE_INTEGRAL.
     pub fn energy(&self) -> f64 {
-        let square = std::f64::consts::PI * self.sigma[0] * self.sigma[1] * ENVELOPE_SQUARE_SHARE;
-        0.5 * self.amplitude * self.amplitude * square
+        0.5 * self.amplitude * self.amplitude * self.sigma[0] * self.sigma[1] * ENVELOPE_SQUARE_INTEGRAL
     }
 
     /// Whether rest position x lies within the envelope's reach (ENVELOPE_SIGMAS along each axis).
@@ -129,10 +120,10 @@ impl Packet {
         (r.dot(self.axis) / self.sigma[0], r.dot(self.axis.perp()) / self.sigma[1])
     }
 
-    /// The envelope at rest position x (tapered_envelope) and its gradient.
+    /// The envelope at rest position x (envelope_at) and its gradient.
     pub fn envelope(&self, x: DVec2) -> (f64, DVec2) {
         let (u, v) = self.normalized(x);
-        let (e, de_du, de_dv) = tapered_envelope(u, v);
+        let (e, de_du, de_dv) = envelope_at(u, v);
         (e, self.axis * (de_du / self.sigma[0]) + self.axis.perp() * (de_dv / self.sigma[1]))
     }
 
@@ -289,7 +280,6 @@ mod tests {
                 sum += 0.5 * (p.amplitude * e).powi(2) * step * step;
             }
         }
-        // energy() counts the taper's cut, 1.1% (ENVELOPE_SQUARE_SHARE).
         assert!((sum / p.energy() - 1.0).abs() < 1e-3, "{sum} {}", p.energy());
     }
 
