@@ -8,7 +8,7 @@ struct Packet {
     vec4 centre_k;   // xy: the envelope's centre (m, camera-relative); zw: wave vector (turns per m)
     vec4 envelope;   // xy: the envelope's first axis over its sigma; zw: the second's (1/m)
     vec4 wave;       // x: amplitude at the centre (m); y: phase there (turns, [0, 1));
-                     // zw: its cells' range as uint bits, first column | row << 16, last the same
+                     // z: wavelength (m, 1 / |k| in turns); w: slope amplitude k a
 };
 
 const uint MAX_PACKET_CELLS = 65536u;   // grid::MAX_CELLS

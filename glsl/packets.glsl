@@ -12,8 +12,7 @@ layout(constant_id = 18) const bool PACKETS = false;
 
 // Texel buffers, not storage buffers: a texel fetch gathers across the SIMD lanes where a
 // storage buffer's divergent read is fetched lane by lane on a CPU driver (render/packets.rs
-// PacketTexels). A packet is three RGBA32_SFLOAT texels (its cell range's bits, unused here, may
-// come back with denormals flushed); the cells are R32_UINT.
+// PacketTexels). A packet is three RGBA32_SFLOAT texels; the cells are R32_UINT.
 layout(set = 0, binding = 20) uniform samplerBuffer packet_texels;
 layout(set = 0, binding = 21) uniform usamplerBuffer packet_cell_texels;
 
@@ -54,7 +53,7 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
         if (!packet_reaches(u, v) || weight <= 0.0) continue;
         vec4 wave = packet_texel(index, 2);
         float h = weight * wave.x * packet_envelope(u, v).x;
-        vec2 dir = k_turns * inversesqrt(dot(k_turns, k_turns));   // |k| >= 1e-4 turns/m: the model's band
+        vec2 dir = k_turns * wave.z;
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         d += vec3(dir * (h * sc.x), h * sc.y);
     }
@@ -75,24 +74,22 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     vec2 k_turns = centre_k.zw;
     float wn = resolves ? normal_weight(s, k_turns) : 0.0;
     vec3 e = packet_envelope(u, v);
-    float a = wave.x * e.x;
-    float k2 = dot(k_turns, k_turns);   // >= 1e-8 turns^2/m^2: the model's band
-    vec2 dir = k_turns * inversesqrt(k2);
-    float k = 2.0 * PI * sqrt(k2);
+    vec2 dir = k_turns * wave.z;
+    // k a E <= STEEPEST_KA < 1: the slope variance's argument stays below 1.
+    float kae = wave.w * e.x;
     if (wn > 0.0) {
         vec2 grad = wave.x * (e.y * envelope.xy + e.z * envelope.zw);
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
-        vec2 horizontal = grad * sc.x - dir * (a * k * sc.y);
-        vec2 vertical = grad * sc.y + dir * (a * k * sc.x);
+        vec2 horizontal = grad * sc.x - dir * (kae * sc.y);
+        vec2 vertical = grad * sc.y + dir * (kae * sc.x);
         r.tangent_x += wn * vec3(dir * horizontal.x, vertical.x);
         r.tangent_y += wn * vec3(dir * horizontal.y, vertical.y);
     }
-    // k a E <= STEEPEST_KA < 1: the slope variance's argument stays below 1.
-    float kae = k * a;
     float unresolved2 = (1.0 - wn * wn) * kae * kae;
     r.sigma2 += wind_axes2(dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
-    if (GLINTS) r.curvature += 0.5 * k2 * (4.0 * PI * PI) * unresolved2;
+    // Curvature k (k a E) along the carrier: its variance k^2 (k a E)^2 / 2, k = 2 pi |k_turns|.
+    if (GLINTS) r.curvature += 2.0 * PI * PI * dot(k_turns, k_turns) * unresolved2;
     count_packet();
 }
 

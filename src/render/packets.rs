@@ -22,10 +22,10 @@ pub struct GpuPacket {
     pub centre_k: [f32; 4],
     /// The envelope's two axes, each over its sigma (1/m).
     pub envelope: [f32; 4],
-    /// Amplitude at the centre (m) and the phase there (turns, [0, 1)).
-    pub wave: [f32; 2],
-    /// Its cells: first column | first row << 16, then the last's.
-    pub cells: [u32; 2],
+    /// Amplitude at the centre (m), the phase there (turns, [0, 1)), the wavelength (m, 1 over
+    /// the wave vector's length in turns: the direction is the wave vector times it) and the
+    /// slope amplitude k a: what the shading would otherwise take a square root for, twice.
+    pub wave: [f32; 4],
 }
 
 /// The lists' room per packet alive: a packet overlaps this many cells on average before the
@@ -33,15 +33,15 @@ pub struct GpuPacket {
 pub const ENTRIES_PER_PACKET: usize = 32;
 
 impl GpuPacket {
-    /// Packet `p`, its rectangle `footprint` (the grid's, to the bit) and its cells `range`.
-    fn new(p: &Packet, footprint: &Footprint, range: [u32; 4]) -> GpuPacket {
+    /// Packet `p` and its rectangle `footprint` (the grid's, to the bit).
+    fn new(p: &Packet, footprint: &Footprint) -> GpuPacket {
         let k = p.direction * (p.k / TAU);
         let [cx, cy] = footprint.centre;
+        let phase = (p.phase / TAU).rem_euclid(1.0);
         GpuPacket {
             centre_k: [cx, cy, k.x as f32, k.y as f32],
             envelope: footprint.axes,
-            wave: [p.amplitude as f32, (p.phase / TAU).rem_euclid(1.0) as f32],
-            cells: [range[0] | range[1] << 16, range[2] | range[3] << 16],
+            wave: [p.amplitude, phase, p.wavelength(), p.k * p.amplitude].map(|v| v as f32),
         }
     }
 }
@@ -65,9 +65,7 @@ impl FramePackets {
     pub fn with_cells(sources: &Sources, t: f64, eye: DVec2, max_entries: usize, per_side: u32) -> FramePackets {
         let field = sources.field(t).relative_to(eye);
         let grid = PacketGrid::with_side(&field.packets, max_entries, per_side);
-        let gpu = (field.packets.iter().zip(&grid.footprints).zip(&grid.ranges))
-            .map(|((p, f), &r)| GpuPacket::new(p, f, r))
-            .collect();
+        let gpu = field.packets.iter().zip(&grid.footprints).map(|(p, f)| GpuPacket::new(p, f)).collect();
         FramePackets { field, grid, gpu }
     }
 
