@@ -6,8 +6,8 @@
 //! meet any of their cells, each with the part of its cell range inside the tile: the GPU bins the
 //! packets into the cells itself (glsl/packet_bins.comp), one workgroup a tile testing its cells
 //! against the tile's list, so that every cell's list comes out in packet order with no atomics
-//! and no sort (the same on every run and device). `lists` is
-//! the same binning on the CPU, for the ground truth and the tests.
+//! and no sort (the same on every run and device). `lists` is the same binning on the CPU, for
+//! the ground truth and the tests.
 
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;

@@ -210,7 +210,7 @@ impl HeavingHull {
         // Arcs at most sqrt(r / 2k) hold that to a quarter radian (the power 1.3% short; at
         // sqrt(r / k), half a radian, 5%), and at most a wavelength.
         // Directions a power of two, from +x: a pulse's growing ring doubles them now and then,
-        // its old packets' places among the new (its field then moves by the rows' 3% ripple).
+        // its old packets' places among the new (rows two sigmas apart sum to one either way).
         let most = lambda.min((0.5 * r / k).sqrt());
         // At most MAX_RING_DIRECTIONS: a pulse far out (its phase error then k arc² / 2r, 0.2
         // radians 100 wavelengths out) is faint by the time it needs more.
@@ -350,8 +350,8 @@ mod tests {
                 / n as f64
                 / expected
         };
-        // Over a ring's spacing (the rows of packets two sigmas apart ripple by 3% in amplitude,
-        // 0.92 of the power between rings), from the third ring out and from the sixth.
+        // Over a ring's spacing (the rings' amplitudes fall between them, and their straight
+        // crests stray from the curved ring), from the third ring out and from the sixth.
         for first in [3.0, 6.0] {
             let ratios: Vec<f64> = (0..4).map(|i| flux_at(first + 0.25 * i as f64)).collect();
             let mean = ratios.iter().sum::<f64>() / 4.0;
