@@ -8,7 +8,9 @@ struct Packet {
     vec4 centre_k;   // xy: the envelope's centre (m, camera-relative); zw: wave vector (turns per m)
     vec4 envelope;   // xy: the envelope's first axis over its sigma; zw: the second's (1/m)
     vec4 wave;       // x: amplitude at the centre (m); y: phase there (turns, [0, 1));
-                     // z: wavelength (m, 1 / |k| in turns); w: slope amplitude k a
+                     // |z|: wavelength (m, 1 / |k| in turns); |w|: slope amplitude squared (k a)^2;
+                     // z and w negative where the row along the first axis, the second's, is in
+                     // phase (model::packets::Packet::in_phase)
 };
 
 const uint MAX_PACKET_CELLS = 65536u;   // grid::MAX_CELLS
@@ -30,11 +32,15 @@ vec2 packet_window(float t) {
     return vec2(1.0 - x * x * (3.0 - 2.0 * x), -6.0 / PACKET_SIGMAS * x * (1.0 - x) * sign(t));
 }
 
-// The envelope at normalized coordinates (u, v) within its reach, and its derivatives in them
+// The envelope from its two axes' windows (packet_window), and its derivatives in u and v
 // (model::packets::envelope_at is its twin).
-vec3 packet_envelope(float u, float v) {
-    vec2 wu = packet_window(u), wv = packet_window(v);
+vec3 packet_envelope_of(vec2 wu, vec2 wv) {
     return vec3(wu.x * wv.x, wu.y * wv.x, wu.x * wv.y);
+}
+
+// The envelope at normalized coordinates (u, v) within its reach, and its derivatives in them.
+vec3 packet_envelope(float u, float v) {
+    return packet_envelope_of(packet_window(u), packet_window(v));
 }
 
 #endif

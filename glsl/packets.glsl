@@ -53,7 +53,7 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
         if (!packet_reaches(u, v) || weight <= 0.0) continue;
         vec4 wave = packet_texel(index, 2);
         float h = weight * wave.x * packet_envelope(u, v).x;
-        vec2 dir = k_turns * wave.z;
+        vec2 dir = k_turns * abs(wave.z);
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         d += vec3(dir * (h * sc.x), h * sc.y);
     }
@@ -61,8 +61,9 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
 }
 
 // Adds packet `index` at rest position x to a pixel's surface: at its normal weight wn in the tangents
-// (none where the pixel resolves nothing), the rest of its slope variance, that of the amplitude
-// sqrt(1 - wn^2) k a E, to the BRDF's, as add_weighted_train does a train's. The tangents are
+// (none where the pixel resolves nothing), the rest of its slope variance, that of the squared
+// amplitude (1 - wn^2) (k a)^2 times its envelope's factor (the window's square, or along a row in
+// phase the window), to the BRDF's, as add_weighted_train does a train's. The tangents are
 // Packet::add_to's: the carrier's and the envelope's gradient's. A packet the pixel does not
 // resolve at all (wn = 0, most of a distant wake's) costs its envelope and variance alone.
 void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool resolves) {
@@ -73,10 +74,11 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     vec4 wave = packet_texel(index, 2);
     vec2 k_turns = centre_k.zw;
     float wn = resolves ? normal_weight(s, k_turns) : 0.0;
-    vec3 e = packet_envelope(u, v);
-    vec2 dir = k_turns * wave.z;
-    // k a E <= STEEPEST_KA < 1: the slope variance's argument stays below 1.
-    float kae = wave.w * e.x;
+    vec2 wu = packet_window(u), wv = packet_window(v);
+    vec3 e = packet_envelope_of(wu, wv);
+    float wavelength = abs(wave.z);
+    vec2 dir = k_turns * wavelength;
+    float kae = (2.0 * PI) * wave.x * e.x / wavelength;   // wavelength >= 1e-3 m: the model's band
     if (wn > 0.0) {
         vec2 grad = wave.x * (e.y * envelope.xy + e.z * envelope.zw);
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
@@ -86,7 +88,11 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
         r.tangent_x += wn * vec3(dir * horizontal.x, vertical.x);
         r.tangent_y += wn * vec3(dir * horizontal.y, vertical.y);
     }
-    float unresolved2 = (1.0 - wn * wn) * kae * kae;
+    // The envelope's factor in the variance: along each axis its window where the row is in
+    // phase, else its square (Packet::variance_envelope). (k a)^2 <= STEEPEST_KA^2 and the
+    // factor <= 1: the slope variance's argument stays below 1.
+    float along = wave.z < 0.0 ? wu.x : wu.x * wu.x, across = wave.w < 0.0 ? wv.x : wv.x * wv.x;
+    float unresolved2 = (1.0 - wn * wn) * abs(wave.w) * along * across;
     r.sigma2 += wind_axes2(dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
     // Curvature k (k a E) along the carrier: its variance k^2 (k a E)^2 / 2, k = 2 pi |k_turns|.
     if (GLINTS) r.curvature += 2.0 * PI * PI * dot(k_turns, k_turns) * unresolved2;

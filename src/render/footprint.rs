@@ -121,8 +121,7 @@ impl Footprint<'_> {
             p.add_to(x, &mut surface);
             tx += wn * surface.tx;
             ty += wn * surface.ty;
-            let kae = p.k * p.amplitude * p.envelope(x).0;
-            let residual = trochoid_slope_variance((1.0 - wn * wn) * (kae * kae));
+            let residual = trochoid_slope_variance((1.0 - wn * wn) * p.unresolved_slope2(x));
             let (along, across) = (p.direction.dot(wind), p.direction.perp_dot(wind));
             sigma2[0] += along * along * residual;
             sigma2[1] += across * across * residual;

@@ -24,7 +24,8 @@ pub struct GpuPacket {
     pub envelope: [f32; 4],
     /// Amplitude at the centre (m), the phase there (turns, [0, 1)), the wavelength (m, 1 over
     /// the wave vector's length in turns: the direction is the wave vector times it) and the
-    /// slope amplitude k a: what the shading would otherwise take a square root for, twice.
+    /// slope amplitude's square (k a)^2; the last two negative where the row along the first
+    /// axis, and the second's, is in phase (Packet::in_phase).
     pub wave: [f32; 4],
 }
 
@@ -38,10 +39,13 @@ impl GpuPacket {
         let k = p.direction * (p.k / TAU);
         let [cx, cy] = footprint.centre;
         let phase = (p.phase / TAU).rem_euclid(1.0);
+        let signed = |v: f64, in_phase: bool| if in_phase { -v } else { v };
+        let slope2 = (p.k * p.amplitude).powi(2);
+        let (wavelength, slope2) = (signed(p.wavelength(), p.in_phase[0]), signed(slope2, p.in_phase[1]));
         GpuPacket {
             centre_k: [cx, cy, k.x as f32, k.y as f32],
             envelope: footprint.axes,
-            wave: [p.amplitude, phase, p.wavelength(), p.k * p.amplitude].map(|v| v as f32),
+            wave: [p.amplitude, phase, wavelength, slope2].map(|v| v as f32),
         }
     }
 }

@@ -184,15 +184,16 @@ impl HeavingHull {
             let z = complex_product(c.relative, DVec2::new(turn.cos(), turn.sin()));
             for n in 0..RINGS {
                 let r = self.first_ring(c.k) + lambda * n as f64;
-                self.add_ring(&mut packets, c.k, group, z, r, 0.5 * lambda, comb_share(lambda, 0.5 * lambda));
+                self.add_ring(&mut packets, c.k, group, z, r, 0.5 * lambda, Some(comb_share(lambda, 0.5 * lambda)));
             }
         }
         self.add_pulses(&mut packets, driving);
         packets
     }
 
-    /// One ring of packets of radial sigma `radial` at radius r, each `radial_share` of the field
-    /// at its centre (its row's comb share; 1 for a lone ring).
+    /// One ring of packets of radial sigma `radial` at radius r, each `row_share` of the field at
+    /// its centre where it is one of a row of rings in phase (the row's comb share), or the whole
+    /// of it for a lone ring (None).
     #[allow(clippy::too_many_arguments)]
     fn add_ring(
         &self,
@@ -202,7 +203,7 @@ impl HeavingHull {
         z: DVec2,
         r: f64,
         radial: f64,
-        radial_share: f64,
+        row_share: Option<f64>,
     ) {
         let lambda = TAU / k;
         // Straight crests on a curved ring: a packet's phase strays by k x² / 2r at x along the
@@ -216,7 +217,7 @@ impl HeavingHull {
         // radians 100 wavelengths out) is faint by the time it needs more.
         let directions = ((TAU * r / most).ceil() as usize).clamp(8, MAX_RING_DIRECTIONS).next_power_of_two();
         let arc = TAU * r / directions as f64;
-        let share = radial_share * comb_share(arc, 0.5 * arc);
+        let share = row_share.unwrap_or(1.0) * comb_share(arc, 0.5 * arc);
         for m in 0..directions {
             let theta = m as f64 * TAU / directions as f64;
             let direction = DVec2::new(theta.cos(), theta.sin());
@@ -229,6 +230,8 @@ impl HeavingHull {
                 axis: direction,
                 sigma: [radial, 0.5 * arc],
                 phase: eta.y.atan2(eta.x),
+                // Its neighbours around the ring are in phase, and outwards the next of a row.
+                in_phase: [row_share.is_some(), true],
             });
         }
     }
@@ -288,7 +291,7 @@ impl HeavingHull {
         }
         pulses.sort_by(|a, b| b.0.total_cmp(&a.0));
         for &(_, k, group, r, z, sigma) in pulses.iter().take(MAX_PULSES) {
-            self.add_ring(packets, k, group, z, r, sigma, 1.0);
+            self.add_ring(packets, k, group, z, r, sigma, None);
         }
     }
 }
@@ -437,6 +440,7 @@ mod tests {
             axis: DVec2::X,
             sigma: [6.0, 6.0],
             phase: 1.0 + (G * k).sqrt() * t,
+            in_phase: [false, false],
         };
         let pulse = |t: f64| hull.packets(t, &[driving(t)]);
         // Before its envelope is two sigmas from the hull, nothing.

@@ -224,6 +224,8 @@ impl Wake {
                     axis,
                     sigma: [along, across],
                     phase: -turn - k * direction.dot(centre - here),
+                    // The chain's packets share its carrier; the next component's differ.
+                    in_phase: [true, false],
                 });
             }
         }

@@ -86,6 +86,14 @@ pub struct Packet {
     /// The carrier's phase at the centre (rad): at rest position x it is
     /// phase - k direction . (x - centre), as a train's omega t - k . x + phase0.
     pub phase: f64,
+    /// Whether its neighbours along each axis (`axis`, then across) carry its own wave in phase
+    /// with it, two sigmas apart: a chain's packets along it, a ring's around it. The slope
+    /// variance it leaves to the BRDF then takes its window along that axis, not the window's
+    /// square, so that the row's variances sum to that of its summed amplitude (exactly, for equal
+    /// packets: the windows are a partition of unity), where squares would leave 0.743 of it on
+    /// average (`variance_envelope`). Neighbours of other wavenumbers (a wake's next component)
+    /// are not in phase: their variances add.
+    pub in_phase: [bool; 2],
 }
 
 /// The surface a packet adds at a rest position: its displacement, and its share of the
@@ -145,12 +153,33 @@ impl Packet {
         sum.ty += DVec3::new(d.x * hy, d.y * hy, vertical(d.y, grad.y));
     }
 
+    /// The envelope's factor in its slope variance at rest position x: along each axis its
+    /// window where the row is in phase (`in_phase`), else the window's square.
+    pub fn variance_envelope(&self, x: DVec2) -> f64 {
+        let (u, v) = self.normalized(x);
+        let factor = |t: f64, in_phase: bool| {
+            let w = window(t).0;
+            if in_phase {
+                w
+            } else {
+                w * w
+            }
+        };
+        factor(u, self.in_phase[0]) * factor(v, self.in_phase[1])
+    }
+
+    /// The square of the slope amplitude it leaves to the BRDF at rest position x where no scale
+    /// resolves it: (k a)^2 times `variance_envelope` ((k a E)^2 for a lone packet).
+    pub fn unresolved_slope2(&self, x: DVec2) -> f64 {
+        (self.k * self.amplitude).powi(2) * self.variance_envelope(x)
+    }
+
     /// Its slope variance at rest position x where no scale resolves it (the BRDF's share),
-    /// along and across `wind` (a unit vector): a trochoid's 1 - sqrt(1 - (k a E)^2), split by
-    /// the squared cosine and sine of its direction to the wind, as a train's.
+    /// along and across `wind` (a unit vector): a trochoid's 1 - sqrt(1 - s^2) of
+    /// s^2 = `unresolved_slope2`, split by the squared cosine and sine of its direction to the
+    /// wind, as a train's.
     pub fn slope_variance(&self, x: DVec2, wind: DVec2) -> [f64; 2] {
-        let (e, _) = self.envelope(x);
-        let v = trochoid_slope_variance((self.k * self.amplitude * e).powi(2));
+        let v = trochoid_slope_variance(self.unresolved_slope2(x));
         let c = self.direction.dot(wind);
         [c * c * v, (1.0 - c * c) * v]
     }
@@ -247,6 +276,7 @@ mod tests {
             axis: DVec2::new(1.0, 0.0),
             sigma: [4.0, 2.5],
             phase: 0.7,
+            in_phase: [false, false],
         }
     }
 
@@ -281,6 +311,37 @@ mod tests {
             }
         }
         assert!((sum / p.energy() - 1.0).abs() < 1e-3, "{sum} {}", p.energy());
+    }
+
+    /// A lattice of equal packets two sigmas apart, in phase along its rows and not across
+    /// them: the variances left to the BRDF sum to those of the rows' summed amplitudes, the
+    /// rows' own adding (the windows' partition of unity makes each row's sum exact).
+    #[test]
+    fn a_row_in_phase_leaves_the_variance_of_its_summed_amplitude() {
+        let lattice: Vec<Packet> = (-4..=4)
+            .flat_map(|i| (-4..=4).map(move |j| (i, j)))
+            .map(|(i, j)| Packet {
+                centre: DVec2::new(8.0 * i as f64, 5.0 * j as f64),
+                axis: DVec2::X,
+                in_phase: [true, false],
+                ..packet()
+            })
+            .collect();
+        let (k, a) = (lattice[0].k, lattice[0].amplitude);
+        for x in [DVec2::new(1.3, 0.4), DVec2::new(-5.9, 2.2), DVec2::new(3.99, -7.1)] {
+            let summed: f64 = lattice.iter().map(|p| p.unresolved_slope2(x)).sum();
+            // Each row (fixed j) sums to amplitude a times its across window; rows add in squares.
+            let rows: f64 = (-4..=4)
+                .map(|j: i32| {
+                    let across = window((x.y - 5.0 * j as f64) / 2.5).0;
+                    (k * a * across).powi(2)
+                })
+                .sum();
+            assert!((summed / rows - 1.0).abs() < 1e-12, "{x}: {summed} against {rows}");
+            // Lone packets leave only their squares: less between the row's packets.
+            let lone: f64 = lattice.iter().map(|p| Packet { in_phase: [false; 2], ..*p }.unresolved_slope2(x)).sum();
+            assert!(lone < summed, "{x}: {lone} {summed}");
+        }
     }
 
     #[test]

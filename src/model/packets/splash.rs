@@ -137,6 +137,9 @@ impl Splash {
                     // The crater at its centre at the start (cos = -1), the wave's phase
                     // omega t - k . (x - position) since.
                     phase: PI + (G * k).sqrt() * age - k * r,
+                    // The ring's packets share its phase, and the neighbouring bands meet it
+                    // in phase (the chirp).
+                    in_phase: [true, true],
                 });
             }
         }
