@@ -3,7 +3,7 @@
 // their grid (model::packets::grid, whose `lists` is the CPU's twin), in three steps (push
 // constant `step`), each a dispatch behind a barrier:
 //   0: each cell's count of the packets whose rectangle meets it, from its tile's list (one
-//      workgroup per tile of TILE x TILE cells, one invocation per cell);
+//      invocation per cell, TILE x TILE of them per tile, TILES_PER_GROUP tiles a workgroup);
 //   1: the counts' exclusive prefix sum, each cell's start (one workgroup);
 //   2: each cell's list written from its tile's list, as step 0.
 // A tile's list is in packet order (the CPU's grid::PacketGrid::tile_packets, in the slot's tile
@@ -12,7 +12,8 @@
 #include "packet_data.glsl"
 
 const uint TILE = 4u;   // grid::TILE_CELLS
-layout(local_size_x = 16) in;   // TILE * TILE: a workgroup a tile
+const uint GROUP = 256u;   // passes/packets.rs BIN_GROUP: the scan's width, and 16 tiles
+layout(local_size_x = 256) in;
 
 layout(set = 0, binding = 3, std430) buffer Cells { uint cells[]; };
 layout(set = 0, binding = 4, std430) buffer Counters { uint counters[]; };
@@ -29,8 +30,9 @@ layout(set = 0, binding = 6) uniform samplerBuffer packet_texels;
 // past it dropped: no write or read leaves the lists. tile_first: the slot's tile window (words).
 layout(push_constant) uniform Step { uint step; uint room; uint tile_first; } call;
 
-const uint GROUP = TILE * TILE;
-const uint MAX_PACKET_TILES = MAX_PACKET_CELLS / GROUP;   // grid::MAX_TILES
+const uint TILE_INVOCATIONS = TILE * TILE;
+const uint TILES_PER_GROUP = GROUP / TILE_INVOCATIONS;
+const uint MAX_PACKET_TILES = MAX_PACKET_CELLS / TILE_INVOCATIONS;   // grid::MAX_TILES
 const uint CELLS_PER_INVOCATION = MAX_PACKET_CELLS / GROUP;
 const uint INDEX_BITS = 24u;   // grid::TILE_INDEX_BITS
 shared uint partial[GROUP];
@@ -77,16 +79,21 @@ void main() {
         if (t == GROUP - 1u) cells[cell_count] = min(partial[t], call.room);
         return;
     }
-    // Steps 0 and 2: this invocation's cell (lx, ly) of the workgroup's tile, and the tile's list.
-    uint tiles_x = (cols + TILE - 1u) / TILE, tile = gl_WorkGroupID.x;
-    uint lx = gl_LocalInvocationID.x % TILE, ly = gl_LocalInvocationID.x / TILE;
+    // Steps 0 and 2: this invocation's cell (lx, ly) of its tile, and the tile's list (none past
+    // the frame's tiles).
+    uint tiles_x = (cols + TILE - 1u) / TILE;
+    uint tile = gl_WorkGroupID.x * TILES_PER_GROUP + gl_LocalInvocationID.x / TILE_INVOCATIONS;
+    uint in_tile = gl_LocalInvocationID.x % TILE_INVOCATIONS;
+    uint lx = in_tile % TILE, ly = in_tile / TILE;
     uint x = tile % tiles_x * TILE + lx, y = tile / tiles_x * TILE + ly;
-    bool inside = x < cols && y < rows;
+    bool listed = tile < frame.packet_dims.w;
+    bool inside = listed && x < cols && y < rows;
     uint cell = y * cols + x;
     bool writes = call.step == 2u && inside;
     uint n = writes ? cells[cell] : 0u, last = writes ? cells[cell + 1u] : 0u;
     uint list = call.tile_first + MAX_PACKET_TILES + 1u;
-    uint begin = tiles[call.tile_first + tile], end = tiles[call.tile_first + tile + 1u];
+    uint begin = listed ? tiles[call.tile_first + tile] : 0u;
+    uint end = listed ? tiles[call.tile_first + tile + 1u] : 0u;
     for (uint j = begin; j < end; ++j) {
         uint entry = tiles[list + j];
         uint i = entry & ((1u << INDEX_BITS) - 1u);

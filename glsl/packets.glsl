@@ -78,8 +78,8 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     vec3 e = packet_envelope_of(wu, wv);
     float wavelength = abs(wave.z);
     vec2 dir = k_turns * wavelength;
-    float kae = (2.0 * PI) * wave.x * e.x / wavelength;   // wavelength >= 1e-3 m: the model's band
     if (wn > 0.0) {
+        float kae = (2.0 * PI) * wave.x * e.x / wavelength;   // wavelength >= 1e-3 m: the model's band
         vec2 grad = wave.x * (e.y * envelope.xy + e.z * envelope.zw);
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.

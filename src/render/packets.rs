@@ -3,7 +3,7 @@
 //! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
 
 use crate::error::{Error, Result};
-use crate::model::packets::grid::{Footprint, PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE, MAX_TILES, TILE_ROOM_SHARE};
+use crate::model::packets::grid::{self, Footprint, PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE, MAX_TILES};
 use crate::model::packets::sources::Sources;
 use crate::model::packets::{Packet, PacketField};
 use crate::vk::buffer::Buffer;
@@ -135,7 +135,7 @@ impl<'g> PacketBuffers<'g> {
         use vk::BufferUsageFlags as B;
         let packet_bytes = std::mem::size_of::<GpuPacket>() as u64 * max_alive as u64;
         let max_entries = ENTRIES_PER_PACKET * max_alive;
-        let tile_words = MAX_TILES as usize + 1 + max_entries / TILE_ROOM_SHARE;
+        let tile_words = MAX_TILES as usize + 1 + grid::tile_room(max_entries);
         let cell_words = MAX_CELLS as u64 + 1 + max_entries as u64;
         // The cells' view is the longest (4 bytes a texel): a budget whose lists it cannot hold is
         // refused by its key, with the most this device takes.

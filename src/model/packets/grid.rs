@@ -33,10 +33,12 @@ const _: () = assert!(super::sources::MAX_PACKETS <= 1 << TILE_INDEX_BITS);
 pub const MAX_TILES_PER_SIDE: u32 = MAX_CELLS_PER_SIDE / TILE_CELLS;
 pub const MAX_TILES: u32 = MAX_TILES_PER_SIDE * MAX_TILES_PER_SIDE;
 
-/// The tiles' lists have this share of the cells' room: a tile entry has at least one cell entry,
-/// and a packet meeting more than (room per packet / TILE_ROOM_SHARE) tiles on average meets
-/// many more cells, past the cells' own room.
-pub const TILE_ROOM_SHARE: usize = 4;
+/// The tiles' lists' room for cells' lists of `max_entries`: a quarter of it. A tile entry has at
+/// least one cell entry, and a packet meeting more than a quarter as many tiles as cells on
+/// average meets many more cells, past the cells' own room.
+pub fn tile_room(max_entries: usize) -> usize {
+    max_entries / 4
+}
 
 /// A packet's rectangle as the GPU holds it (single precision: glsl/packet_data.glsl's centre
 /// and envelope), for the exact test of a cell against it, the same on both sides.
@@ -113,7 +115,7 @@ fn half_extent(p: &Packet) -> DVec2 {
 impl PacketGrid {
     /// The grid over `packets`, the finest of square cells at most MAX_CELLS_PER_SIDE to a side
     /// whose lists hold at most `max_entries` pairs and whose tiles' lists at most
-    /// max_entries / TILE_ROOM_SHARE (coarser cells, fewer pairs: each cell side doubled until
+    /// `tile_room(max_entries)` (coarser cells, fewer pairs: each cell side doubled until
     /// they fit). Empty without packets.
     pub fn new(packets: &[Packet], max_entries: usize) -> PacketGrid {
         Self::with_side(packets, max_entries, MAX_CELLS_PER_SIDE)
@@ -132,7 +134,7 @@ impl PacketGrid {
         let mut cell_m = size.max_element() / per_side as f64;
         loop {
             let grid = Self::with_cells(packets, lo, size, cell_m, per_side);
-            let fits = grid.entries <= max_entries && grid.tile_packets.len() <= max_entries / TILE_ROOM_SHARE;
+            let fits = grid.entries <= max_entries && grid.tile_packets.len() <= tile_room(max_entries);
             if fits || grid.cols * grid.rows == 1 {
                 return grid;
             }

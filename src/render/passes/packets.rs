@@ -7,7 +7,7 @@
 
 use super::{Frame, Pass, Recorder};
 use crate::error::Result;
-use crate::model::packets::grid::{MAX_CELLS, MAX_TILES};
+use crate::model::packets::grid::{MAX_CELLS, MAX_TILES, TILE_CELLS};
 use crate::render::packets::GpuPacket;
 use crate::render::resources::{Resources, FRAME_BINDING};
 use crate::shaders;
@@ -23,6 +23,10 @@ const TILES_BINDING: u32 = 5;
 const PACKET_TEXELS_BINDING: u32 = 6;
 /// The step, the lists' room (entries) and the slot's first word in the tiles' upload window.
 const PUSH_BYTES: u32 = 12;
+/// Invocations per workgroup (glsl/packet_bins.comp's local size): the scan's width, and the
+/// cells of BIN_GROUP / TILE_CELLS^2 tiles in the other steps.
+const BIN_GROUP: u32 = 256;
+const TILES_PER_GROUP: u32 = BIN_GROUP / (TILE_CELLS * TILE_CELLS);
 
 pub struct PacketBinsPass<'g> {
     bindings: Bindings<'g>,
@@ -98,7 +102,8 @@ impl Pass for PacketBinsPass<'_> {
         self.bindings.bind(cmd, vk::PipelineBindPoint::COMPUTE, &rec.frame.uniform_offsets);
         let tile_first = p.tile_first(rec.frame.slot);
         // Steps 0 to 2 (glsl/packet_bins.comp): count, scan, write.
-        for (step, group_count) in [tiles, 1, tiles].into_iter().enumerate() {
+        let tile_groups = tiles.div_ceil(TILES_PER_GROUP);
+        for (step, group_count) in [tile_groups, 1, tile_groups].into_iter().enumerate() {
             if step > 0 {
                 // The scan reads the counts, the writing the starts.
                 rec.tracker.buffer(&p.counters, Access::ComputeStorageReadWrite);
