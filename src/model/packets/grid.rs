@@ -4,7 +4,7 @@
 //! bounds the cells tested), so that a pixel or a grid vertex reads only the packets that reach
 //! it. Square tiles of TILE_CELLS x TILE_CELLS cells each list, in packet order, the packets that
 //! meet any of their cells, each with the part of its cell range inside the tile: the GPU bins the
-//! packets into the cells itself (glsl/packet_bins.comp), one workgroup a tile testing its cells
+//! packets into the cells itself (glsl/packet_bins.comp), an invocation a cell testing it
 //! against the tile's list, so that every cell's list comes out in packet order with no atomics
 //! and no sort (the same on every run and device). `lists` is the same binning on the CPU, for
 //! the ground truth and the tests.
@@ -21,7 +21,7 @@ const ENVELOPE_STEEPEST: f64 = 0.75;
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
 pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
 
-/// A tile's side in cells: one GPU workgroup of TILE_CELLS^2 invocations bins a tile. Four: the
+/// A tile's side in cells: TILE_CELLS^2 GPU invocations bin a tile. Four: the
 /// cells' tests a tile's list costs grow with its area, its entries with its perimeter (measured
 /// on `wake_mast`'s binning: 6.6 ms with tiles of 8 cells, 4.8 ms with 4).
 pub const TILE_CELLS: u32 = 4;

@@ -1,6 +1,6 @@
 //! Packet bins: the frame's wave packets copied from its slot's upload window (a transfer) and
-//! binned into the cells of their grid, a workgroup per tile of cells testing them against the
-//! tile's list (glsl/packet_bins.comp's three steps, each a dispatch behind a barrier from its
+//! binned into the cells of their grid, an invocation a cell testing them against its tile's
+//! list (glsl/packet_bins.comp's three steps, each a dispatch behind a barrier from its
 //! declared accesses), so that the grid's vertices and the pixels read only the packets that
 //! reach them (glsl/packets.glsl). First in the frame: the sun's view of the grid, which a host
 //! may record ahead of the frame, displaces the packets too.
