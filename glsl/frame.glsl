@@ -43,8 +43,10 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 host_clip;        // camera-relative world -> a host's clip space (embed::Ocean; glsl/composite.frag)
     vec4 host;             // x: radiance scale to the host's unit; y: the host colour format's largest value;
                            // z: the host's far-plane depth (0 reversed Z, 1 standard); w: unused
-    vec4 packet_grid;      // the wave packets' cells (glsl/packets.glsl): xy the corner of cell (0, 0)
-                           // (m, camera-relative), z 1 / the cell's side (1/m), w the side (m)
+    vec4 packet_grid;      // the wave packets' cells (glsl/packets.glsl): xy the corner of cell (0, 0) in
+                           // the cells' plane, zw a cell's sides
+    vec4 packet_map;       // rest positions to that plane (grid::CellMap): xy the perspective's forward,
+                           // z its offset behind the eye (m; 0: the rest plane itself)
     uvec4 packet_dims;     // x, y: columns and rows of cells; z: packets; w: tiles
 } frame;
 

@@ -108,7 +108,7 @@ uint surface_iterations = 0u;
 // took lavapipe two minutes to compile). The truth's cells are its own (finer than the frame's):
 // their lists start after their count's starts.
 void add_packets(vec2 x, inout Surface s) {
-    vec2 c = (x - frame.packet_grid.xy) * frame.packet_grid.z;
+    vec2 c = (packet_plane_point(x) - frame.packet_grid.xy) / frame.packet_grid.zw;
     vec2 dims = vec2(frame.packet_dims.xy);
     if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return;
     uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);

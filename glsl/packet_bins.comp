@@ -20,8 +20,8 @@ layout(set = 0, binding = 4, std430) buffer Counters { uint counters[]; };
 // Each slot's tiles: MAX_PACKET_TILES + 1 starts, then the lists (render/packets.rs), an entry
 // a packet's index and its cell range within the tile (grid::tile_entry).
 layout(set = 0, binding = 5, std430) readonly buffer Tiles { uint tiles[]; };
-// The frame's packets as the drawing passes read them, three texels a packet (render/packets.rs
-// PacketTexels): a texel fetch gathers across SIMD lanes where a CPU driver loads a storage
+// The frame's packets as the drawing passes read them, PACKET_TEXELS texels a packet, the last
+// two its quad in the cells' plane (render/packets.rs PacketTexels): a texel fetch gathers across SIMD lanes where a CPU driver loads a storage
 // buffer's struct lane by lane and word by word.
 layout(set = 0, binding = 6) uniform samplerBuffer packet_texels;
 // room: the lists' length, which the CPU's count of the entries (grid::PacketGrid::entries, the
@@ -37,19 +37,24 @@ const uint CELLS_PER_INVOCATION = MAX_PACKET_CELLS / GROUP;
 const uint INDEX_BITS = 24u;   // grid::TILE_INDEX_BITS
 shared uint partial[GROUP];
 
-// Whether the rectangle of the packet centred at `centre` with axes `envelope` meets cell (x, y):
+// Whether the packet's quad (corners a, b, c, d counter-clockwise) meets cell (x, y):
 // grid::Footprint::meets, its twin to the bit (precise: no operation fused, each rounded in the
 // same order; Vulkan rounds +, - and * correctly), so that these lists are the CPU's.
-bool cell_meets(vec2 centre, vec4 envelope, uint x, uint y) {
-    precise float side = frame.packet_grid.w;
-    precise float half_side = 0.5 * side;
-    precise float rx = (frame.packet_grid.x + (float(x) + 0.5) * side) - centre.x;
-    precise float ry = (frame.packet_grid.y + (float(y) + 0.5) * side) - centre.y;
-    precise float u = rx * envelope.x + ry * envelope.y;
-    precise float v = rx * envelope.z + ry * envelope.w;
-    precise float reach_u = PACKET_SIGMAS + half_side * (abs(envelope.x) + abs(envelope.y));
-    precise float reach_v = PACKET_SIGMAS + half_side * (abs(envelope.z) + abs(envelope.w));
-    return abs(u) < reach_u && abs(v) < reach_v;
+bool edge_keeps(vec2 centre, vec2 half_side, vec2 p, vec2 n) {
+    precise float ex = n.x - p.x, ey = n.y - p.y;
+    precise float dx = centre.x - p.x, dy = centre.y - p.y;
+    // The outward normal of a counter-clockwise edge (e.x, e.y) is (e.y, -e.x).
+    precise float beyond = dx * ey - dy * ex;
+    precise float reach = half_side.x * abs(ey) + half_side.y * abs(ex);
+    return beyond < reach;
+}
+
+bool cell_meets(vec4 ab, vec4 cd, uint x, uint y) {
+    precise float sx = frame.packet_grid.z, sy = frame.packet_grid.w;
+    precise vec2 half_side = vec2(0.5 * sx, 0.5 * sy);
+    precise vec2 centre = vec2(frame.packet_grid.x + (float(x) + 0.5) * sx, frame.packet_grid.y + (float(y) + 0.5) * sy);
+    return edge_keeps(centre, half_side, ab.xy, ab.zw) && edge_keeps(centre, half_side, ab.zw, cd.xy)
+        && edge_keeps(centre, half_side, cd.xy, cd.zw) && edge_keeps(centre, half_side, cd.zw, ab.xy);
 }
 
 void main() {
@@ -100,9 +105,9 @@ void main() {
         // The packet's cell range within the tile: the CPU tests no cell outside it.
         uvec4 range = (uvec4(entry) >> (uvec4(0u, 2u, 4u, 6u) + INDEX_BITS)) & 3u;
         if (!inside || lx < range.x || ly < range.y || lx > range.z || ly > range.w) continue;
-        vec2 centre = texelFetch(packet_texels, 3 * int(i)).xy;
-        vec4 envelope = texelFetch(packet_texels, 3 * int(i) + 1);
-        if (!cell_meets(centre, envelope, x, y)) continue;
+        vec4 ab = texelFetch(packet_texels, PACKET_TEXELS * int(i) + 3);
+        vec4 cd = texelFetch(packet_texels, PACKET_TEXELS * int(i) + 4);
+        if (!cell_meets(ab, cd, x, y)) continue;
         if (writes && n < last) cells[PACKET_LISTS + n] = i;
         ++n;
     }

@@ -1,6 +1,6 @@
-// A wave packet as the GPU holds it (src/render/packets.rs GpuPacket, std430, 48 bytes), and the
-// layout of the cells' lists (model::packets::grid): each cell's start in the lists, one more
-// start than cells, then the lists' packet indices.
+// A wave packet as the GPU holds it (src/render/packets.rs GpuPacket, std430, 80 bytes: five
+// texels), and the layout of the cells' lists (model::packets::grid): each cell's start in the
+// lists, one more start than cells, then the lists' packet indices. Requires frame.glsl.
 #ifndef PACKET_DATA_GLSL
 #define PACKET_DATA_GLSL
 
@@ -11,7 +11,10 @@ struct Packet {
                      // |z|: wavelength (m, 1 / |k| in turns); |w|: slope amplitude squared (k a)^2;
                      // z and w negative where the row along the first axis, the second's, is in
                      // phase (model::packets::Packet::in_phase)
+    vec4 footprint[2];   // its rectangle in the cells' plane, a quad counter-clockwise (the binning's)
 };
+
+const int PACKET_TEXELS = 5;
 
 const uint MAX_PACKET_CELLS = 65536u;   // grid::MAX_CELLS
 // Where the lists start in the cells' buffer: after the MAX_PACKET_CELLS + 1 starts.
@@ -20,6 +23,17 @@ const uint PACKET_LISTS = MAX_PACKET_CELLS + 1u;
 // w(t) = 1 - smoothstep(0, PACKET_SIGMAS, |t|) (packets::ENVELOPE_SIGMAS, a partition of unity
 // two sigmas apart): it reaches PACKET_SIGMAS along each axis.
 const float PACKET_SIGMAS = 2.0;
+
+// Rest position x in the cells' plane (grid::CellMap::apply): itself where the map's offset is
+// 0, else its perspective, (x . left, 1) / w with w = x . forward + offset; behind the
+// perspective's centre (w <= 0, never a rest position the frame evaluates) a point below every
+// cell (q.y < 0, where the view's cells have q.y > 0).
+vec2 packet_plane_point(vec2 x) {
+    vec4 m = frame.packet_map;
+    if (m.z == 0.0) return x;
+    float w = dot(x, m.xy) + m.z;
+    return w > 0.0 ? vec2(dot(x, vec2(-m.y, m.x)), 1.0) / w : vec2(0.0, -1.0);
+}
 
 // Whether normalized coordinates (u, v) lie within a packet's reach.
 bool packet_reaches(float u, float v) {

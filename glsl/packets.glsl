@@ -12,7 +12,7 @@ layout(constant_id = 18) const bool PACKETS = false;
 
 // Texel buffers, not storage buffers: a texel fetch gathers across the SIMD lanes where a
 // storage buffer's divergent read is fetched lane by lane on a CPU driver (render/packets.rs
-// PacketTexels). A packet is three RGBA32_SFLOAT texels; the cells are R32_UINT.
+// PacketTexels). A packet is PACKET_TEXELS RGBA32_SFLOAT texels; the cells are R32_UINT.
 layout(set = 0, binding = 20) uniform samplerBuffer packet_texels;
 layout(set = 0, binding = 21) uniform usamplerBuffer packet_cell_texels;
 
@@ -23,14 +23,14 @@ uint packet_cell_word(uint i) {
 // Packet i's texel j (0: centre_k, 1: envelope, 2: wave): the envelope test reads the first two,
 // and only the packets that pass it fetch the third.
 vec4 packet_texel(uint i, int j) {
-    return texelFetch(packet_texels, 3 * int(i) + j);
+    return texelFetch(packet_texels, PACKET_TEXELS * int(i) + j);
 }
 
 // The run of the lists that holds the packets reaching rest position x: empty outside the grid
 // (and for a NaN x, which no comparison admits).
 uvec2 packet_run(vec2 x) {
     if (!PACKETS) return uvec2(0u);
-    vec2 c = (x - frame.packet_grid.xy) * frame.packet_grid.z;
+    vec2 c = (packet_plane_point(x) - frame.packet_grid.xy) / frame.packet_grid.zw;
     vec2 dims = vec2(frame.packet_dims.xy);
     if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return uvec2(0u);
     uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);

@@ -201,7 +201,7 @@ fn a_buoy_rocked_by_a_splash_radiates_rings_and_a_fixed_one_none() {
 /// for the same packets: every cell's start and every packet index, in packet order.
 #[test]
 fn the_gpu_bins_the_packets_as_the_cpu_grid_does() {
-    use ocean::model::packets::grid::PacketGrid;
+    use ocean::model::packets::grid::{PacketGrid, PERSPECTIVE_CELLS_PER_SIDE};
     use ocean::render::packets::ENTRIES_PER_PACKET;
     use ocean::render::renderer::{Options, Renderer};
     let gpu = gpu();
@@ -211,7 +211,9 @@ fn the_gpu_bins_the_packets_as_the_cpu_grid_does() {
     renderer.render(&scene).unwrap();
     let (starts, lists) = renderer.read_packet_lists().unwrap().expect("the scene has local waves");
     let field = renderer.packet_field().unwrap();
-    let grid = PacketGrid::new(&field.packets, ENTRIES_PER_PACKET * scene.packets.max_alive as usize);
+    let map = renderer.packet_cell_map().expect("binned in the view's cells");
+    let max_entries = ENTRIES_PER_PACKET * scene.packets.max_alive as usize;
+    let grid = PacketGrid::new(&field.packets, max_entries, map, PERSPECTIVE_CELLS_PER_SIDE);
     let (cpu_starts, cpu_lists) = grid.lists();
     assert!(cpu_lists.len() > 10_000, "{} entries", cpu_lists.len());
     assert_eq!(starts, cpu_starts, "the cells' starts");

@@ -233,7 +233,7 @@ fn marching_slope(wave_set: &crate::model::waves::WaveSet, packets: Option<Liste
 /// folds.
 fn packet_steepest((packets, (starts, lists)): ListedPackets) -> Option<f64> {
     let g = &packets.grid;
-    let size = glam::DVec2::new(g.cols as f64, g.rows as f64) * g.cell_m;
+    let size = glam::DVec2::new(g.cols as f64, g.rows as f64) * g.cell;
     let mut steepest: f64 = 0.0;
     for n in 0..SLOPE_PROBES {
         let x = g.origin + size * glam::DVec2::new((0.5 + R2.0 * n as f64).fract(), (0.5 + R2.1 * n as f64).fract());
@@ -403,7 +403,7 @@ pub fn render(
     let packets = (!sources.is_empty()).then(|| {
         let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
         let all = Sources { max_alive: usize::MAX, ..sources.clone() };
-        FramePackets::with_cells(&all, scene.render.time_s, eye, usize::MAX, TRUTH_CELLS_PER_SIDE)
+        FramePackets::everywhere(&all, scene.render.time_s, eye, usize::MAX, TRUTH_CELLS_PER_SIDE)
     });
     wave_set.packet_crest_m = packets.as_ref().map_or(0.0, |p| p.grid.crest_m);
     wave_set.packet_longest_m = packets.as_ref().map_or(0.0, |p| p.field.longest_wavelength());
@@ -413,7 +413,7 @@ pub fn render(
     let lists = packets.as_ref().map(|p| p.grid.lists());
     let (packet_words, cell_words, packet_run) = match packets.as_ref().zip(lists.as_ref()) {
         Some((p, (starts, lists))) => {
-            (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
+            (data.uniforms.packet_grid, data.uniforms.packet_map, data.uniforms.packet_dims) = p.uniforms();
             // Each run padded to whole iterations of the shader's loop with a packet past the
             // last, which reaches nowhere (its centre beyond every rest position).
             let pad = PACKETS_PER_ITERATION as usize;

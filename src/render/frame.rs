@@ -83,9 +83,11 @@ pub struct FrameUniforms {
     /// format's largest value and far-plane depth (embed::Ocean; zero outside a host's frame).
     pub host_clip: [[f32; 4]; 4],
     pub host: [f32; 4],
-    /// The wave packets' cells: the corner of cell (0, 0) (camera-relative), 1 / the cell's side
-    /// and the side; their columns, rows, the packets' count and the tiles' (render::packets).
+    /// The wave packets' cells: the corner of cell (0, 0) in the cells' plane and a cell's sides;
+    /// how rest positions map to that plane (grid::CellMap::uniform); their columns, rows, the
+    /// packets' count and the tiles' (render::packets).
     pub packet_grid: [f32; 4],
+    pub packet_map: [f32; 4],
     pub packet_dims: [u32; 4],
 }
 
@@ -586,6 +588,7 @@ pub fn build_with_casters(
         host_clip: [[0.0; 4]; 4],
         host: [0.0; 4],
         packet_grid: [0.0; 4],
+        packet_map: [0.0; 4],
         packet_dims: [0; 4],
     };
     // No grid row: no sea anywhere in view.

@@ -3,7 +3,9 @@
 //! has them; and the buffers they live in (passes/packets.rs bins them on the GPU).
 
 use crate::error::{Error, Result};
-use crate::model::packets::grid::{self, Footprint, PacketGrid, MAX_CELLS, MAX_CELLS_PER_SIDE, MAX_TILES};
+use crate::model::packets::grid::{
+    self, CellMap, Footprint, PacketGrid, MAX_CELLS, MAX_TILES, PERSPECTIVE_CELLS_PER_SIDE,
+};
 use crate::model::packets::sources::Sources;
 use crate::model::packets::{Packet, PacketField};
 use crate::vk::buffer::Buffer;
@@ -14,7 +16,7 @@ use ash::vk;
 use glam::DVec2;
 use std::f64::consts::TAU;
 
-/// One packet as glsl/packet_data.glsl's `Packet` (std430, 48 bytes).
+/// One packet as glsl/packet_data.glsl's `Packet` (std430, 80 bytes: five texels).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GpuPacket {
@@ -27,6 +29,9 @@ pub struct GpuPacket {
     /// slope amplitude's square (k a)^2; the last two negative where the row along the first
     /// axis, and the second's, is in phase (Packet::in_phase).
     pub wave: [f32; 4],
+    /// Its rectangle in the cells' plane, a quad (grid::Footprint, to the bit): the binning's
+    /// alone.
+    pub footprint: [f32; 8],
 }
 
 /// The lists' room per packet alive: a packet overlaps this many cells on average before the
@@ -34,18 +39,20 @@ pub struct GpuPacket {
 pub const ENTRIES_PER_PACKET: usize = 32;
 
 impl GpuPacket {
-    /// Packet `p` and its rectangle `footprint` (the grid's, to the bit).
+    /// Packet `p` and its quad in the cells' plane, `footprint`.
     fn new(p: &Packet, footprint: &Footprint) -> GpuPacket {
         let k = p.direction * (p.k / TAU);
-        let [cx, cy] = footprint.centre;
+        let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
         let phase = (p.phase / TAU).rem_euclid(1.0);
         let signed = |v: f64, in_phase: bool| if in_phase { -v } else { v };
         let slope2 = (p.k * p.amplitude).powi(2);
         let (wavelength, slope2) = (signed(p.wavelength(), p.in_phase[0]), signed(slope2, p.in_phase[1]));
+        let [a, b, c, d] = footprint.quad;
         GpuPacket {
-            centre_k: [cx, cy, k.x as f32, k.y as f32],
-            envelope: footprint.axes,
+            centre_k: [p.centre.x, p.centre.y, k.x, k.y].map(|v| v as f32),
+            envelope: [along.x, along.y, across.x, across.y].map(|v| v as f32),
             wave: [p.amplitude, phase, wavelength, slope2].map(|v| v as f32),
+            footprint: [a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]],
         }
     }
 }
@@ -60,35 +67,59 @@ pub struct FramePackets {
 
 impl FramePackets {
     /// The packets of `sources` at time `t`, the eye above world position `eye` (the scene's
-    /// camera x_m, y_m), binned within `max_entries` list entries.
-    pub fn new(sources: &Sources, t: f64, eye: DVec2, max_entries: usize) -> FramePackets {
-        Self::with_cells(sources, t, eye, max_entries, MAX_CELLS_PER_SIDE)
+    /// camera x_m, y_m), binned within `max_entries` list entries in perspective cells over the
+    /// view `view` gives for a bound on the packets' crests (render::packet_view; None: the
+    /// view holds no sea, and nothing is binned).
+    pub fn new(
+        sources: &Sources,
+        t: f64,
+        eye: DVec2,
+        max_entries: usize,
+        view: impl FnOnce(f64) -> Option<CellMap>,
+    ) -> FramePackets {
+        let field = sources.field(t).relative_to(eye);
+        // Coarse square cells sum more packets than fine ones: their crest bounds the view's.
+        let crest_m = PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, COARSE_CELLS_PER_SIDE).crest_m;
+        let grid = match view(crest_m) {
+            Some(map) => PacketGrid::new(&field.packets, max_entries, map, PERSPECTIVE_CELLS_PER_SIDE),
+            None => PacketGrid { ranges: vec![[1, 1, 0, 0]; field.packets.len()], ..Default::default() },
+        };
+        Self::packed(field, grid)
     }
 
-    /// `new` with at most `per_side` cells a side (the ground truth's own, finer grid).
-    pub fn with_cells(sources: &Sources, t: f64, eye: DVec2, max_entries: usize, per_side: u32) -> FramePackets {
+    /// The packets of `sources` at time `t` around `eye`, every one binned in square cells, at
+    /// most `per_side` a side (the ground truth's, whose rays go anywhere).
+    pub fn everywhere(sources: &Sources, t: f64, eye: DVec2, max_entries: usize, per_side: u32) -> FramePackets {
         let field = sources.field(t).relative_to(eye);
-        let grid = PacketGrid::with_side(&field.packets, max_entries, per_side);
-        let gpu = field.packets.iter().zip(&grid.footprints).map(|(p, f)| GpuPacket::new(p, f)).collect();
+        let grid = PacketGrid::new(&field.packets, max_entries, CellMap::Plane, per_side);
+        Self::packed(field, grid)
+    }
+
+    fn packed(field: PacketField, grid: PacketGrid) -> FramePackets {
+        let none = Footprint::default();
+        let footprints = grid.footprints.iter().chain(std::iter::repeat(&none));
+        let gpu = field.packets.iter().zip(footprints).map(|(p, f)| GpuPacket::new(p, f)).collect();
         FramePackets { field, grid, gpu }
     }
 
-    /// FrameUniforms::packet_grid and packet_dims.
-    pub fn uniforms(&self) -> ([f32; 4], [u32; 4]) {
+    /// FrameUniforms::packet_grid, packet_map and packet_dims.
+    pub fn uniforms(&self) -> ([f32; 4], [f32; 4], [u32; 4]) {
         let g = &self.grid;
-        let inverse_cell = if g.cell_m > 0.0 { 1.0 / g.cell_m } else { 0.0 };
-        let ([x, y], side) = g.origin_and_side_f32();
-        ([x, y, inverse_cell as f32, side], [g.cols, g.rows, self.gpu.len() as u32, g.tiles()])
+        (g.uniform(), g.map.uniform(), [g.cols, g.rows, self.gpu.len() as u32, g.tiles()])
     }
 }
+
+/// Cells a side of the square grid whose crest bounds the packets' before the view's cells are
+/// made (its cost is its entries', a few a packet).
+const COARSE_CELLS_PER_SIDE: u32 = 32;
 
 /// The packets and their cells as the drawing passes read them: texel buffers, fetched by
 /// texelFetch (glsl/packets.glsl). A storage buffer's divergent reads cost lavapipe a scalar load
 /// per lane and component, a texel fetch one gather (docs/bench/packets.md: the mast's wake's
 /// shading pass 0.66x).
 pub struct PacketTexels<'g> {
-    /// RGBA32_SFLOAT, three texels a packet. Bit-exact for its floats; the cell range's bits
-    /// (read by the binning only, as a storage buffer) are denormals a fetch may flush. Not
+    /// RGBA32_SFLOAT, five texels a packet: bit-exact for its floats (a fetch may flush a
+    /// denormal, which no packet's quad nears: its corners lie metres or 1/w from 0). Not
     /// RGBA32_UINT: lavapipe 22.3 fetched the third of each three such texels as zeros.
     pub packets: Owned<'g, vk::BufferView>,
     /// R32_UINT: the cells' starts, then their lists.
@@ -200,7 +231,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_gpu_packet_is_forty_eight_bytes() {
-        assert_eq!(std::mem::size_of::<GpuPacket>(), 48);
+    fn a_gpu_packet_is_five_texels() {
+        assert_eq!(std::mem::size_of::<GpuPacket>(), 5 * 16);
     }
 }

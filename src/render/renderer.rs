@@ -6,12 +6,14 @@
 
 use crate::error::{Error, Result};
 use crate::model::masking::{GlintMaskingTable, VisibleFacetTable};
+use crate::model::packets::grid::CellMap;
 use crate::model::packets::sources::Sources;
 use crate::model::packets::PacketField;
 use crate::model::scene::{Planet, Reflections, Scene, ShadowMapMode, Sky, SkyKind, Sun};
 use crate::model::waves;
 use crate::render::frame::{self, FrameData};
 use crate::render::in_flight::{FrameSlot, RecordedAhead};
+use crate::render::packet_view;
 use crate::render::packets::FramePackets;
 use crate::render::passes::atmosphere::{AerialPass, AtmospherePass};
 use crate::render::passes::black::BlackPass;
@@ -218,6 +220,8 @@ pub struct Renderer<'g> {
     last_packets: Option<PacketStats>,
     /// ...and their field, in the eye's frame (the host's floating objects ride it).
     last_field: Option<PacketField>,
+    /// ...and the map of the cells they were binned in (the view's perspective).
+    last_cell_map: Option<CellMap>,
     /// Whether `sources` are the scene's own (`new`): each frame's scene must then have the same.
     sources_from_scene: bool,
     /// In execution order.
@@ -480,6 +484,7 @@ impl<'g> Renderer<'g> {
             sources,
             last_packets: None,
             last_field: None,
+            last_cell_map: None,
             sources_from_scene: false,
             passes,
             resources,
@@ -723,20 +728,23 @@ impl<'g> Renderer<'g> {
             }
         }
         let mut wave_set = waves::generate(scene);
+        let k = self.ssaa;
+        let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         let packets = self.resources.packets.as_ref().map(|buffers| {
             let eye = glam::DVec2::new(scene.camera.x_m, scene.camera.y_m);
-            FramePackets::new(&self.sources, scene.render.time_s, eye, buffers.max_entries)
+            let view = |crest| packet_view::cell_map(scene, &wave_set, crest, width, height, cell_px);
+            FramePackets::new(&self.sources, scene.render.time_s, eye, buffers.max_entries, view)
         });
         if let Some(p) = &packets {
             wave_set.packet_crest_m = p.grid.crest_m;
             wave_set.packet_longest_m = p.field.longest_wavelength();
         }
-        let k = self.ssaa;
-        let (width, height, cell_px) = (self.width * k, self.height * k, scene.render.grid_cell_px * k as f64);
         let mut data = frame::build_with_casters(scene, &wave_set, width, height, cell_px, casters);
         self.last_packets = None;
+        self.last_cell_map = None;
         if let (Some(p), Some(buffers)) = (&packets, &self.resources.packets) {
-            (data.uniforms.packet_grid, data.uniforms.packet_dims) = p.uniforms();
+            (data.uniforms.packet_grid, data.uniforms.packet_map, data.uniforms.packet_dims) = p.uniforms();
+            self.last_cell_map = Some(p.grid.map);
             buffers.write(slot, p)?;
             let total = p.field.total_energy;
             self.last_packets = Some(PacketStats {
@@ -984,6 +992,12 @@ impl<'g> Renderer<'g> {
     /// The last prepared frame's wave packets, in the eye's frame (None without local waves).
     pub fn packet_field(&self) -> Option<&PacketField> {
         self.last_field.as_ref()
+    }
+
+    /// The map of the cells the last prepared frame's packets were binned in (None without
+    /// local waves).
+    pub fn packet_cell_map(&self) -> Option<CellMap> {
+        self.last_cell_map
     }
 
     /// Whether this renderer was made for local waves like `sources` (with them or without, and

@@ -1,13 +1,15 @@
-//! The cells a frame's packets are binned into: a grid of square cells over the rest plane
-//! (camera-relative, as the shaders' rest positions are), each listing the packets whose envelope's
-//! rectangle (ENVELOPE_SIGMAS along each axis) meets it (`Footprint::meets`; its bounding box
-//! bounds the cells tested), so that a pixel or a grid vertex reads only the packets that reach
-//! it. Square tiles of TILE_CELLS x TILE_CELLS cells each list, in packet order, the packets that
-//! meet any of their cells, each with the part of its cell range inside the tile: the GPU bins the
-//! packets into the cells itself (glsl/packet_bins.comp), an invocation a cell testing it
-//! against the tile's list, so that every cell's list comes out in packet order with no atomics
-//! and no sort (the same on every run and device). `lists` is the same binning on the CPU, for
-//! the ground truth and the tests.
+//! The cells a frame's packets are binned into: a grid of cells over a plane the rest positions
+//! are mapped to (`CellMap`: the rest plane itself, or its perspective from behind the eye, where
+//! equal cells are small near the eye and long far from it, as a screen's tiles are), each listing
+//! the packets whose envelope's rectangle (ENVELOPE_SIGMAS along each axis) meets it. A map keeps
+//! lines straight, so the rectangle is a convex quad in that plane (`Footprint`), tested exactly
+//! against a cell's box. A pixel or a grid vertex then reads only the packets that reach it.
+//! Square tiles of TILE_CELLS x TILE_CELLS cells each list, in packet order, the packets that meet
+//! any of their cells, each with the part of its cell range inside the tile: the GPU bins the
+//! packets into the cells itself (glsl/packet_bins.comp), an invocation a cell testing it against
+//! the tile's list, so that every cell's list comes out in packet order with no atomics and no
+//! sort (the same on every run and device). `lists` is the same binning on the CPU, for the
+//! ground truth and the tests.
 
 use super::{Packet, ENVELOPE_SIGMAS};
 use glam::DVec2;
@@ -20,6 +22,12 @@ const ENVELOPE_STEEPEST: f64 = 0.75;
 /// Cells per side at most: 65 536 cells, whose starts the GPU's one-workgroup scan covers.
 pub const MAX_CELLS_PER_SIDE: u32 = 256;
 pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
+
+/// Cells per side of a frame's perspective grid: each then covers about 8 x 6 pixels at
+/// 1024 x 768. Measured on `wake_mast` (examples/packet_cells.rs, 2026-12-05): a pixel reads 4.94
+/// list entries for 4.39 that reach it, from 80 112 entries; 256 a side, 4.67 from 302 984 (the
+/// binning's cost grows with the entries); square cells on the rest plane, 7.48 from 145 767.
+pub const PERSPECTIVE_CELLS_PER_SIDE: u32 = 128;
 
 /// A tile's side in cells: TILE_CELLS^2 GPU invocations bin a tile. Four: the
 /// cells' tests a tile's list costs grow with its area, its entries with its perimeter (measured
@@ -40,53 +48,134 @@ pub fn tile_room(max_entries: usize) -> usize {
     max_entries / 4
 }
 
-/// A packet's rectangle as the GPU holds it (single precision: glsl/packet_data.glsl's centre
-/// and envelope), for the exact test of a cell against it, the same on both sides.
+/// Where rest positions (camera-relative, m) lie in the plane the cells divide.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Footprint {
-    /// The envelope's centre (m).
-    pub centre: [f32; 2],
-    /// Its first axis over its sigma, then the second's (1/m).
-    pub axes: [f32; 4],
+pub enum CellMap {
+    /// The rest plane itself, square cells: the ground truth's, whose rays go anywhere.
+    #[default]
+    Plane,
+    /// The rest plane in perspective from `offset` m behind the eye along `forward` (horizontal,
+    /// unit): q = (x . left, 1) / w, w = x . forward + offset, left being forward turned a
+    /// quarter counter-clockwise. `view`: the box in q (low, high corners) of every rest position
+    /// the frame evaluates packets at (render::packet_view), all at w > 0; no cell lies outside it.
+    Perspective { forward: DVec2, offset: f64, view: [DVec2; 2] },
 }
 
-impl Footprint {
-    pub fn of(p: &Packet) -> Footprint {
-        let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
-        Footprint {
-            centre: [p.centre.x as f32, p.centre.y as f32],
-            axes: [along.x, along.y, across.x, across.y].map(|v| v as f32),
+impl CellMap {
+    /// Rest position x in the cells' plane; None behind the perspective's centre (w <= 0).
+    pub fn apply(&self, x: DVec2) -> Option<DVec2> {
+        match *self {
+            CellMap::Plane => Some(x),
+            CellMap::Perspective { forward, offset, .. } => {
+                let w = x.dot(forward) + offset;
+                (w > 0.0).then(|| DVec2::new(x.dot(forward.perp()), 1.0) / w)
+            }
         }
     }
 
-    /// Whether the square cell of half side `half` about `cell` meets the rectangle. Their
-    /// separating axes are x and y (the cell range's box) and the rectangle's own two, on which
-    /// the cell reaches half (|a.x| + |a.y|) past its centre's projection (in sigmas). Each
-    /// operation rounded in this order, as glsl/packet_bins.comp `cell_meets` (precise, correctly
-    /// rounded in Vulkan): the GPU's lists are the CPU's to the entry.
-    pub fn meets(&self, cell: [f32; 2], half: f32) -> bool {
-        let (c, a) = (self.centre, self.axes);
-        let (rx, ry) = (cell[0] - c[0], cell[1] - c[1]);
-        let u = rx * a[0] + ry * a[1];
-        let v = rx * a[2] + ry * a[3];
-        let reach = ENVELOPE_SIGMAS as f32;
-        u.abs() < reach + half * (a[0].abs() + a[1].abs()) && v.abs() < reach + half * (a[2].abs() + a[3].abs())
+    /// FrameUniforms::packet_map: forward and offset (an offset of 0: the plane's own).
+    pub fn uniform(&self) -> [f32; 4] {
+        match *self {
+            CellMap::Plane => [0.0; 4],
+            CellMap::Perspective { forward, offset, .. } => [forward.x as f32, forward.y as f32, offset as f32, 0.0],
+        }
+    }
+
+    /// Packet p's footprint in the cells' plane: the quad of its rectangle's corners, or where
+    /// part of the rectangle lies behind the nearest rest position the view holds (half of it,
+    /// w_near / 2), the box of the part in front; None where none of it is.
+    fn footprint(&self, p: &Packet) -> Option<Footprint> {
+        let (a, b) = (p.axis * (ENVELOPE_SIGMAS * p.sigma[0]), p.axis.perp() * (ENVELOPE_SIGMAS * p.sigma[1]));
+        // Counter-clockwise: (axis, axis.perp()) turns as (x, y) does, and the perspective keeps
+        // the turn (its Jacobian's determinant, 1 / w^3, is positive).
+        let corners = [p.centre - a - b, p.centre + a - b, p.centre + a + b, p.centre - a + b];
+        let CellMap::Perspective { forward, offset, view } = *self else {
+            return Some(Footprint::of_quad(corners));
+        };
+        let clip = 0.5 / view[1].y;
+        let w = corners.map(|c| c.dot(forward) + offset);
+        if w.iter().all(|&w| w >= clip) {
+            return Some(Footprint::of_quad(corners.map(|c| self.apply(c).expect("w > 0"))));
+        }
+        // The rectangle cut by w >= clip (Sutherland-Hodgman, one edge), then mapped.
+        let mut kept = Vec::with_capacity(5);
+        for i in 0..4 {
+            let (j, (c, d)) = ((i + 1) % 4, (corners[i], corners[(i + 1) % 4]));
+            if w[i] >= clip {
+                kept.push(c);
+            }
+            if (w[i] >= clip) != (w[j] >= clip) {
+                kept.push(c + (d - c) * ((clip - w[i]) / (w[j] - w[i])));
+            }
+        }
+        let mapped: Vec<DVec2> = kept.iter().filter_map(|&c| self.apply(c)).collect();
+        let (lo, hi) =
+            mapped.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &q| (lo.min(q), hi.max(q)));
+        (!mapped.is_empty()).then(|| Footprint::of_quad([lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]))
+    }
+
+    /// The part of the cells' plane that may hold cells: all of it for the plane's own.
+    fn bounds(&self) -> (DVec2, DVec2) {
+        match *self {
+            CellMap::Plane => (DVec2::NEG_INFINITY, DVec2::INFINITY),
+            CellMap::Perspective { view, .. } => (view[0], view[1]),
+        }
+    }
+}
+
+/// A packet's rectangle in the cells' plane as the GPU holds it: a convex quad, counter-clockwise,
+/// in single precision (render::packets::GpuPacket), for the exact test of a cell against it, the
+/// same on both sides.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Footprint {
+    pub quad: [[f32; 2]; 4],
+}
+
+impl Footprint {
+    fn of_quad(corners: [DVec2; 4]) -> Footprint {
+        Footprint { quad: corners.map(|c| [c.x as f32, c.y as f32]) }
+    }
+
+    /// Its bounding box's corners (low, high).
+    fn bounds(&self) -> (DVec2, DVec2) {
+        let q = self.quad.map(|[x, y]| DVec2::new(x as f64, y as f64));
+        (q.iter().fold(q[0], |lo, &c| lo.min(c)), q.iter().fold(q[0], |hi, &c| hi.max(c)))
+    }
+
+    /// Whether the cell about `centre` of half sides `half` meets the quad. Their separating axes
+    /// are x and y (the cell range's box) and the quad's four edges' normals: the cell lies wholly
+    /// outside an edge where its centre's distance past it reaches the box's half extent along the
+    /// normal. Each operation rounded in this order, as glsl/packet_bins.comp `cell_meets`
+    /// (precise, correctly rounded in Vulkan): the GPU's lists are the CPU's to the entry.
+    pub fn meets(&self, centre: [f32; 2], half: [f32; 2]) -> bool {
+        (0..4).all(|i| {
+            let (p, n) = (self.quad[i], self.quad[(i + 1) % 4]);
+            let (ex, ey) = (n[0] - p[0], n[1] - p[1]);
+            let (dx, dy) = (centre[0] - p[0], centre[1] - p[1]);
+            // The outward normal of a counter-clockwise edge (e.x, e.y) is (e.y, -e.x).
+            let beyond = dx * ey - dy * ex;
+            let reach = half[0] * ey.abs() + half[1] * ex.abs();
+            beyond < reach
+        })
     }
 }
 
 /// The grid of one frame's packets.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PacketGrid {
-    /// The corner of cell (0, 0) (m, in the packets' frame).
+    /// How rest positions map to the cells' plane.
+    pub map: CellMap,
+    /// The corner of cell (0, 0) in the cells' plane.
     pub origin: DVec2,
-    /// Side of a cell (m).
-    pub cell_m: f64,
+    /// A cell's sides (equal on the rest plane).
+    pub cell: DVec2,
     pub cols: u32,
     pub rows: u32,
     /// The cells of each packet's bounding box, inclusive: first column, first row, last column,
-    /// last row. A packet is listed in those its rectangle meets (`Footprint::meets`).
+    /// last row (first past last where it meets no cell). A packet is listed in those its
+    /// quad meets (`Footprint::meets`).
     pub ranges: Vec<[u32; 4]>,
-    /// Each packet's rectangle, as the GPU tests it.
+    /// Each packet's quad, as the GPU tests it.
     pub footprints: Vec<Footprint>,
     /// The number of (cell, packet) pairs: the lists' total length.
     pub entries: usize,
@@ -97,7 +186,7 @@ pub struct PacketGrid {
     /// its index and its range within the tile (`tile_entry`).
     pub tile_packets: Vec<u32>,
     /// The largest sum of the amplitudes of the packets that overlap one cell (m): no packet
-    /// crest rises higher over the rest plane, nor a trough sinks lower.
+    /// crest rises higher over the rest plane, nor a trough sinks lower, within the cells.
     pub crest_m: f64,
     /// The largest sum over one cell's packets of a bound on each one's height slope over the
     /// rest plane, k a plus its envelope's steepest (ENVELOPE_STEEPEST a / sigma; the ground
@@ -105,59 +194,78 @@ pub struct PacketGrid {
     pub slope: f64,
 }
 
-/// The half-extents along x and y of the bounding box of a packet's envelope: a rectangle
-/// reaching ENVELOPE_SIGMAS sigmas along each of its axes.
-fn half_extent(p: &Packet) -> DVec2 {
-    let (a, [s0, s1]) = (p.axis, p.sigma);
-    ENVELOPE_SIGMAS * DVec2::new(a.x.abs() * s0 + a.y.abs() * s1, a.y.abs() * s0 + a.x.abs() * s1)
-}
+/// A range that holds no cell.
+const NO_CELLS: [u32; 4] = [1, 1, 0, 0];
 
 impl PacketGrid {
-    /// The grid over `packets`, the finest of square cells at most MAX_CELLS_PER_SIDE to a side
-    /// whose lists hold at most `max_entries` pairs and whose tiles' lists at most
-    /// `tile_room(max_entries)` (coarser cells, fewer pairs: each cell side doubled until
-    /// they fit). Empty without packets.
-    pub fn new(packets: &[Packet], max_entries: usize) -> PacketGrid {
-        Self::with_side(packets, max_entries, MAX_CELLS_PER_SIDE)
-    }
-
-    /// `new` with at most `per_side` cells a side.
-    pub fn with_side(packets: &[Packet], max_entries: usize, per_side: u32) -> PacketGrid {
-        let Some(first) = packets.first() else { return PacketGrid::default() };
-        let (mut lo, mut hi) = (first.centre, first.centre);
-        for p in packets {
-            let h = half_extent(p);
-            lo = lo.min(p.centre - h);
-            hi = hi.max(p.centre + h);
+    /// The grid over `packets` in the cells' plane of `map`, the finest of cells at most
+    /// `per_side` to a side whose lists hold at most `max_entries` pairs and whose tiles' lists
+    /// at most `tile_room(max_entries)` (coarser cells, fewer pairs: each cell side doubled until
+    /// they fit). Square cells over the rest plane; over a perspective, `per_side` a side of the
+    /// box the view and the packets share. Empty without packets in it.
+    pub fn new(packets: &[Packet], max_entries: usize, map: CellMap, per_side: u32) -> PacketGrid {
+        let footprints: Vec<Option<Footprint>> = packets.iter().map(|p| map.footprint(p)).collect();
+        let (lo, hi) = footprints
+            .iter()
+            .flatten()
+            .map(Footprint::bounds)
+            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        let (view_lo, view_hi) = map.bounds();
+        let (lo, hi) = (lo.max(view_lo), hi.min(view_hi));
+        if !(lo.x < hi.x && lo.y < hi.y) {
+            return PacketGrid { map, ranges: vec![NO_CELLS; packets.len()], ..Default::default() };
         }
-        let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
-        let mut cell_m = size.max_element() / per_side as f64;
+        let size = hi - lo;
+        let mut cell = match map {
+            CellMap::Plane => DVec2::splat(size.max_element() / per_side as f64),
+            CellMap::Perspective { .. } => size / per_side as f64,
+        };
         loop {
-            let grid = Self::with_cells(packets, lo, size, cell_m, per_side);
+            let grid = Self::with_cells(packets, &footprints, map, lo, size, cell, per_side);
             let fits = grid.entries <= max_entries && grid.tile_packets.len() <= tile_room(max_entries);
             if fits || grid.cols * grid.rows == 1 {
                 return grid;
             }
-            cell_m *= 2.0;
+            cell *= 2.0;
         }
     }
 
-    fn with_cells(packets: &[Packet], origin: DVec2, size: DVec2, cell_m: f64, per_side: u32) -> PacketGrid {
-        let count = |extent: f64| ((extent / cell_m).ceil() as u32).clamp(1, per_side);
-        let (cols, rows) = (count(size.x), count(size.y));
-        let cell_of = |x: f64, n: u32| ((x / cell_m).floor().max(0.0) as u32).min(n - 1);
+    #[allow(clippy::too_many_arguments)]
+    fn with_cells(
+        packets: &[Packet],
+        footprints: &[Option<Footprint>],
+        map: CellMap,
+        origin: DVec2,
+        size: DVec2,
+        cell: DVec2,
+        per_side: u32,
+    ) -> PacketGrid {
+        let count = |extent: f64, side: f64| ((extent / side).ceil() as u32).clamp(1, per_side);
+        let (cols, rows) = (count(size.x, cell.x), count(size.y, cell.y));
+        let cell_of = |x: f64, side: f64, n: u32| ((x / side).floor().max(0.0) as u32).min(n - 1);
         let mut sums = vec![0.0f64; (cols * rows) as usize];
         let mut slopes = vec![0.0f64; (cols * rows) as usize];
-        let mut grid = PacketGrid { origin, cell_m, cols, rows, ..Default::default() };
+        let mut grid = PacketGrid { map, origin, cell, cols, rows, ..Default::default() };
         let tiles_x = cols.div_ceil(TILE_CELLS);
         // (tile, packet) pairs in packet order; `last` drops a packet's repeats in a tile.
         let mut tile_pairs = Vec::new();
         let mut last = vec![u32::MAX; grid.tiles() as usize];
-        for (i, p) in packets.iter().enumerate() {
-            let h = half_extent(p);
-            let (a, b) = (p.centre - h - origin, p.centre + h - origin);
-            let r = [cell_of(a.x, cols), cell_of(a.y, rows), cell_of(b.x, cols), cell_of(b.y, rows)];
-            let footprint = Footprint::of(p);
+        for (i, (p, footprint)) in packets.iter().zip(footprints).enumerate() {
+            let (footprint, r) = match footprint {
+                Some(f) => {
+                    let (a, b) = f.bounds();
+                    let (a, b) = (a - origin, b - origin);
+                    let outside = b.x < 0.0 || b.y < 0.0 || a.x > size.x || a.y > size.y;
+                    let r = [
+                        cell_of(a.x, cell.x, cols),
+                        cell_of(a.y, cell.y, rows),
+                        cell_of(b.x, cell.x, cols),
+                        cell_of(b.y, cell.y, rows),
+                    ];
+                    (*f, if outside { NO_CELLS } else { r })
+                }
+                None => (Footprint::default(), NO_CELLS),
+            };
             let slope = p.amplitude * (p.k + ENVELOPE_STEEPEST / p.sigma[0].min(p.sigma[1]));
             for (x, y) in grid.cells_met(r, &footprint) {
                 sums[(y * cols + x) as usize] += p.amplitude;
@@ -183,25 +291,25 @@ impl PacketGrid {
         self.cols.div_ceil(TILE_CELLS) * self.rows.div_ceil(TILE_CELLS)
     }
 
-    /// The corner of cell (0, 0) and a cell's side, in single precision (as the GPU has them:
-    /// FrameUniforms::packet_grid).
-    pub fn origin_and_side_f32(&self) -> ([f32; 2], f32) {
-        ([self.origin.x as f32, self.origin.y as f32], self.cell_m as f32)
+    /// FrameUniforms::packet_grid: the corner of cell (0, 0) and a cell's sides, in single
+    /// precision (as the GPU has them).
+    pub fn uniform(&self) -> [f32; 4] {
+        [self.origin.x, self.origin.y, self.cell.x, self.cell.y].map(|v| v as f32)
     }
 
     /// The cells of box `range` that `footprint` meets, row by row.
     fn cells_met<'a>(&self, range: [u32; 4], footprint: &'a Footprint) -> impl Iterator<Item = (u32, u32)> + 'a {
-        let (origin, side) = self.origin_and_side_f32();
-        let half = 0.5 * side;
+        let [ox, oy, sx, sy] = self.uniform();
+        let half = [0.5 * sx, 0.5 * sy];
         (range[1]..=range[3]).flat_map(move |y| (range[0]..=range[2]).map(move |x| (x, y))).filter(move |&(x, y)| {
-            let centre = [origin[0] + (x as f32 + 0.5) * side, origin[1] + (y as f32 + 0.5) * side];
+            let centre = [ox + (x as f32 + 0.5) * sx, oy + (y as f32 + 0.5) * sy];
             footprint.meets(centre, half)
         })
     }
 
     /// The cell holding rest position x, if the grid covers it.
     pub fn cell(&self, x: DVec2) -> Option<u32> {
-        let c = (x - self.origin) / self.cell_m;
+        let c = (self.map.apply(x)? - self.origin) / self.cell;
         let inside = c.x >= 0.0 && c.y >= 0.0 && c.x < self.cols as f64 && c.y < self.rows as f64;
         inside.then(|| c.y as u32 * self.cols + c.x as u32)
     }
@@ -270,7 +378,7 @@ mod tests {
     #[test]
     fn every_packet_is_listed_wherever_it_reaches() {
         let ps = packets();
-        let grid = PacketGrid::new(&ps, usize::MAX);
+        let grid = PacketGrid::new(&ps, usize::MAX, CellMap::Plane, MAX_CELLS_PER_SIDE);
         let (starts, entries) = grid.lists();
         assert_eq!(entries.len(), grid.entries);
         let mut checked = 0;
@@ -287,11 +395,50 @@ mod tests {
         assert!(checked > 10_000, "{checked}");
     }
 
+    /// In perspective too, every point of the view a packet reaches lies in a cell that lists it;
+    /// cells grow with the distance from the eye, and a packet wholly outside the view is listed
+    /// nowhere.
+    #[test]
+    fn perspective_cells_list_every_packet_wherever_it_reaches_in_view() {
+        let mut ps = packets();
+        // One packet straddling the clipping line behind the nearest viewed point, one far behind.
+        ps.push(packet(DVec2::new(-9.0, 3.0), [4.0, 2.0], 0.1));
+        ps.push(packet(DVec2::new(-300.0, 0.0), [4.0, 2.0], 0.1));
+        let (forward, offset) = (DVec2::new(0.8, 0.6), 10.0);
+        let map = CellMap::Perspective { forward, offset, view: [DVec2::new(-2.0, 0.01), DVec2::new(2.0, 0.1)] };
+        let grid = PacketGrid::new(&ps, usize::MAX, map, 64);
+        let (starts, entries) = grid.lists();
+        let mut checked = 0;
+        for i in -100..=100 {
+            for j in -70..=70 {
+                let x = DVec2::new(i as f64 * 0.55, j as f64 * 0.6);
+                let Some(q) = map.apply(x) else { continue };
+                if !(q.cmpgt(DVec2::new(-2.0, 0.01)).all() && q.cmplt(DVec2::new(2.0, 0.1)).all()) {
+                    continue;
+                }
+                for (n, _) in ps.iter().enumerate().filter(|(_, p)| p.reaches(x)) {
+                    let c = grid.cell(x).expect("inside the grid") as usize;
+                    assert!(entries[starts[c] as usize..starts[c + 1] as usize].contains(&(n as u32)), "{x} {n}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 5_000, "{checked}");
+        assert!(grid.ranges[ps.len() - 1] == NO_CELLS && grid.ranges[ps.len() - 2] != NO_CELLS);
+        // A cell's depth along `forward` near the eye and 30 m out.
+        let depth = |d: f64| {
+            let c = grid.cell(forward * d).unwrap();
+            let (lo, hi) = (grid.origin.y + (c / grid.cols) as f64 * grid.cell.y, grid.cell.y);
+            1.0 / lo - 1.0 / (lo + hi)
+        };
+        assert!(depth(30.0) > 4.0 * depth(1.0), "{} {}", depth(30.0), depth(1.0));
+    }
+
     /// A tile lists, in packet order, exactly the packets its cells list.
     #[test]
     fn a_tile_lists_the_packets_of_its_cells_in_order() {
         let ps = packets();
-        let grid = PacketGrid::new(&ps, usize::MAX);
+        let grid = PacketGrid::new(&ps, usize::MAX, CellMap::Plane, MAX_CELLS_PER_SIDE);
         let (starts, entries) = grid.lists();
         let tiles_x = grid.cols.div_ceil(TILE_CELLS);
         assert_eq!(grid.tile_starts.len(), grid.tiles() as usize + 1);
@@ -331,13 +478,13 @@ mod tests {
             in_phase: [false; 2],
         };
         let spread = [p, Packet { centre: DVec2::new(100.0, 100.0), ..p }];
-        let grid = PacketGrid::with_side(&spread, usize::MAX, 32);
+        let grid = PacketGrid::new(&spread, usize::MAX, CellMap::Plane, 32);
         let (starts, entries) = grid.lists();
         let listed = |x: DVec2| {
             let c = grid.cell(x).unwrap() as usize;
             entries[starts[c] as usize..starts[c + 1] as usize].contains(&0)
         };
-        let cell = grid.cell_m;
+        let cell = grid.cell.x;
         let in_box = |x: DVec2| {
             let (c, r) = (grid.cell(x).unwrap(), grid.ranges[0]);
             (r[0]..=r[2]).contains(&(c % grid.cols)) && (r[1]..=r[3]).contains(&(c / grid.cols))
@@ -351,10 +498,10 @@ mod tests {
     #[test]
     fn cells_coarsen_to_fit_and_the_crest_bounds_every_height() {
         let ps = packets();
-        let fine = PacketGrid::new(&ps, usize::MAX);
-        let coarse = PacketGrid::new(&ps, fine.entries / 3);
+        let fine = PacketGrid::new(&ps, usize::MAX, CellMap::Plane, MAX_CELLS_PER_SIDE);
+        let coarse = PacketGrid::new(&ps, fine.entries / 3, CellMap::Plane, MAX_CELLS_PER_SIDE);
         assert!(
-            coarse.entries <= fine.entries / 3 && coarse.cell_m >= 2.0 * fine.cell_m,
+            coarse.entries <= fine.entries / 3 && coarse.cell.x >= 2.0 * fine.cell.x,
             "{} {}",
             coarse.entries,
             fine.entries
