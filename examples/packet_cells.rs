@@ -4,7 +4,7 @@
 //! which runs every entry's whole term. Pixels at the f64 camera's rays' points on the rest sphere.
 //! `cargo run --release --example packet_cells -- scenes/wake_mast.toml [width height]`
 use glam::DVec2;
-use ocean::model::packets::grid::{CellMap, PacketGrid, MAX_CELLS_PER_SIDE, PERSPECTIVE_CELLS_PER_SIDE};
+use ocean::model::packets::grid::{CellMap, PacketGrid, MAX_CELLS_PER_SIDE};
 use ocean::model::packets::sources::Sources;
 use ocean::model::scene::Scene;
 use ocean::render::frame::CameraFrame;
@@ -38,13 +38,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let mut grids =
         vec![("rest plane", PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, MAX_CELLS_PER_SIDE))];
-    let view = ocean::render::packet_view::cell_map(&scene, &waves, crest, width, height, scene.render.grid_cell_px);
-    if let Some(map) = view {
-        let started = std::time::Instant::now();
-        let grid = PacketGrid::new(&field.packets, usize::MAX, map, PERSPECTIVE_CELLS_PER_SIDE);
-        println!("perspective grid built in {:.2} ms: {map:?}", started.elapsed().as_secs_f64() * 1e3);
-        grids.push(("perspective", grid));
-    }
+    let view =
+        |crest| ocean::render::packet_view::cell_map(&scene, &waves, crest, width, height, scene.render.grid_cell_px);
+    let started = std::time::Instant::now();
+    let sources = Sources::of_scene(&scene)?;
+    let frame = ocean::render::packets::FramePackets::new(&sources, scene.render.time_s, eye, usize::MAX, view);
+    let map = frame.grid.map;
+    println!("the frame's grid built in {:.2} ms: {map:?}", started.elapsed().as_secs_f64() * 1e3);
+    grids.push(("perspective", frame.grid));
     for (name, grid) in &grids {
         let (starts, lists) = grid.lists();
         // Per band: pixels, entries read, entries that reach the pixel.

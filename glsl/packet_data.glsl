@@ -8,7 +8,7 @@ struct Packet {
     vec4 centre_k;   // xy: the envelope's centre (m, camera-relative); zw: wave vector (turns per m)
     vec4 envelope;   // xy: the envelope's first axis over its sigma; zw: the second's (1/m)
     vec4 wave;       // x: amplitude at the centre (m); y: phase there (turns, [0, 1));
-                     // |z|: wavelength (m, 1 / |k| in turns); |w|: slope amplitude squared (k a)^2;
+                     // |z|: wavelength (m, 1 / |k| in turns); |w|: slope amplitude k a;
                      // z and w negative where the row along the first axis, the second's, is in
                      // phase (model::packets::Packet::in_phase)
     vec4 footprint[2];   // its rectangle in the cells' plane, a quad counter-clockwise (the binning's)

@@ -79,7 +79,7 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     float wavelength = abs(wave.z);
     vec2 dir = k_turns * wavelength;
     if (wn > 0.0) {
-        float kae = (2.0 * PI) * wave.x * e.x / wavelength;   // wavelength >= 1e-3 m: the model's band
+        float kae = abs(wave.w) * e.x;
         vec2 grad = wave.x * (e.y * envelope.xy + e.z * envelope.zw);
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
@@ -92,7 +92,7 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     // phase, else its square (Packet::variance_envelope). (k a)^2 <= STEEPEST_KA^2 and the
     // factor <= 1: the slope variance's argument stays below 1.
     float along = wave.z < 0.0 ? wu.x : wu.x * wu.x, across = wave.w < 0.0 ? wv.x : wv.x * wv.x;
-    float unresolved2 = (1.0 - wn * wn) * abs(wave.w) * along * across;
+    float unresolved2 = (1.0 - wn * wn) * (wave.w * wave.w) * along * across;
     r.sigma2 += wind_axes2(dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
     // Curvature k (k a E) along the carrier: its variance k^2 (k a E)^2 / 2, k = 2 pi |k_turns|.
     if (GLINTS) r.curvature += 2.0 * PI * PI * dot(k_turns, k_turns) * unresolved2;

@@ -26,7 +26,7 @@ pub struct GpuPacket {
     pub envelope: [f32; 4],
     /// Amplitude at the centre (m), the phase there (turns, [0, 1)), the wavelength (m, 1 over
     /// the wave vector's length in turns: the direction is the wave vector times it) and the
-    /// slope amplitude's square (k a)^2; the last two negative where the row along the first
+    /// slope amplitude k a; the last two negative where the row along the first
     /// axis, and the second's, is in phase (Packet::in_phase).
     pub wave: [f32; 4],
     /// Its rectangle in the cells' plane, a quad (grid::Footprint, to the bit): the binning's
@@ -45,13 +45,12 @@ impl GpuPacket {
         let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
         let phase = (p.phase / TAU).rem_euclid(1.0);
         let signed = |v: f64, in_phase: bool| if in_phase { -v } else { v };
-        let slope2 = (p.k * p.amplitude).powi(2);
-        let (wavelength, slope2) = (signed(p.wavelength(), p.in_phase[0]), signed(slope2, p.in_phase[1]));
+        let (wavelength, slope) = (signed(p.wavelength(), p.in_phase[0]), signed(p.k * p.amplitude, p.in_phase[1]));
         let [a, b, c, d] = footprint.quad;
         GpuPacket {
             centre_k: [p.centre.x, p.centre.y, k.x, k.y].map(|v| v as f32),
             envelope: [along.x, along.y, across.x, across.y].map(|v| v as f32),
-            wave: [p.amplitude, phase, wavelength, slope2].map(|v| v as f32),
+            wave: [p.amplitude, phase, wavelength, slope].map(|v| v as f32),
             footprint: [a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]],
         }
     }
@@ -75,15 +74,20 @@ impl FramePackets {
         t: f64,
         eye: DVec2,
         max_entries: usize,
-        view: impl FnOnce(f64) -> Option<CellMap>,
+        view: impl Fn(f64) -> Option<CellMap>,
     ) -> FramePackets {
         let field = sources.field(t).relative_to(eye);
-        // Coarse square cells sum more packets than fine ones: their crest bounds the view's.
-        let crest_m = PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, COARSE_CELLS_PER_SIDE).crest_m;
-        let grid = match view(crest_m) {
-            Some(map) => PacketGrid::new(&field.packets, max_entries, map, PERSPECTIVE_CELLS_PER_SIDE),
-            None => PacketGrid { ranges: vec![[1, 1, 0, 0]; field.packets.len()], ..Default::default() },
+        let binned = |crest_m: f64| {
+            view(crest_m).map(|map| PacketGrid::new(&field.packets, max_entries, map, PERSPECTIVE_CELLS_PER_SIDE))
         };
+        // Coarse square cells sum more packets than fine ones: their crest bounds the view's. The
+        // view's cells, finer, bound it closer over the view they cover, which holds the view
+        // that closer bound gives: its cells are made again for it once.
+        let coarse = PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, COARSE_CELLS_PER_SIDE).crest_m;
+        let grid =
+            binned(coarse).and_then(|first| if first.crest_m < coarse { binned(first.crest_m) } else { Some(first) });
+        let grid = grid
+            .unwrap_or_else(|| PacketGrid { ranges: vec![[1, 1, 0, 0]; field.packets.len()], ..Default::default() });
         Self::packed(field, grid)
     }
 
