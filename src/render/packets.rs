@@ -86,8 +86,7 @@ impl FramePackets {
         let coarse = PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, COARSE_CELLS_PER_SIDE).crest_m;
         let grid =
             binned(coarse).and_then(|first| if first.crest_m < coarse { binned(first.crest_m) } else { Some(first) });
-        let grid = grid
-            .unwrap_or_else(|| PacketGrid { ranges: vec![[1, 1, 0, 0]; field.packets.len()], ..Default::default() });
+        let grid = grid.unwrap_or_else(|| PacketGrid::unbinned(field.packets.len()));
         Self::packed(field, grid)
     }
 

@@ -213,7 +213,7 @@ impl PacketGrid {
         let (view_lo, view_hi) = map.bounds();
         let (lo, hi) = (lo.max(view_lo), hi.min(view_hi));
         if !(lo.x < hi.x && lo.y < hi.y) {
-            return PacketGrid { map, ranges: vec![NO_CELLS; packets.len()], ..Default::default() };
+            return PacketGrid { map, ..Self::unbinned(packets.len()) };
         }
         let size = hi - lo;
         let mut cell = match map {
@@ -228,6 +228,11 @@ impl PacketGrid {
             }
             cell *= 2.0;
         }
+    }
+
+    /// A grid of no cells, its `count` packets listed nowhere (a view that holds no sea).
+    pub fn unbinned(count: usize) -> PacketGrid {
+        PacketGrid { ranges: vec![NO_CELLS; count], ..Default::default() }
     }
 
     #[allow(clippy::too_many_arguments)]
