@@ -28,14 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             camera.sea_hit(camera.ray(ndc)).map(|hit| hit.point.truncate())
         })
         .collect();
-    let started = std::time::Instant::now();
-    let crest = PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, 32).crest_m;
-    println!(
-        "{} packets, {} sea pixels of {width}x{height}; crest bound {crest:.3} m ({:.2} ms)",
-        field.packets.len(),
-        pixels.len(),
-        started.elapsed().as_secs_f64() * 1e3
-    );
+    println!("{} packets, {} sea pixels of {width}x{height}", field.packets.len(), pixels.len());
     let mut grids =
         vec![("rest plane", PacketGrid::new(&field.packets, usize::MAX, CellMap::Plane, MAX_CELLS_PER_SIDE))];
     let view =

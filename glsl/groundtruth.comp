@@ -108,10 +108,9 @@ uint surface_iterations = 0u;
 // took lavapipe two minutes to compile). The truth's cells are its own (finer than the frame's):
 // their lists start after their count's starts.
 void add_packets(vec2 x, inout Surface s) {
-    vec2 c = (packet_plane_point(x) - frame.packet_grid.xy) / frame.packet_grid.zw;
-    vec2 dims = vec2(frame.packet_dims.xy);
-    if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return;
-    uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);
+    int found = packet_cell(x);
+    if (found < 0) return;
+    uint cell = uint(found);
     uint lists = frame.packet_dims.x * frame.packet_dims.y + 1u;
     uint begin = lists + truth_packet_cells[cell], end = lists + truth_packet_cells[cell + 1u];
     // Each run is padded to whole iterations with a packet that reaches nowhere

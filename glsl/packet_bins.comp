@@ -21,8 +21,8 @@ layout(set = 0, binding = 4, std430) buffer Counters { uint counters[]; };
 // a packet's index and its cell range within the tile (grid::tile_entry).
 layout(set = 0, binding = 5, std430) readonly buffer Tiles { uint tiles[]; };
 // The frame's packets as the drawing passes read them, PACKET_TEXELS texels a packet, the last
-// two its quad in the cells' plane (render/packets.rs PacketTexels): a texel fetch gathers across SIMD lanes where a CPU driver loads a storage
-// buffer's struct lane by lane and word by word.
+// two its quad in the cells' plane (render/packets.rs PacketTexels): a texel fetch gathers across
+// SIMD lanes where a CPU driver loads a storage buffer's struct lane by lane and word by word.
 layout(set = 0, binding = 6) uniform samplerBuffer packet_texels;
 // room: the lists' length, which the CPU's count of the entries (grid::PacketGrid::entries, the
 // same test) keeps them within. Should a device round the rectangle's test otherwise (Vulkan

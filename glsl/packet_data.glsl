@@ -35,6 +35,15 @@ vec2 packet_plane_point(vec2 x) {
     return w > 0.0 ? vec2(dot(x, vec2(-m.y, m.x)), 1.0) / w : vec2(0.0, -1.0);
 }
 
+// The cell holding rest position x (grid::PacketGrid::cell), or -1 outside the grid (and for a
+// NaN x, which no comparison admits).
+int packet_cell(vec2 x) {
+    vec2 c = (packet_plane_point(x) - frame.packet_grid.xy) / frame.packet_grid.zw;
+    vec2 dims = vec2(frame.packet_dims.xy);
+    if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return -1;
+    return int(uint(c.y) * frame.packet_dims.x + uint(c.x));
+}
+
 // Whether normalized coordinates (u, v) lie within a packet's reach.
 bool packet_reaches(float u, float v) {
     return max(abs(u), abs(v)) < PACKET_SIGMAS;

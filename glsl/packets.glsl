@@ -30,11 +30,9 @@ vec4 packet_texel(uint i, int j) {
 // (and for a NaN x, which no comparison admits).
 uvec2 packet_run(vec2 x) {
     if (!PACKETS) return uvec2(0u);
-    vec2 c = (packet_plane_point(x) - frame.packet_grid.xy) / frame.packet_grid.zw;
-    vec2 dims = vec2(frame.packet_dims.xy);
-    if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < dims.x && c.y < dims.y)) return uvec2(0u);
-    uint cell = uint(c.y) * frame.packet_dims.x + uint(c.x);
-    return uvec2(packet_cell_word(cell), packet_cell_word(cell + 1u));
+    int cell = packet_cell(x);
+    if (cell < 0) return uvec2(0u);
+    return uvec2(packet_cell_word(uint(cell)), packet_cell_word(uint(cell) + 1u));
 }
 
 // The packets' displacement at rest position x, each at the grid's weight (as `displacement`);

@@ -111,9 +111,6 @@ fn rest_extent(camera: &CameraFrame, layout: &GridLayout, crest: f64) -> Vec<DVe
             points.push(horizontal.normalize() * limb);
         }
     }
-    if points.iter().all(|p| !p.is_finite()) {
-        return Vec::new();
-    }
     points.retain(|p| p.is_finite());
     points
 }

@@ -99,9 +99,7 @@ impl FramePackets {
     }
 
     fn packed(field: PacketField, grid: PacketGrid) -> FramePackets {
-        let none = Footprint::default();
-        let footprints = grid.footprints.iter().chain(std::iter::repeat(&none));
-        let gpu = field.packets.iter().zip(footprints).map(|(p, f)| GpuPacket::new(p, f)).collect();
+        let gpu = field.packets.iter().zip(&grid.footprints).map(|(p, f)| GpuPacket::new(p, f)).collect();
         FramePackets { field, grid, gpu }
     }
 

@@ -24,9 +24,10 @@ pub const MAX_CELLS_PER_SIDE: u32 = 256;
 pub const MAX_CELLS: u32 = MAX_CELLS_PER_SIDE * MAX_CELLS_PER_SIDE;
 
 /// Cells per side of a frame's perspective grid: each then covers about 8 x 6 pixels at
-/// 1024 x 768. Measured on `wake_mast` (examples/packet_cells.rs, 2026-12-05): a pixel reads 4.94
-/// list entries for 4.39 that reach it, from 80 112 entries; 256 a side, 4.67 from 302 984 (the
-/// binning's cost grows with the entries); square cells on the rest plane, 7.48 from 145 767.
+/// 1024 x 768. Measured on `wake_mast` (examples/packet_cells.rs, 2026-12-05): a pixel reads 5.04
+/// list entries for 4.40 that reach it, from 105 096 entries; square cells on the rest plane,
+/// 7.45 from 145 767. A first version of the view's map at 256 a side read 4.67 (4.94 at 128)
+/// from 302 984 entries: the binning's cost grows with them.
 pub const PERSPECTIVE_CELLS_PER_SIDE: u32 = 128;
 
 /// A tile's side in cells: TILE_CELLS^2 GPU invocations bin a tile. Four: the
@@ -232,7 +233,11 @@ impl PacketGrid {
 
     /// A grid of no cells, its `count` packets listed nowhere (a view that holds no sea).
     pub fn unbinned(count: usize) -> PacketGrid {
-        PacketGrid { ranges: vec![NO_CELLS; count], ..Default::default() }
+        PacketGrid {
+            ranges: vec![NO_CELLS; count],
+            footprints: vec![Footprint::default(); count],
+            ..Default::default()
+        }
     }
 
     #[allow(clippy::too_many_arguments)]
