@@ -60,6 +60,10 @@ layout(push_constant) uniform Tile {
     float sun_kernel_scale;  // the sun disc's solid angle over the cone's (<= 1)
     uvec2 region_origin;     // the pixels traced: the first and how many (the buffer holds these);
     uvec2 region_size;       // two uvec2, not a uvec4, to keep TilePush's 4-byte alignment
+    float train_slab;        // the trains' own slab and slope bound: the surface's where no packet
+    float train_lipschitz;   // reaches (outside packet_reach)
+    vec2 packet_reach_min;   // the rest plane's box over which packets shape the surface: their
+    vec2 packet_reach_max;   // cells widened by the horizontal reach (min > max: no packets)
 } tile;
 
 const int NEWTON_STEPS = 2;   // src/measure/groundtruth.rs NEWTON_STEPS
@@ -187,6 +191,22 @@ vec2 level_and_rate(vec3 p, vec3 r) {
     return vec2(p.z + frame.cam_forward.w + sphere_drop(p.xy), rate);
 }
 
+// The stretch [t_in, t_out] of o + t r over the packets' reach (tile.packet_reach_*, in the rest
+// plane); t_in > t_out where it never is (no packets: the box is empty).
+vec2 axis_span(float o, float r, float lo, float hi) {
+    if (r == 0.0) return o >= lo && o <= hi ? vec2(-3.0e38, 3.0e38) : vec2(3.0e38, -3.0e38);
+    float a = (lo - o) / r, b = (hi - o) / r;
+    return vec2(min(a, b), max(a, b));
+}
+
+vec2 packet_span(vec3 o, vec3 r) {
+    vec2 lo = tile.packet_reach_min, hi = tile.packet_reach_max;
+    if (any(greaterThan(lo, hi))) return vec2(3.0e38, -3.0e38);
+    vec2 sx = axis_span(o.x, r.x, lo.x, hi.x), sy = axis_span(o.y, r.y, lo.y, hi.y);
+    vec2 span = vec2(max(sx.x, sy.x), min(sx.y, sy.y));
+    return span.x <= span.y ? span : vec2(3.0e38, -3.0e38);
+}
+
 // First hit of o + t r (t > t0) with the surface: returns t, or -1 where the ray misses. Sphere-
 // traces the vertical gap g with the slope bound L: g shrinks by at most dt (L |r.xy| - rate)
 // per step dt, rate the ray's climb over the rest sphere (level_and_rate, which only grows along
@@ -217,6 +237,10 @@ float intersect(vec3 o, vec3 r, float t0, inout uint budget, out Surface s_hit, 
     }
     vec2 x = (o + t * r).xy;
     Surface s = surface(x);
+    // Where the ray is over the packets' reach the march steps by the whole surface's bounds;
+    // before it, by the trains' (a step stops where it enters); past it, the trains' bound the
+    // rest of the ray: a ray skimming a far sea is not held to a wake's slopes.
+    vec2 over = packet_span(o, r);
     float t_above = t;        // last point known above the surface
     float t_below = -1.0;     // first point known below it, once bracketed
     uint spent = 0u;
@@ -224,8 +248,12 @@ float intersect(vec3 o, vec3 r, float t0, inout uint budget, out Surface s_hit, 
         uint before = surface_iterations;
         vec3 p = o + t * r;
         vec2 level = level_and_rate(p, r);
-        float closing = tile.lipschitz * length(r.xy) - level.y;
-        if (level.y >= 0.0 && (level.x > slab + 1e-3 || closing <= 0.0)) {
+        bool past = t > over.y;
+        float step_slope = t >= over.x && !past ? tile.lipschitz : tile.train_lipschitz;
+        float rest_slope = past ? tile.train_lipschitz : tile.lipschitz;
+        float rest_slab = past ? tile.train_slab : slab;
+        float closing = rest_slope * length(r.xy) - level.y;
+        if (level.y >= 0.0 && (level.x > rest_slab + 1e-3 || closing <= 0.0)) {
             searching = 0.0;   // left the slab upwards, or rising faster than any slope: a miss
         } else if (level.x < -slab) {
             t_below = t;       // below every trough
@@ -240,7 +268,11 @@ float intersect(vec3 o, vec3 r, float t0, inout uint budget, out Surface s_hit, 
                 searching = 0.0;
             } else {
                 t_above = t;
-                t += g / closing;
+                // closing > 0 above; the trains' own may not be before the packets' reach, where
+                // the step ends at its start anyway.
+                float step_closing = step_slope * length(r.xy) - level.y;
+                float step = step_closing > 0.0 ? g / step_closing : over.x - t;
+                t += t < over.x ? min(step, over.x - t) : step;
             }
         }
         // The step itself, its Newton loop's (src/measure/groundtruth.rs NEWTON_STEPS) and its

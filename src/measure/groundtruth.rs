@@ -50,6 +50,11 @@ struct TilePush {
     sun_kernel_scale: f32,
     /// The region traced: its first pixel and size (the image's pixels; the buffer holds these).
     region: [u32; 4],
+    /// The trains' own slab and slope bound: the surface's outside `packet_reach`.
+    train_slab: f32,
+    train_lipschitz: f32,
+    /// The rest plane's box (min, max) over which packets shape the surface; min > max: none.
+    packet_reach: [[f32; 2]; 2],
 }
 
 /// Loop iterations one invocation may run in total on lavapipe 22.3 (gallivm's loop limiter,
@@ -187,10 +192,19 @@ const SLOPE_MARGIN: f64 = 2.0;
 /// fractional parts of 0.5 + n times these.
 const R2: (f64, f64) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
 
+/// The rest plane's box over which the packets shape the surface: their cells (which hold every
+/// packet's reach; the truth's map is the plane's own) widened by `reach`, how far the surface's
+/// points move horizontally from their rest positions (at most the sum of the amplitudes).
+fn packet_reach(grid: &crate::model::packets::grid::PacketGrid, reach: f64) -> [[f32; 2]; 2] {
+    let size = glam::DVec2::new(grid.cols as f64, grid.rows as f64) * grid.cell;
+    let (lo, hi) = (grid.origin - reach, grid.origin + size + reach);
+    [[lo.x as f32, lo.y as f32], [hi.x as f32, hi.y as f32]]
+}
+
 /// A frame's packets with their cells' lists (PacketGrid::lists: starts, then indices).
 type ListedPackets<'a> = (&'a FramePackets, &'a (Vec<u32>, Vec<u32>));
 
-/// The slope bound the march steps by (glsl/groundtruth.comp `intersect`): how fast the displaced
+/// The slope bounds the march steps by (glsl/groundtruth.comp `intersect`): how fast the displaced
 /// surface's height can change along a horizontal line.
 ///
 /// Where the trains cannot fold (sum k h < 0.9), sum k h / (1 - sum k h) bounds it, but it grows
@@ -204,28 +218,38 @@ type ListedPackets<'a> = (&'a FramePackets, &'a (Vec<u32>, Vec<u32>));
 /// bound, or the former fixed 10 (84 degrees) where there is none. The wave packets add their
 /// cells' largest slope sum (grid::PacketGrid::slope) to the strict bound and their own probed
 /// steepest slope (`packet_steepest`) to the probes'.
-fn marching_slope(wave_set: &crate::model::waves::WaveSet, packets: Option<ListedPackets>) -> f64 {
+///
+/// Returned twice: for the trains alone (the surface where no packet reaches), then for the
+/// whole surface.
+fn marching_slopes(wave_set: &crate::model::waves::WaveSet, packets: Option<ListedPackets>) -> (f64, f64) {
     const FOLDING_BOUND: f64 = 10.0;
-    let kh_sum: f64 =
-        wave_set.trains.iter().map(|t| t.k * t.amplitude).sum::<f64>() + packets.map_or(0.0, |(p, _)| p.grid.slope);
-    let strict = (kh_sum < 0.9).then(|| kh_sum / (1.0 - kh_sum));
+    let train_kh: f64 = wave_set.trains.iter().map(|t| t.k * t.amplitude).sum();
+    let strict = |kh_sum: f64| (kh_sum < 0.9).then(|| kh_sum / (1.0 - kh_sum));
+    let kh_sum = train_kh + packets.map_or(0.0, |(p, _)| p.grid.slope);
     // Rest positions over a square many of the longest waves wide, by the R2 sequence (Roberts
     // 2018: the plastic number's powers), which covers it evenly whatever the count; the phases
     // at time 0 (time only shifts the surface, its slopes' statistics stay).
     let longest = wave_set.trains.iter().map(|t| t.wavelength).fold(1.0, f64::max);
     let side = 64.0 * longest;
-    let mut steepest: f64 = 0.0;
+    let mut steepest: Option<f64> = Some(0.0);
     for n in 0..SLOPE_PROBES {
         let x = [side * (0.5 + R2.0 * n as f64).fract(), side * (0.5 + R2.1 * n as f64).fract()];
         match displaced_slope(wave_set, x) {
-            Some(slope) => steepest = steepest.max(slope),
-            None => return strict.unwrap_or(FOLDING_BOUND),
+            Some(slope) => steepest = steepest.map(|s| s.max(slope)),
+            None => {
+                steepest = None;
+                break;
+            }
         }
     }
+    // A probe on a fold leaves the strict bound (below 9), or FOLDING_BOUND where there is none.
+    let bound = |kh_sum: f64, probed: Option<f64>| {
+        let probed = probed.map_or(FOLDING_BOUND, |s| (SLOPE_MARGIN * s).min(FOLDING_BOUND));
+        strict(kh_sum).map_or(probed, |strict| strict.min(probed))
+    };
     // The packets' steepest beside the trains': the sum of the two bounds the surface's.
-    let steepest = steepest + packets.map_or(Some(0.0), packet_steepest).unwrap_or(FOLDING_BOUND);
-    let probed = (SLOPE_MARGIN * steepest).min(FOLDING_BOUND);
-    strict.map_or(probed, |strict| strict.min(probed))
+    let with_packets = steepest.and_then(|s| packets.map_or(Some(0.0), packet_steepest).map(|p| s + p));
+    (bound(train_kh, steepest), bound(kh_sum, with_packets))
 }
 
 /// The steepest height slope of the packets' own surface over SLOPE_PROBES rest positions
@@ -565,6 +589,7 @@ pub fn render(
     let cmd = commands.cmd;
 
     let (max_march, bounce_march) = march_budget(exact.len() as u32, packet_run, bounces, physical, objects.is_some())?;
+    let slopes = marching_slopes(&wave_set, packets.as_ref().zip(lists.as_ref()));
     let push = TilePush {
         origin: [0, 0],
         samples,
@@ -574,12 +599,17 @@ pub fn render(
         bounce_march,
         wave_count: exact.len() as u32,
         slab: wave_set.highest_crest() as f32,
-        lipschitz: marching_slope(&wave_set, packets.as_ref().zip(lists.as_ref())) as f32,
+        lipschitz: slopes.1 as f32,
         ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
         sun_kernel_scale,
         region: [region.x, region.y, region.width, region.height],
+        train_slab: wave_set.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
+        train_lipschitz: slopes.0 as f32,
+        packet_reach: packets
+            .as_ref()
+            .map_or([[1.0; 2], [-1.0; 2]], |p| packet_reach(&p.grid, wave_set.highest_crest())),
     };
     let tiles_x = region.width.div_ceil(TILE);
     let tiles_y = region.height.div_ceil(TILE);
@@ -1010,11 +1040,11 @@ mod tests {
         let waves = crate::model::waves::generate(&calm);
         let kh: f64 = waves.trains.iter().map(|t| t.k * t.amplitude).sum();
         assert!(kh < 0.9, "{kh}");
-        assert!(marching_slope(&waves, None) <= kh / (1.0 - kh));
+        assert!(marching_slopes(&waves, None).0 <= kh / (1.0 - kh));
         // The default's 60 trains sum past 1: the probed bound, below the former fixed 10 and
         // above the displaced surface's slope at points the probes never met.
         let waves = crate::model::waves::generate(&Scene::default());
-        let bound = marching_slope(&waves, None);
+        let bound = marching_slopes(&waves, None).0;
         assert!(bound < 5.0, "{bound}");
         let mut steepest: f64 = 0.0;
         for n in 0..20_000u32 {
