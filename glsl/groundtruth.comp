@@ -191,14 +191,15 @@ vec2 level_and_rate(vec3 p, vec3 r) {
     return vec2(p.z + frame.cam_forward.w + sphere_drop(p.xy), rate);
 }
 
-// The stretch [t_in, t_out] of o + t r over the packets' reach (tile.packet_reach_*, in the rest
-// plane); t_in > t_out where it never is (no packets: the box is empty).
+// The stretch of o + r t within [lo, hi] along one axis (all t, or none, for r = 0).
 vec2 axis_span(float o, float r, float lo, float hi) {
     if (r == 0.0) return o >= lo && o <= hi ? vec2(-3.0e38, 3.0e38) : vec2(3.0e38, -3.0e38);
     float a = (lo - o) / r, b = (hi - o) / r;
     return vec2(min(a, b), max(a, b));
 }
 
+// The stretch [t_in, t_out] of o + t r over the packets' reach (tile.packet_reach_*, in the rest
+// plane); t_in > t_out where it never is (no packets: the box is empty).
 vec2 packet_span(vec3 o, vec3 r) {
     vec2 lo = tile.packet_reach_min, hi = tile.packet_reach_max;
     if (any(greaterThan(lo, hi))) return vec2(3.0e38, -3.0e38);

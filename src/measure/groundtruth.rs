@@ -590,6 +590,7 @@ pub fn render(
 
     let (max_march, bounce_march) = march_budget(exact.len() as u32, packet_run, bounces, physical, objects.is_some())?;
     let slopes = marching_slopes(&wave_set, packets.as_ref().zip(lists.as_ref()));
+    let slab = wave_set.highest_crest();
     let push = TilePush {
         origin: [0, 0],
         samples,
@@ -598,18 +599,16 @@ pub fn render(
         bounces,
         bounce_march,
         wave_count: exact.len() as u32,
-        slab: wave_set.highest_crest() as f32,
+        slab: slab as f32,
         lipschitz: slopes.1 as f32,
         ior: crate::model::fresnel::SEA_WATER_IOR as f32,
         seed: scene.waves.seed as u32,
         sun_cos_kernel,
         sun_kernel_scale,
         region: [region.x, region.y, region.width, region.height],
-        train_slab: wave_set.trains.iter().map(|t| t.amplitude).sum::<f64>() as f32,
+        train_slab: wave_set.trains_highest_crest() as f32,
         train_lipschitz: slopes.0 as f32,
-        packet_reach: packets
-            .as_ref()
-            .map_or([[1.0; 2], [-1.0; 2]], |p| packet_reach(&p.grid, wave_set.highest_crest())),
+        packet_reach: packets.as_ref().map_or([[1.0; 2], [-1.0; 2]], |p| packet_reach(&p.grid, slab)),
     };
     let tiles_x = region.width.div_ceil(TILE);
     let tiles_y = region.height.div_ceil(TILE);

@@ -244,7 +244,12 @@ impl WaveSet {
     /// The summed amplitude, with the packets' crest: no point of the surface rises higher above
     /// its rest plane (or sinks lower below it), whatever the phases.
     pub fn highest_crest(&self) -> f64 {
-        self.trains.iter().map(|t| t.amplitude).sum::<f64>() + self.packet_crest_m
+        self.trains_highest_crest() + self.packet_crest_m
+    }
+
+    /// `highest_crest` of the trains alone: the surface's where no packet reaches.
+    pub fn trains_highest_crest(&self) -> f64 {
+        self.trains.iter().map(|t| t.amplitude).sum()
     }
 
     /// Height above mean sea level of the water directly below the origin (the eye) at time t.
