@@ -77,7 +77,8 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     float wavelength = abs(wave.z);
     vec2 dir = k_turns * wavelength;
     if (wn > 0.0) {
-        float kae = abs(wave.w) * e.x;
+        // k a E from the amplitude (wave.w is the variance's slope amplitude, its rows' sums in it).
+        float kae = 2.0 * PI * wave.x / wavelength * e.x;
         vec2 grad = wave.x * (e.y * envelope.xy + e.z * envelope.zw);
         vec2 sc = sincos_turns(wave.y - dot(k_turns, rel));
         // d/dx_j of a E sin(theta) and a E cos(theta), theta's gradient -k dir.
@@ -87,8 +88,9 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
         r.tangent_y += wn * vec3(dir * horizontal.y, vertical.y);
     }
     // The envelope's factor in the variance: along each axis its window where the row is in
-    // phase, else its square (Packet::variance_envelope). (k a)^2 <= STEEPEST_KA^2 and the
-    // factor <= 1: the slope variance's argument stays below 1.
+    // phase (the row's envelope sum is in wave.w), else its square (Packet::variance_envelope).
+    // Rows closer than two sigmas can take it past 1, a summed field steeper than a trochoid's
+    // limit: trochoid_slope_variance holds its root's argument at 0 there (finite, continuous).
     float along = wave.z < 0.0 ? wu.x : wu.x * wu.x, across = wave.w < 0.0 ? wv.x : wv.x * wv.x;
     float unresolved2 = (1.0 - wn * wn) * (wave.w * wave.w) * along * across;
     r.sigma2 += wind_axes2(dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);

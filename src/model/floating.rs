@@ -353,7 +353,7 @@ mod tests {
             axis: DVec2::new(0.8, 0.6),
             sigma: [60.0, 40.0],
             phase: 0.9,
-            in_phase: [false, false],
+            in_phase: [None, None],
         };
         let field = PacketField { packets: vec![packet], ..Default::default() };
         let plane = Waterplane { length_m: 6.0, beam_m: 2.2, draft_m: 0.0 };

@@ -26,8 +26,9 @@ pub struct GpuPacket {
     pub envelope: [f32; 4],
     /// Amplitude at the centre (m), the phase there (turns, [0, 1)), the wavelength (m, 1 over
     /// the wave vector's length in turns: the direction is the wave vector times it) and the
-    /// slope amplitude k a; the last two negative where the row along the first
-    /// axis, and the second's, is in phase (Packet::in_phase).
+    /// slope amplitude the BRDF's variance takes, k a times the square root of the in-phase rows'
+    /// envelope sums (Packet::in_phase); the last two negative where the row along the first
+    /// axis, and the second's, is in phase.
     pub wave: [f32; 4],
     /// Its rectangle in the cells' plane, a quad (grid::Footprint, to the bit): the binning's
     /// alone.
@@ -44,8 +45,10 @@ impl GpuPacket {
         let k = p.direction * (p.k / TAU);
         let (along, across) = (p.axis / p.sigma[0], p.axis.perp() / p.sigma[1]);
         let phase = (p.phase / TAU).rem_euclid(1.0);
-        let signed = |v: f64, in_phase: bool| if in_phase { -v } else { v };
-        let (wavelength, slope) = (signed(p.wavelength(), p.in_phase[0]), signed(p.k * p.amplitude, p.in_phase[1]));
+        let signed = |v: f64, in_phase: Option<f64>| if in_phase.is_some() { -v } else { v };
+        let row_sums: f64 = p.in_phase.iter().flatten().product();
+        let slope = p.k * p.amplitude * row_sums.sqrt();
+        let (wavelength, slope) = (signed(p.wavelength(), p.in_phase[0]), signed(slope, p.in_phase[1]));
         let [a, b, c, d] = footprint.quad;
         GpuPacket {
             centre_k: [p.centre.x, p.centre.y, k.x, k.y].map(|v| v as f32),

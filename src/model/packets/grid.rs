@@ -368,7 +368,7 @@ mod tests {
 
     fn packet(centre: DVec2, sigma: [f64; 2], amplitude: f64) -> Packet {
         let axis = DVec2::new(0.6, 0.8);
-        Packet { centre, direction: DVec2::X, k: 1.0, amplitude, axis, sigma, phase: 0.0, in_phase: [false; 2] }
+        Packet { centre, direction: DVec2::X, k: 1.0, amplitude, axis, sigma, phase: 0.0, in_phase: [None; 2] }
     }
 
     fn packets() -> Vec<Packet> {
@@ -485,7 +485,7 @@ mod tests {
             axis: DVec2::new(1.0, 1.0).normalize(),
             sigma: [4.0, 0.1],
             phase: 0.0,
-            in_phase: [false; 2],
+            in_phase: [None; 2],
         };
         let spread = [p, Packet { centre: DVec2::new(100.0, 100.0), ..p }];
         let grid = PacketGrid::new(&spread, usize::MAX, CellMap::Plane, 32);

@@ -15,7 +15,7 @@
 //! sources' packets (a wake rocking the hull) leave pulses of rings (`add_pulses`); a moving hull
 //! radiates none.
 
-use super::{comb_share, envelope_at, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, envelope_at, row_sum, Packet, ENVELOPE_SIGMAS, STEEPEST_KA, VISCOSITY};
 use crate::model::floating::{complex_product, Waterplane};
 use crate::model::waves::{WaveSet, G};
 use glam::DVec2;
@@ -217,7 +217,8 @@ impl HeavingHull {
         // radians 100 wavelengths out) is faint by the time it needs more.
         let directions = ((TAU * r / most).ceil() as usize).clamp(8, MAX_RING_DIRECTIONS).next_power_of_two();
         let arc = TAU * r / directions as f64;
-        let share = row_share.unwrap_or(1.0) * comb_share(arc, 0.5 * arc);
+        let ring_share = comb_share(arc, 0.5 * arc);
+        let share = row_share.unwrap_or(1.0) * ring_share;
         for m in 0..directions {
             let theta = m as f64 * TAU / directions as f64;
             let direction = DVec2::new(theta.cos(), theta.sin());
@@ -230,8 +231,9 @@ impl HeavingHull {
                 axis: direction,
                 sigma: [radial, 0.5 * arc],
                 phase: eta.y.atan2(eta.x),
-                // Its neighbours around the ring are in phase, and outwards the next of a row.
-                in_phase: [row_share.is_some(), true],
+                // Its neighbours around the ring are in phase, two sigmas apart, and outwards
+                // the next of a row, its share of their sum.
+                in_phase: [row_share.map(row_sum), Some(row_sum(ring_share))],
             });
         }
     }
@@ -440,7 +442,7 @@ mod tests {
             axis: DVec2::X,
             sigma: [6.0, 6.0],
             phase: 1.0 + (G * k).sqrt() * t,
-            in_phase: [false, false],
+            in_phase: [None, None],
         };
         let pulse = |t: f64| hull.packets(t, &[driving(t)]);
         // Before its envelope is two sigmas from the hull, nothing.

@@ -66,6 +66,17 @@ pub fn comb_share(spacing: f64, sigma: f64) -> f64 {
     (spacing / (ENVELOPE_LINE_INTEGRAL * sigma)).min(1.0)
 }
 
+/// What the envelopes of a row in phase sum to, of which each packet holds `share` of the field
+/// (`comb_share`): its reciprocal, 1 two sigmas apart or further; 1 for a packet of no share,
+/// whose amplitude is 0 (Packet::in_phase).
+pub fn row_sum(share: f64) -> f64 {
+    if share > 0.0 {
+        1.0 / share
+    } else {
+        1.0
+    }
+}
+
 /// One packet at the field's time: a carrier of wavenumber k travelling along `direction`, under a
 /// smooth envelope (`envelope_at`) whose axes are `axis` and its perpendicular.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,14 +97,17 @@ pub struct Packet {
     /// The carrier's phase at the centre (rad): at rest position x it is
     /// phase - k direction . (x - centre), as a train's omega t - k . x + phase0.
     pub phase: f64,
-    /// Whether its neighbours along each axis (`axis`, then across) carry its own wave in phase
-    /// with it, two sigmas apart: a chain's packets along it, a ring's around it. The slope
-    /// variance it leaves to the BRDF then takes its window along that axis, not the window's
-    /// square, so that the row's variances sum to that of its summed amplitude (exactly, for equal
-    /// packets: the windows are a partition of unity), where squares would leave 0.743 of it on
-    /// average (`variance_envelope`). Neighbours of other wavenumbers (a wake's next component)
-    /// are not in phase: their variances add.
-    pub in_phase: [bool; 2],
+    /// Along each axis (`axis`, then across), whether its neighbours carry its own wave in phase
+    /// with it (a chain's packets along it, a ring's around it) and, where they do, what their
+    /// envelopes sum to there: 1 for a row two sigmas apart (the windows' partition of unity),
+    /// 2 sigma / spacing for one closer (a wake's band held at its cusp's width, each packet's
+    /// amplitude the reciprocal share of the field, `comb_share`). The slope variance it leaves to
+    /// the BRDF then takes its window along that axis times that sum, not the window's square, so
+    /// that the row's variances sum to that of its summed amplitude (exactly, for equal packets),
+    /// where squares would leave 0.743 of it on average two sigmas apart, and less the closer they
+    /// are (`variance_envelope`). None: its neighbours' waves are not in phase with its own, and
+    /// their variances add.
+    pub in_phase: [Option<f64>; 2],
 }
 
 /// The surface a packet adds at a rest position: its displacement, and its share of the
@@ -154,15 +168,15 @@ impl Packet {
     }
 
     /// The envelope's factor in its slope variance at rest position x: along each axis its
-    /// window where the row is in phase (`in_phase`), else the window's square.
+    /// window times the row's envelope sum where the row is in phase (`in_phase`), else the
+    /// window's square.
     pub fn variance_envelope(&self, x: DVec2) -> f64 {
         let (u, v) = self.normalized(x);
-        let factor = |t: f64, in_phase: bool| {
+        let factor = |t: f64, in_phase: Option<f64>| {
             let w = window(t).0;
-            if in_phase {
-                w
-            } else {
-                w * w
+            match in_phase {
+                Some(row_sum) => w * row_sum,
+                None => w * w,
             }
         };
         factor(u, self.in_phase[0]) * factor(v, self.in_phase[1])
@@ -276,7 +290,7 @@ mod tests {
             axis: DVec2::new(1.0, 0.0),
             sigma: [4.0, 2.5],
             phase: 0.7,
-            in_phase: [false, false],
+            in_phase: [None, None],
         }
     }
 
@@ -323,7 +337,7 @@ mod tests {
             .map(|(i, j)| Packet {
                 centre: DVec2::new(8.0 * i as f64, 5.0 * j as f64),
                 axis: DVec2::X,
-                in_phase: [true, false],
+                in_phase: [Some(1.0), None],
                 ..packet()
             })
             .collect();
@@ -339,7 +353,7 @@ mod tests {
                 .sum();
             assert!((summed / rows - 1.0).abs() < 1e-12, "{x}: {summed} against {rows}");
             // Lone packets leave only their squares: less between the row's packets.
-            let lone: f64 = lattice.iter().map(|p| Packet { in_phase: [false; 2], ..*p }.unresolved_slope2(x)).sum();
+            let lone: f64 = lattice.iter().map(|p| Packet { in_phase: [None; 2], ..*p }.unresolved_slope2(x)).sum();
             assert!(lone < summed, "{x}: {lone} {summed}");
         }
     }

@@ -10,7 +10,7 @@
 //! its arc of the ring. Neighbouring directions share a wavenumber and a phase: their packets
 //! overlap along the ring into one wave front.
 
-use super::{comb_share, envelope_at, Packet, STEEPEST_KA, VISCOSITY};
+use super::{comb_share, envelope_at, row_sum, Packet, STEEPEST_KA, VISCOSITY};
 use crate::model::waves::G;
 use glam::DVec2;
 use std::f64::consts::{PI, TAU};
@@ -120,7 +120,8 @@ impl Splash {
             // ring, summing to at most `peak` times it.
             let field = (2.0 * band / (TAU * r.max(radial) * spread)).sqrt().min(self.depth_m() / peak);
             // Each packet's share of the field, radially (the bands) and along the ring.
-            let amplitude_share = comb_share(spread, radial) * comb_share(r * d_phi, arc);
+            let (radial_share, ring_share) = (comb_share(spread, radial), comb_share(r * d_phi, arc));
+            let amplitude_share = radial_share * ring_share;
             let damping = (-2.0 * VISCOSITY * k * k * age).exp();
             let amplitude = (field * amplitude_share * damping).min(STEEPEST_KA / k);
             for m in 0..n_phi {
@@ -138,8 +139,8 @@ impl Splash {
                     // omega t - k . (x - position) since.
                     phase: PI + (G * k).sqrt() * age - k * r,
                     // The ring's packets share its phase, and the neighbouring bands meet it
-                    // in phase (the chirp).
-                    in_phase: [true, true],
+                    // in phase (the chirp): each its share of their sum.
+                    in_phase: [Some(row_sum(radial_share)), Some(row_sum(ring_share))],
                 });
             }
         }
