@@ -302,6 +302,11 @@ enum Bench {
         /// Timed frames per setting, after one warm-up frame.
         #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
+        /// Ground truth made by `ocean reference` of a copy of the scene without its `[[wake]]`s and
+        /// `[[splash]]`es, at the same size (and region) as --reference: adds the local waves' own
+        /// change, the full method's against the truth's (local_waves.md).
+        #[arg(long)]
+        bare_reference: Option<PathBuf>,
     },
     /// The sea's reflections of the scene's objects, method by method (none, screen, planar,
     /// both): GPU time, error over the sea, and the reflected objects' energy and local contrast,
@@ -718,14 +723,17 @@ fn run(cli: Cli) -> ocean::Result<()> {
             Ok(())
         }
         Command::Bench {
-            bench: Bench::ErrorVsTime { against: AgainstTruth { scene, reference, out, device }, frames },
+            bench:
+                Bench::ErrorVsTime { against: AgainstTruth { scene, reference, out, device }, frames, bare_reference },
         } => {
             let (scene, name) = load_scene(scene)?;
             let gpu = ocean::vk::gpu::Gpu::new(false, device.as_deref())?;
-            ocean::measure::bench::error_vs_time::run(&gpu, &scene, &name, &reference, frames, &out)?;
+            let bare = bare_reference.as_deref();
+            ocean::measure::bench::error_vs_time::run(&gpu, &scene, &name, &reference, bare, frames, &out)?;
             ocean::say!(
-                "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg",
-                out.display()
+                "wrote {}/error_vs_time.csv, error_by_distance.csv, error_vs_time.md and .svg, energy_by_distance.svg{}",
+                out.display(),
+                if bare.is_some() { ", local_waves.md and .csv" } else { "" }
             );
             Ok(())
         }

@@ -7,6 +7,7 @@
 use crate::app::median;
 use crate::error::{Error, Result};
 use crate::measure::bench::error_detail::{self, Detail, TruthDetail, TruthImages};
+use crate::measure::bench::local_waves;
 use crate::measure::groundtruth::GroundTruthFiles;
 use crate::measure::region::Region;
 use crate::model::scene::Scene;
@@ -201,11 +202,14 @@ pub fn errors(
     e
 }
 
+/// Every setting against the scene's ground truth `reference`; with `bare_reference` (a truth of
+/// the scene without its local waves, `local_waves`), the local waves' own change too.
 pub fn run(
     gpu: &Gpu,
     scene: &Scene,
     scene_name: &str,
     reference: &Path,
+    bare_reference: Option<&Path>,
     frames: u32,
     out_dir: &Path,
 ) -> Result<Vec<Row>> {
@@ -221,6 +225,7 @@ pub fn run(
             reference.display()
         )));
     }
+    let bare = bare_reference.map(|p| local_waves::BareTruth::load(p, scene, scene_name, &truth)).transpose()?;
     let wave_set = waves::generate(scene);
     let camera = CameraFrame::new(scene, &wave_set, view_w, view_h);
     // Sea pixels by distance band (the region's indices); the whole sea for the overall numbers.
@@ -234,6 +239,8 @@ pub fn run(
     let truth_detail = TruthDetail::new(&TruthImages::of(&truth), &on_sea, &sea, &bands)?;
     let truth_images = [truth.total.as_slice(), truth.sun.as_slice(), truth.sky.as_slice(), truth.sea.as_slice()];
     let mut rows = Vec::new();
+    // The full method's default setting's sky and sea images, for the local waves' change.
+    let mut full_default: Option<[Vec<[f32; 4]>; 2]> = None;
     let settings = settings(scene);
     let mut progress = Progress::new("bench error-vs-time", settings.len() as u64, "settings", true);
     for (i, setting) in settings.into_iter().enumerate() {
@@ -270,6 +277,9 @@ pub fn run(
             })
             .collect();
         let (detail, detail_bands) = truth_detail.of(&images);
+        if setting.method == Method::Full && setting.label == "default" {
+            full_default = Some([images[2].clone(), images[3].clone()]);
+        }
         let row = Row {
             method: setting.method.name().into(),
             setting: setting.label.clone(),
@@ -300,6 +310,36 @@ pub fn run(
         detail: &truth_detail,
     };
     write_outputs(&rows, out_dir, scene_name, truth_info, (w, h), frames)?;
+    if let (Some(bare), Some([sky, sea])) = (&bare, &full_default) {
+        let labels: Vec<String> = (0..BANDS_M.len() - 1).map(band_label).collect();
+        let changes = local_waves::measure(local_waves::Request {
+            gpu,
+            scene_name,
+            bare,
+            truth: &truth,
+            scene_images: [sky, sea],
+            bands: &bands,
+            labels: &labels,
+            out_dir,
+        })?;
+        for (label, c) in labels.iter().chain(std::iter::once(&"whole sea".to_owned())).zip(&changes) {
+            if c.pixels > 0 {
+                crate::say!(
+                    "local waves {label:>10} m: mean change truth {:+.4} ± {:.4}, ours {:+.4}; over {} wake pixels rms truth {:.4} \
+                     (noise {:.4}), ours {:.4}, correlation {:.2} ({:.2} without the truth's noise)",
+                    c.truth_mean,
+                    c.truth_uncertainty,
+                    c.method_mean,
+                    c.wake_pixels,
+                    c.truth_rms,
+                    c.truth_noise_rms,
+                    c.method_rms,
+                    c.correlation,
+                    c.correlation_without_noise
+                );
+            }
+        }
+    }
     Ok(rows)
 }
 

@@ -12,6 +12,7 @@ pub mod embed;
 pub mod error_detail;
 pub mod error_vs_time;
 pub mod flicker;
+pub mod local_waves;
 pub mod reflections;
 pub mod sky;
 pub mod sky_model;
