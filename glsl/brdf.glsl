@@ -290,7 +290,9 @@ vec4 one_tap_change(ReflectionCone cone, vec4 tap, ConeSky sky) {
 }
 #endif
 
-vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLight light, GlintSite glint, vec3 point) {
+// `packets_sigma2`: the wave packets' whole slope variance where the point lies (0 without them;
+// masking.glsl SeaView).
+vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, vec2 packets_sigma2, float sun_visible, SeaLight light, GlintSite glint, vec3 point) {
     // Back-facing resolved normal (steep waves at grazing view): bend it onto the silhouette,
     // where cos_v = 0 is the formulas' own finite limit.
     float vn = dot(v, n);
@@ -305,7 +307,7 @@ vec3 sea_radiance(vec3 n, vec3 up, vec3 v, vec2 sigma2, float sun_visible, SeaLi
     vec3 color = vec3(0.0);
     // The view in the sea's own frame, which the full method's masking tables are read in.
     SeaView view;
-    if (METHOD == METHOD_FULL) view = sea_view(v, up);
+    if (METHOD == METHOD_FULL) view = sea_view(v, up, packets_sigma2);
     if (TERM_SUN && sun_visible > 0.0 && max(light.sun.r, max(light.sun.g, light.sun.b)) > 0.0) {
         SunReflection sun = reflect_sun(f, v, frame.sun_dir.xyz, sigma2, light.sun);
         if (METHOD == METHOD_FULL) {

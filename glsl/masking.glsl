@@ -35,13 +35,22 @@ float glint_masking_lookup(int configuration, float depression) {
 }
 
 // The view in the sea's own frame (z up, x along the wind), which both tables are read in: the
-// frame, unit v towards the eye in it, and the view's depression.
-struct SeaView { Frame3 sea; vec3 v; float depression; };
+// frame, unit v towards the eye in it, the view's depression, and how much steeper than its
+// trains the sea is along the view where the pixel lies: >= 1, sqrt((trains' + packets') /
+// trains' slope variance along the view's azimuth), both whole, resolved or not (the table the
+// visible facets are corrected by was measured on every slope of the trains); 1 without trains
+// (the table is then the model's own) or packets. `packets_sigma2`: the packets' whole slope
+// variance there (wind frame; packets.glsl packet_slope_variance).
+struct SeaView { Frame3 sea; vec3 v; float depression; float steeper; };
 
-SeaView sea_view(vec3 v, vec3 up) {
+SeaView sea_view(vec3 v, vec3 up, vec2 packets_sigma2) {
     Frame3 sea = wind_frame(up);
     vec3 vs = to_local(sea, v);
-    return SeaView(sea, vs, asin(clamp(vs.z, 0.0, 1.0)));
+    float horizontal2 = dot(vs.xy, vs.xy);
+    vec2 axes = horizontal2 > 0.0 ? vs.xy * vs.xy / horizontal2 : vec2(0.5);
+    float trains = dot(frame.wind.zw, axes);
+    float steeper = trains > 0.0 ? sqrt(1.0 + dot(packets_sigma2, axes) / trains) : 1.0;
+    return SeaView(sea, vs, asin(clamp(vs.z, 0.0, 1.0)), steeper);
 }
 
 // 1 / (1 + Lambda_v + Lambda_l) for unit directions v and l in a frame with z up and Gaussian
@@ -81,15 +90,21 @@ float sea_masking(SeaView view, vec3 l, vec2 sigma2_unresolved) {
 // The facets the eye sees against the model's (model::masking::VisibleFacetTable) for the view:
 // x, their further lean towards the eye (slope); y, their mean Fresnel over the model's. Each
 // configuration at the view's depression, blended by cos^2 of the view's azimuth from the wind
-// (the share of the slope variance along the view that the wind's axis holds).
+// (the share of the slope variance along the view that the wind's axis holds). On a sea s =
+// view.steeper times as steep as its trains, read at the depression atan(tan(e) / s) and the lean
+// scaled by s: the trains' sea with its heights scaled by s hides from depression e the facets it
+// hides unscaled from that one, and the Fresnel ratio's departure from 1 with the lean
+// (VisibleFacetTable::lookup_steeper is its twin). atan(y, x) keeps the straight-down view finite.
 vec2 visible_facet_correction(SeaView view) {
     vec3 vs = view.v;
     float horizontal2 = dot(vs.xy, vs.xy);
     float along = horizontal2 > 0.0 ? vs.x * vs.x / horizontal2 : 0.5;
+    float depression = view.steeper > 1.0 ? atan(max(vs.z, 0.0), sqrt(horizontal2) * view.steeper) : view.depression;
     int j;
-    float f = masking_node(view.depression, j);
+    float f = masking_node(depression, j);
     vec4 node = mix(visible_facets[j], visible_facets[j + 1], f);
-    return vec2(mix(node.y, node.x, along), mix(node.w, node.z, along));
+    // The Fresnel ratio's departure from 1 is first order in the further lean: scaled with it.
+    return vec2(view.steeper * mix(node.y, node.x, along), max(1.0 - view.steeper * (1.0 - mix(node.w, node.z, along)), 0.0));
 }
 
 #endif

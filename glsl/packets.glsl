@@ -58,6 +58,12 @@ vec3 packets_displacement(vec2 x, SampleScale s, vec2 steps) {
     return d;
 }
 
+// The packets' whole slope variance (wind frame) where the invocation's add_packets ran, as if
+// nothing resolved them, to first order, (k a E)^2 / 2 (a root less a packet than the
+// trochoid's; within 6% of it at the steepest, k a = STEEPEST_KA): how much steeper they make the
+// sea than its trains (masking.glsl sea_view; PacketField::linear_slope_variance is its twin).
+vec2 packet_slope_variance = vec2(0.0);
+
 // Adds packet `index` at rest position x to a pixel's surface: at its normal weight wn in the tangents
 // (none where the pixel resolves nothing), the rest of its slope variance, that of the squared
 // amplitude (1 - wn^2) (k a)^2 times its envelope's factor (the window's square, or along a row in
@@ -92,10 +98,12 @@ void add_packet(inout SurfaceSample r, uint index, vec2 x, SampleScale s, bool r
     // Rows closer than two sigmas can take it past 1, a summed field steeper than a trochoid's
     // limit: trochoid_slope_variance holds its root's argument at 0 there (finite, continuous).
     float along = wave.z < 0.0 ? wu.x : wu.x * wu.x, across = wave.w < 0.0 ? wv.x : wv.x * wv.x;
-    float unresolved2 = (1.0 - wn * wn) * (wave.w * wave.w) * along * across;
-    r.sigma2 += wind_axes2(dir, frame.wind.xy) * trochoid_slope_variance(unresolved2);
+    float whole2 = (wave.w * wave.w) * along * across;
+    vec2 axes = wind_axes2(dir, frame.wind.xy);
+    r.sigma2 += axes * trochoid_slope_variance((1.0 - wn * wn) * whole2);
+    packet_slope_variance += axes * (0.5 * whole2);
     // Curvature k (k a E) along the carrier: its variance k^2 (k a E)^2 / 2, k = 2 pi |k_turns|.
-    if (GLINTS) r.curvature += 2.0 * PI * PI * dot(k_turns, k_turns) * unresolved2;
+    if (GLINTS) r.curvature += 2.0 * PI * PI * dot(k_turns, k_turns) * (1.0 - wn * wn) * whole2;
     count_packet();
 }
 

@@ -515,7 +515,7 @@ void main() {
         float depth = texelFetch(scene_depth, p, 0).r;
         if (depth > 0.0) point = ray * (frame.shadow.x / depth);
     }
-    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, sun_visibility(p, ray, covered), light, glint, point) : vec3(0.0);
+    vec3 radiance = is_sea && ANY_TERM ? sea_radiance(n, up, v, sigma2, packet_slope_variance, sun_visibility(p, ray, covered), light, glint, point) : vec3(0.0);
     if (SKY_PHYSICAL && AERIAL && is_sea && BACKGROUND) {
         vec2 uv = (vec2(p) + 0.5) * frame.viewport.zw;
         radiance = aerial_perspective(radiance, uv, u, length(sea_point(x)));

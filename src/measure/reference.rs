@@ -89,7 +89,37 @@ impl ReferenceScene<'_> {
 
     pub fn shade(&self, px: f64, py: f64) -> Option<PixelRadiance> {
         let (n, v, sigma2) = self.resolved_surface(px, py)?;
-        Some(self.brdf(n, v, sigma2))
+        let steeper = self.packets_steepen(px, py, v);
+        Some(self.brdf_steeper(n, v, sigma2, steeper))
+    }
+
+    /// How much steeper than its trains the sea is along the view at pixel (px, py) where its
+    /// wave packets add their whole slope variance (glsl/masking.glsl sea_view): 1 for the
+    /// paper's method, without packets or without trains.
+    pub fn packets_steepen(&self, px: f64, py: f64, v: DVec3) -> f64 {
+        let (Some(packets), true) = (self.footprint.packets, self.full) else { return 1.0 };
+        let Some((x, _, _)) = self.rest_hit(self.pixel_ray(px, py)) else { return 1.0 };
+        let waves = self.footprint.waves;
+        let wind = DVec2::from(waves.wind_direction);
+        let along_share = Self::along_share(v, wind);
+        let share = |s: [f64; 2]| s[0] * along_share + s[1] * (1.0 - along_share);
+        let trains = share(waves.sigma2);
+        if trains > 0.0 {
+            (1.0 + share(packets.linear_slope_variance(x, wind)) / trains).sqrt()
+        } else {
+            1.0
+        }
+    }
+
+    /// cos^2 of v's azimuth from the wind (0.5 for a vertical v).
+    fn along_share(v: DVec3, wind: DVec2) -> f64 {
+        let (x, y) = (v.x * wind.x + v.y * wind.y, v.y * wind.x - v.x * wind.y);
+        let horizontal2 = x * x + y * y;
+        if horizontal2 > 0.0 {
+            x * x / horizontal2
+        } else {
+            0.5
+        }
     }
 
     /// Resolved normal, view direction and residual slope variance at a pixel's centre; None
@@ -101,6 +131,12 @@ impl ReferenceScene<'_> {
 
     /// The three terms for resolved normal `n`, view `v` and residual variance `sigma2`.
     pub fn brdf(&self, n: DVec3, v: DVec3, sigma2: [f64; 2]) -> PixelRadiance {
+        self.brdf_steeper(n, v, sigma2, 1.0)
+    }
+
+    /// The same on a sea `steeper` times as steep along the view as its trains
+    /// (`packets_steepen`).
+    pub fn brdf_steeper(&self, n: DVec3, v: DVec3, sigma2: [f64; 2], steeper: f64) -> PixelRadiance {
         let vn = v.dot(n);
         let n = if vn < 0.0 { (n - vn * v).try_normalize().unwrap_or(DVec3::Z) } else { n };
         let [t_x, t_y, n] = self.wind_frame(n);
@@ -122,7 +158,7 @@ impl ReferenceScene<'_> {
         let mut fresnel = self.mean_fresnel(cos_v, directional_variance(vl.x, vl.y, sigma2).sqrt());
         let mut lean = DVec2::ZERO;
         if self.full {
-            let (further, ratio) = self.visible_facet_correction(v);
+            let (further, ratio) = self.visible_facet_correction(v, steeper);
             lean = -further * DVec2::new(vl.x, vl.y).try_normalize().unwrap_or(DVec2::ZERO);
             fresnel = (fresnel * ratio).min(1.0);
         }
@@ -200,17 +236,14 @@ impl ReferenceScene<'_> {
         table.sea_masking(v, sun_dir, wind, unresolved, waves.sigma2)
     }
 
-    /// The full method's visible facets at v's depression on a level sea (glsl/masking.glsl,
-    /// visible_facet_correction): their further lean towards the eye and their Fresnel ratio,
-    /// from the table the renderer measures for the same sea.
-    fn visible_facet_correction(&self, v: DVec3) -> (f64, f64) {
+    /// The full method's visible facets at v's depression on a level sea `steeper` times as steep
+    /// as its trains (glsl/masking.glsl, visible_facet_correction): their further lean towards the
+    /// eye and their Fresnel ratio, from the table the renderer measures for the same sea.
+    fn visible_facet_correction(&self, v: DVec3, steeper: f64) -> (f64, f64) {
         let waves = self.footprint.waves;
-        let wind = DVec2::from(waves.wind_direction);
-        let (x, y) = (v.x * wind.x + v.y * wind.y, v.y * wind.x - v.x * wind.y);
-        let horizontal2 = x * x + y * y;
-        let along_share = if horizontal2 > 0.0 { x * x / horizontal2 } else { 0.5 };
+        let along_share = Self::along_share(v, DVec2::from(waves.wind_direction));
         let table = crate::model::masking::VisibleFacetTable::cached(waves, 0.0);
-        table.lookup(along_share, v.z.clamp(0.0, 1.0).asin())
+        table.lookup_steeper(along_share, v.z.clamp(0.0, 1.0).asin(), steeper)
     }
 
     /// The sky and refracted terms' Fresnel: the paper's fit, or (full) the exact average over

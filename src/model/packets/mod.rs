@@ -248,6 +248,16 @@ impl PacketField {
     pub fn height(&self, x: DVec2) -> f64 {
         self.surface(x).displacement.z
     }
+
+    /// The packets' whole slope variance at rest position x, along and across `wind` (a unit
+    /// vector), as if nothing resolved them, to first order: each one's `unresolved_slope2` / 2
+    /// (glsl/packets.glsl packet_slope_variance).
+    pub fn linear_slope_variance(&self, x: DVec2, wind: DVec2) -> [f64; 2] {
+        self.packets.iter().filter(|p| p.reaches(x)).fold([0.0; 2], |sum, p| {
+            let (v, c) = (0.5 * p.unresolved_slope2(x), p.direction.dot(wind));
+            [sum[0] + c * c * v, sum[1] + (1.0 - c * c) * v]
+        })
+    }
 }
 
 /// What the sources' tests share.
