@@ -46,10 +46,14 @@ struct SeaView { Frame3 sea; vec3 v; float depression; float steeper; };
 SeaView sea_view(vec3 v, vec3 up, vec2 packets_sigma2) {
     Frame3 sea = wind_frame(up);
     vec3 vs = to_local(sea, v);
-    float horizontal2 = dot(vs.xy, vs.xy);
-    vec2 axes = horizontal2 > 0.0 ? vs.xy * vs.xy / horizontal2 : vec2(0.5);
-    float trains = dot(frame.wind.zw, axes);
-    float steeper = trains > 0.0 ? sqrt(1.0 + dot(packets_sigma2, axes) / trains) : 1.0;
+    // Only where packets reach (a branch most SIMD groups take together, or none of them).
+    float steeper = 1.0;
+    if (packets_sigma2.x + packets_sigma2.y > 0.0) {
+        float horizontal2 = dot(vs.xy, vs.xy);
+        vec2 axes = horizontal2 > 0.0 ? vs.xy * vs.xy / horizontal2 : vec2(0.5);
+        float trains = dot(frame.wind.zw, axes);
+        if (trains > 0.0) steeper = sqrt(1.0 + dot(packets_sigma2, axes) / trains);
+    }
     return SeaView(sea, vs, asin(clamp(vs.z, 0.0, 1.0)), steeper);
 }
 
@@ -94,14 +98,15 @@ float sea_masking(SeaView view, vec3 l, vec2 sigma2_unresolved) {
 // view.steeper times as steep as its trains, read at the depression atan(tan(e) / s) and the lean
 // scaled by s: the trains' sea with its heights scaled by s hides from depression e the facets it
 // hides unscaled from that one, and the Fresnel ratio's departure from 1 with the lean
-// (VisibleFacetTable::lookup_steeper is its twin). atan(y, x) keeps the straight-down view finite.
+// (VisibleFacetTable::lookup_steeper is its twin). atan(tan(e) / s) is taken as e / s: within 1%
+// of it below 10 degrees, where the table departs from the model's, and from 20 degrees on the
+// table is the model's own (lean 0, ratio 1) at either.
 vec2 visible_facet_correction(SeaView view) {
     vec3 vs = view.v;
     float horizontal2 = dot(vs.xy, vs.xy);
     float along = horizontal2 > 0.0 ? vs.x * vs.x / horizontal2 : 0.5;
-    float depression = view.steeper > 1.0 ? atan(max(vs.z, 0.0), sqrt(horizontal2) * view.steeper) : view.depression;
     int j;
-    float f = masking_node(depression, j);
+    float f = masking_node(view.depression / view.steeper, j);
     vec4 node = mix(visible_facets[j], visible_facets[j + 1], f);
     // The Fresnel ratio's departure from 1 is first order in the further lean: scaled with it.
     return vec2(view.steeper * mix(node.y, node.x, along), max(1.0 - view.steeper * (1.0 - mix(node.w, node.z, along)), 0.0));

@@ -448,11 +448,13 @@ impl VisibleFacetTable {
     /// The same for a sea `steeper` >= 1 times as steep along the view as the one measured (wave
     /// packets' slopes added to the trains'), as glsl/masking.glsl reads it: the measured sea with
     /// every height scaled by s hides from a ray at depression e exactly the facets it hides
-    /// unscaled from one at atan(tan(e) / s), its slopes s times as steep. So the lean is read
-    /// there and scaled by s. The Fresnel is not scaled with the heights: its ratio's departure
+    /// unscaled from one at atan(tan(e) / s), its slopes s times as steep (e / s here). So the lean
+    /// is read there and scaled by s. The Fresnel is not scaled with the heights: its ratio's departure
     /// from 1, first order in the further lean, is read there and scaled by s as well (held at 0).
     pub fn lookup_steeper(&self, along_share: f64, depression: f64, steeper: f64) -> (f64, f64) {
-        let depression = if steeper > 1.0 { depression.sin().atan2(depression.cos() * steeper) } else { depression };
+        // atan(tan(e) / s) as e / s, as the shader takes it: within 1% below 10 degrees, and from
+        // 20 degrees on the table is the model's own at either.
+        let depression = depression / steeper;
         let (j, f) = depression_node(depression);
         let at = |values: &[f64], c: usize| {
             values[c * GLINT_DEPRESSIONS + j] * (1.0 - f) + values[c * GLINT_DEPRESSIONS + j + 1] * f
