@@ -285,8 +285,21 @@ impl WaveChange {
     pub fn truth_signal_rms(&self) -> f64 {
         (self.truth_rms * self.truth_rms - self.truth_noise_rms * self.truth_noise_rms).max(0.0).sqrt()
     }
+
+    /// Nothing measured over the wake's pixels (fewer than two of them).
+    fn no_wake() -> WaveChange {
+        WaveChange {
+            truth_rms: f64::NAN,
+            truth_noise_rms: f64::NAN,
+            method_rms: f64::NAN,
+            correlation: f64::NAN,
+            correlation_without_noise: f64::NAN,
+            ..Default::default()
+        }
+    }
 }
 
+/// The local waves' change over the pixels `select`ed (a band's sea, or the whole of it).
 pub fn wave_change(c: &Changes, select: &[usize]) -> WaveChange {
     let n = select.len();
     if n == 0 {
@@ -331,19 +344,6 @@ pub fn wave_change(c: &Changes, select: &[usize]) -> WaveChange {
         out.correlation_without_noise = correlate(tt - noise);
     }
     out
-}
-
-impl WaveChange {
-    fn no_wake() -> WaveChange {
-        WaveChange {
-            truth_rms: f64::NAN,
-            truth_noise_rms: f64::NAN,
-            method_rms: f64::NAN,
-            correlation: f64::NAN,
-            correlation_without_noise: f64::NAN,
-            ..Default::default()
-        }
-    }
 }
 
 /// The markdown table of the changes by band (`labels`, then the whole sea last).
