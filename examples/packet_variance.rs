@@ -4,9 +4,9 @@
 //! m tiling the packets' box (at most about 400 of them, evenly strided). A ratio above 1: the
 //! surface is rougher than the BRDF is told. docs/bench/packets.md quotes it.
 //! `cargo run --release --example packet_variance -- scenes/wake_mast.toml 16`
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 use ocean::model::packets::sources::Sources;
-use ocean::model::packets::{Packet, SurfaceSum};
+use ocean::model::packets::Packet;
 use ocean::model::scene::Scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -40,31 +40,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for column in (0..columns).step_by(stride) {
         for row in (0..rows).step_by(stride) {
             let corner = lo + DVec2::new(column as f64, row as f64) * side;
-            let centre = corner + DVec2::splat(0.5 * side);
-            let near: Vec<&Packet> = field
-                .packets
-                .iter()
-                .filter(|p| (p.centre - centre).length() < side + 4.0 * p.sigma[0].max(p.sigma[1]))
-                .collect();
-            let (mut surface, mut model) = (0.0, 0.0);
-            for a in 0..per_side {
-                for b in 0..per_side {
-                    let x = corner + DVec2::new(a as f64 + 0.5, b as f64 + 0.5) * (side / per_side as f64);
-                    let mut sum = SurfaceSum::default();
-                    for p in near.iter().filter(|p| p.reaches(x)) {
-                        p.add_to(x, &mut sum);
-                        model += p.slope_variance(x, DVec2::X).iter().sum::<f64>();
-                    }
-                    let normal = (DVec3::X + sum.tx).cross(DVec3::Y + sum.ty);
-                    surface += (normal.x * normal.x + normal.y * normal.y) / (normal.z * normal.z);
-                }
-            }
-            let samples = (per_side * per_side) as f64;
+            let (surface, model) = field.slope_variance_over(corner, side, per_side);
             // Squares the wake barely reaches would only add noise to the ratios.
-            if model / samples > 1e-4 {
+            if model > 1e-4 {
                 ratios.push(surface / model);
-                surface_sum += surface / samples;
-                model_sum += model / samples;
+                surface_sum += surface;
+                model_sum += model;
             }
         }
     }

@@ -312,7 +312,7 @@ pub fn run(
     write_outputs(&rows, out_dir, scene_name, truth_info, (w, h), frames)?;
     if let (Some(bare), Some([sky, sea])) = (&bare, &full_default) {
         let labels: Vec<String> = (0..BANDS_M.len() - 1).map(band_label).collect();
-        let changes = local_waves::measure(local_waves::Request {
+        local_waves::measure(local_waves::Request {
             gpu,
             scene_name,
             bare,
@@ -322,23 +322,6 @@ pub fn run(
             labels: &labels,
             out_dir,
         })?;
-        for (label, c) in labels.iter().chain(std::iter::once(&"whole sea".to_owned())).zip(&changes) {
-            if c.pixels > 0 {
-                crate::say!(
-                    "local waves {label:>10} m: mean change truth {:+.4} ± {:.4}, ours {:+.4}; over {} wake pixels rms truth {:.4} \
-                     (noise {:.4}), ours {:.4}, correlation {:.2} ({:.2} without the truth's noise)",
-                    c.truth_mean,
-                    c.truth_uncertainty,
-                    c.method_mean,
-                    c.wake_pixels,
-                    c.truth_rms,
-                    c.truth_noise_rms,
-                    c.method_rms,
-                    c.correlation,
-                    c.correlation_without_noise
-                );
-            }
-        }
     }
     Ok(rows)
 }

@@ -97,7 +97,7 @@ impl BareTruth {
 }
 
 /// The local waves' change by band and over the whole sea (last), written to `local_waves.md`
-/// and `local_waves.csv` in `out_dir`. `scene_images`: the full method's default setting's
+/// and `local_waves.csv` in `out_dir` and said a line a band. `scene_images`: the full method's default setting's
 /// reflected sky and refracted light of the scene itself, cropped to the truth's region; `truth`:
 /// the scene's truth; `bands`: the region's sea pixels by band, their `labels`.
 pub struct Request<'a> {
@@ -166,6 +166,21 @@ pub fn measure(r: Request) -> Result<Vec<WaveChange>> {
         ));
     }
     write_text(&r.out_dir.join("local_waves.csv"), &csv)?;
+    for (label, c) in labels.iter().zip(&out).filter(|(_, c)| c.pixels > 0) {
+        crate::say!(
+            "local waves {label:>10} m: mean change truth {:+.4} ± {:.4}, ours {:+.4}; over {} wake pixels rms truth {:.4} \
+             (noise {:.4}), ours {:.4}, correlation {:.2} ({:.2} without the truth's noise)",
+            c.truth_mean,
+            c.truth_uncertainty,
+            c.method_mean,
+            c.wake_pixels,
+            c.truth_rms,
+            c.truth_noise_rms,
+            c.method_rms,
+            c.correlation,
+            c.correlation_without_noise
+        );
+    }
     Ok(out)
 }
 

@@ -400,8 +400,6 @@ mod tests {
     /// (each packet's window squared across) left it 1.3 times the model's.
     #[test]
     fn a_wake_s_slope_variance_is_its_surface_s() {
-        use crate::model::packets::SurfaceSum;
-        use glam::DVec3;
         let w = wake(0.3);
         let f = field(&w, 13.0 * LENGTH_M);
         let shortest = f.packets.iter().map(Packet::wavelength).fold(f64::INFINITY, f64::min);
@@ -415,25 +413,7 @@ mod tests {
             let reach = -x0 * half_angle.tan();
             for j in 0..((2.0 * reach / side) as usize) {
                 let corner = DVec2::new(x0, -reach + j as f64 * side);
-                let centre = corner + DVec2::splat(0.5 * side);
-                let near: Vec<&Packet> = f
-                    .packets
-                    .iter()
-                    .filter(|p| (p.centre - centre).length() < side + 4.0 * p.sigma[0].max(p.sigma[1]))
-                    .collect();
-                let (mut surface, mut model) = (0.0, 0.0);
-                for a in 0..per_side {
-                    for b in 0..per_side {
-                        let x = corner + DVec2::new(a as f64 + 0.5, b as f64 + 0.5) * (side / per_side as f64);
-                        let mut sum = SurfaceSum::default();
-                        for p in near.iter().filter(|p| p.reaches(x)) {
-                            p.add_to(x, &mut sum);
-                            model += p.slope_variance(x, DVec2::X).iter().sum::<f64>();
-                        }
-                        let normal = (DVec3::X + sum.tx).cross(DVec3::Y + sum.ty);
-                        surface += (normal.x * normal.x + normal.y * normal.y) / (normal.z * normal.z);
-                    }
-                }
+                let (surface, model) = f.slope_variance_over(corner, side, per_side);
                 if model > 0.0 {
                     ratios.push(surface / model);
                 }

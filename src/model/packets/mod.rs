@@ -249,6 +249,37 @@ impl PacketField {
         self.surface(x).displacement.z
     }
 
+    /// Over the square of side `side` m from `corner`, sampled `per_side` times along each side:
+    /// the mean square of the field's surface slope (every packet summed, its tangents) and the
+    /// mean slope variance its model leaves to the BRDF where nothing resolves it (each reaching
+    /// packet's `slope_variance`), the pair whose ratio says whether the model is told the
+    /// surface's roughness.
+    pub fn slope_variance_over(&self, corner: DVec2, side: f64, per_side: usize) -> (f64, f64) {
+        let centre = corner + DVec2::splat(0.5 * side);
+        // A packet reaches ENVELOPE_SIGMAS sqrt(2) = 2.8 of its sigmas from its centre at most, a
+        // point of the square side / sqrt(2) from the square's.
+        let near: Vec<&Packet> = self
+            .packets
+            .iter()
+            .filter(|p| (p.centre - centre).length() < side + 4.0 * p.sigma[0].max(p.sigma[1]))
+            .collect();
+        let (mut surface, mut model) = (0.0, 0.0);
+        for a in 0..per_side {
+            for b in 0..per_side {
+                let x = corner + DVec2::new(a as f64 + 0.5, b as f64 + 0.5) * (side / per_side as f64);
+                let mut sum = SurfaceSum::default();
+                for p in near.iter().filter(|p| p.reaches(x)) {
+                    p.add_to(x, &mut sum);
+                    model += p.slope_variance(x, DVec2::X).iter().sum::<f64>();
+                }
+                let normal = (DVec3::X + sum.tx).cross(DVec3::Y + sum.ty);
+                surface += (normal.x * normal.x + normal.y * normal.y) / (normal.z * normal.z);
+            }
+        }
+        let samples = (per_side * per_side) as f64;
+        (surface / samples, model / samples)
+    }
+
     /// The packets' whole slope variance at rest position x, along and across `wind` (a unit
     /// vector), as if nothing resolved them, to first order: each one's `unresolved_slope2` / 2
     /// (glsl/packets.glsl packet_slope_variance).
